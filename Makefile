@@ -1,0 +1,58 @@
+# gr-nrsar: the commands of the README. Each target installs the Debian packages it needs
+# (as root on Debian 12), configures with /usr/bin/python3, builds with ccache and -j2.
+
+BUILD      ?= build
+PREFIX     ?= /usr/local
+JOBS       ?= 2
+PYTHON     := /usr/bin/python3
+DEMO_OUT   ?= demo-out
+
+DEB_PACKAGES := build-essential cmake ccache pkg-config git \
+	gnuradio gnuradio-dev gr-radar libvolk2-dev libfftw3-dev pybind11-dev \
+	python3-dev python3-numpy python3-matplotlib python3-yaml python3-pygccxml castxml \
+	libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
+
+CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(PREFIX) \
+	-DPython_EXECUTABLE=$(PYTHON) -DPYTHON_EXECUTABLE=$(PYTHON) -DENABLE_DOXYGEN=OFF
+
+.PHONY: all deps configure build test install demo bench clean
+
+all: build
+
+# Installs only what is missing, so a prepared machine pays nothing.
+deps:
+	@missing=$$(for p in $(DEB_PACKAGES); do \
+		dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q "install ok installed" || echo $$p; \
+	done); \
+	if [ -n "$$missing" ]; then \
+		echo "installing Debian packages:" $$missing; \
+		SUDO=$$( [ "$$(id -u)" = 0 ] || echo sudo ); \
+		$$SUDO apt-get update -q && \
+		DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -q --no-install-recommends $$missing; \
+	fi
+
+$(BUILD)/CMakeCache.txt:
+	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
+
+configure: deps $(BUILD)/CMakeCache.txt
+
+build: configure
+	cmake --build $(BUILD) -j$(JOBS)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+
+install: build
+	cmake --install $(BUILD)
+	ldconfig
+
+# The demo runs the installed module, as a user would.
+demo: install
+	$(PREFIX)/bin/nrsar-sim --preset paper --scene paper3 --filter wf --snr-db -20 \
+		--out $(DEMO_OUT) --json
+
+bench: install
+	$(PREFIX)/bin/nrsar-bench --out docs/bench
+
+clean:
+	rm -rf $(BUILD) $(DEMO_OUT)

@@ -1,0 +1,65 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+// Parameter checks shared by every constructor and setter: each throws
+// std::invalid_argument (Python: ValueError) naming the parameter, its value and the limit.
+
+#ifndef INCLUDED_NRSAR_PARAM_CHECK_H
+#define INCLUDED_NRSAR_PARAM_CHECK_H
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace gr {
+namespace nrsar {
+
+template <typename T>
+[[noreturn]] void throw_param(const std::string& name, T value, const std::string& limit)
+{
+    std::ostringstream msg;
+    msg << name << " = " << value << " " << limit;
+    throw std::invalid_argument(msg.str());
+}
+
+inline void check_finite(const std::string& name, double value)
+{
+    if (!std::isfinite(value))
+        throw_param(name, value, "must be finite");
+}
+
+inline void check_finite_positive(const std::string& name, double value)
+{
+    if (!std::isfinite(value) || value <= 0.0)
+        throw_param(name, value, "must be finite and > 0");
+}
+
+template <typename T>
+void check_at_least(const std::string& name, T value, T minimum)
+{
+    if (value < minimum) {
+        std::ostringstream limit;
+        limit << "must be at least " << minimum;
+        throw_param(name, value, limit.str());
+    }
+}
+
+template <typename T>
+void check_range(const std::string& name, T value, T lo, T hi)
+{
+    if (!(value >= lo && value <= hi)) {
+        std::ostringstream limit;
+        limit << "must be in [" << lo << ", " << hi << "]";
+        throw_param(name, value, limit.str());
+    }
+}
+
+} // namespace nrsar
+} // namespace gr
+
+#endif /* INCLUDED_NRSAR_PARAM_CHECK_H */

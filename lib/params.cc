@@ -1,0 +1,269 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include <gnuradio/nrsar/params.h>
+#include "param_check.h"
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace gr {
+namespace nrsar {
+
+namespace {
+
+template <typename T>
+std::vector<std::string> names_of(const T& table)
+{
+    std::vector<std::string> names;
+    for (const auto& entry : table)
+        names.push_back(entry.first);
+    return names;
+}
+
+template <typename T>
+auto lookup(const T& table, const std::string& what, const std::string& name)
+{
+    for (const auto& entry : table)
+        if (entry.first == name)
+            return entry.second;
+    std::ostringstream msg;
+    msg << what << " preset '" << name << "' is unknown; known presets:";
+    for (const auto& entry : table)
+        msg << " " << entry.first;
+    throw std::invalid_argument(msg.str());
+}
+
+const std::vector<std::pair<std::string, numerology>>& numerology_presets()
+{
+    // {Delta f, N, FFT size, CP samples, symbols/slot, slots/frame}
+    static const std::vector<std::pair<std::string, numerology>> table = {
+        { "paper", { 30e3, 3333, 4096, 1024, 14, 20 } },
+        { "small", { 30e3, 512, 512, 128, 14, 20 } },
+        { "tiny", { 30e3, 64, 64, 16, 14, 20 } },
+        { "nr273", { 30e3, 3276, 4096, 288, 14, 20 } },
+        { "sdr20", { 30e3, 612, 1024, 256, 14, 20 } },
+    };
+    return table;
+}
+
+const std::vector<std::pair<std::string, geometry>>& geometry_presets()
+{
+    // {fc, v, H, track start, aperture}
+    static const std::vector<std::pair<std::string, geometry>> table = {
+        { "paper", { 3.5e9, 50.0, 1000.0, 0.0, 2.0 } },
+        { "short", { 3.5e9, 50.0, 1000.0, 0.0, 0.1 } },
+    };
+    return table;
+}
+
+const std::vector<std::pair<std::string, scene>>& scene_presets()
+{
+    static const std::vector<std::pair<std::string, scene>> table = {
+        { "paper3", { { { 300.0, 100.0 }, { 250.0, 100.0 }, { 300.0, 140.0 } } } },
+        { "single", { { { 300.0, 100.0 } } } },
+    };
+    return table;
+}
+
+} // namespace
+
+double numerology::range_bin_m(unsigned nfft) const
+{
+    return speed_of_light / (2.0 * nfft * subcarrier_spacing_hz);
+}
+
+double numerology::max_unambiguous_range_m() const
+{
+    return speed_of_light / (2.0 * subcarrier_spacing_hz);
+}
+
+void numerology::validate() const
+{
+    check_finite_positive("subcarrier_spacing_hz", subcarrier_spacing_hz);
+    check_at_least("num_subcarriers", num_subcarriers, 1u);
+    if (fft_size < num_subcarriers) {
+        std::ostringstream msg;
+        msg << "fft_size = " << fft_size << " must be at least num_subcarriers = "
+            << num_subcarriers;
+        throw std::invalid_argument(msg.str());
+    }
+    check_at_least("symbols_per_slot", symbols_per_slot, 1u);
+    check_at_least("slots_per_frame", slots_per_frame, 1u);
+}
+
+numerology numerology::preset(const std::string& name)
+{
+    return lookup(numerology_presets(), "numerology", name);
+}
+
+std::vector<std::string> numerology::preset_names()
+{
+    return names_of(numerology_presets());
+}
+
+void srs_config::validate(const numerology& num) const
+{
+    check_at_least("srs num_rb", num_rb, 1u);
+    check_at_least("srs comb", comb, 1u);
+    if (comb_offset >= comb)
+        throw_param("srs comb_offset", comb_offset, "must be below comb = " + std::to_string(comb));
+    check_at_least("srs period_slots", period_slots, 1u);
+    if (symbol_in_slot >= num.symbols_per_slot)
+        throw_param("srs symbol_in_slot",
+                    symbol_in_slot,
+                    "must be below symbols_per_slot = " + std::to_string(num.symbols_per_slot));
+    if (start_subcarrier + num_subcarriers() > num.num_subcarriers) {
+        std::ostringstream msg;
+        msg << "srs band [" << start_subcarrier << ", " << start_subcarrier + num_subcarriers()
+            << ") does not fit the " << num.num_subcarriers << " subcarriers of the grid";
+        throw std::invalid_argument(msg.str());
+    }
+}
+
+std::uint64_t geometry::symbols_per_aperture(const numerology& num) const
+{
+    return static_cast<std::uint64_t>(std::llround(aperture_s / num.symbol_s()));
+}
+
+double geometry::normalised_doppler(const numerology& num) const
+{
+    return 2.0 * velocity_mps * carrier_hz / (speed_of_light * num.subcarrier_spacing_hz);
+}
+
+void geometry::validate() const
+{
+    check_finite_positive("carrier_hz", carrier_hz);
+    check_finite_positive("velocity_mps", velocity_mps);
+    check_finite_positive("height_m", height_m);
+    check_finite("track_start_m", track_start_m);
+    check_finite_positive("aperture_s", aperture_s);
+}
+
+geometry geometry::preset(const std::string& name)
+{
+    return lookup(geometry_presets(), "geometry", name);
+}
+
+std::vector<std::string> geometry::preset_names() { return names_of(geometry_presets()); }
+
+double point_target::slant_range_m(const geometry& geo, double platform_y_m) const
+{
+    const double dy = platform_y_m - y_m;
+    return std::sqrt(x_m * x_m + geo.height_m * geo.height_m + dy * dy);
+}
+
+double scene::total_rcs() const
+{
+    double sum = 0.0;
+    for (const auto& t : targets)
+        sum += t.rcs;
+    return sum;
+}
+
+void scene::validate() const
+{
+    if (targets.empty())
+        throw std::invalid_argument("scene has no targets: at least 1 is needed");
+    for (size_t i = 0; i < targets.size(); i++) {
+        const auto& t = targets[i];
+        const std::string prefix = "target " + std::to_string(i) + " ";
+        check_finite(prefix + "x_m", t.x_m);
+        check_finite(prefix + "y_m", t.y_m);
+        check_finite(prefix + "phase_rad", t.phase_rad);
+        if (!std::isfinite(t.rcs) || t.rcs < 0.0) {
+            std::ostringstream msg;
+            msg << prefix << "rcs = " << t.rcs << " must be finite and >= 0";
+            throw std::invalid_argument(msg.str());
+        }
+    }
+}
+
+scene scene::preset(const std::string& name) { return lookup(scene_presets(), "scene", name); }
+
+std::vector<std::string> scene::preset_names() { return names_of(scene_presets()); }
+
+scene_extent compute_extent(const geometry& geo, const scene& scn)
+{
+    scn.validate();
+    scene_extent ext;
+    ext.min_slant_range_m = INFINITY;
+    ext.max_slant_range_m = 0.0;
+    ext.min_doppler_hz = INFINITY;
+    ext.max_doppler_hz = -INFINITY;
+    const double y_first = geo.track_start_m;
+    const double y_last = geo.track_start_m + geo.velocity_mps * geo.aperture_s;
+    for (const auto& t : scn.targets) {
+        // Range is convex along the track: the extremes are at the ends or abeam.
+        const double y_abeam = std::clamp(t.y_m, y_first, y_last);
+        const double r_first = t.slant_range_m(geo, y_first);
+        const double r_last = t.slant_range_m(geo, y_last);
+        ext.min_slant_range_m =
+            std::min(ext.min_slant_range_m, t.slant_range_m(geo, y_abeam));
+        ext.max_slant_range_m = std::max({ ext.max_slant_range_m, r_first, r_last });
+        // Doppler 2 v (y_t - y_p) / (lambda R) is monotonic along the track.
+        for (double y_p : { y_first, y_last }) {
+            const double fd = 2.0 * geo.velocity_mps * (t.y_m - y_p) /
+                              (geo.wavelength_m() * t.slant_range_m(geo, y_p));
+            ext.min_doppler_hz = std::min(ext.min_doppler_hz, fd);
+            ext.max_doppler_hz = std::max(ext.max_doppler_hz, fd);
+        }
+    }
+    return ext;
+}
+
+std::vector<std::string> check_scenario(const numerology& num,
+                                        const geometry& geo,
+                                        const scene& scn,
+                                        unsigned symbols_per_pulse)
+{
+    check_at_least("symbols_per_pulse", symbols_per_pulse, 1u);
+    num.validate();
+    geo.validate();
+    const scene_extent ext = compute_extent(geo, scn);
+    std::vector<std::string> warnings;
+
+    const double round_trip_s = 2.0 * ext.max_slant_range_m / speed_of_light;
+    if (round_trip_s > num.cp_s()) {
+        std::ostringstream msg;
+        msg << "cyclic prefix too short: the farthest target (slant range "
+            << ext.max_slant_range_m << " m) has a round trip of " << round_trip_s * 1e6
+            << " us, longer than Tcp = " << num.cp_s() * 1e6 << " us ("
+            << num.cp_samples << " samples); the CP must cover ranges up to "
+            << num.cp_s() * speed_of_light / 2.0 << " m";
+        throw std::invalid_argument(msg.str());
+    }
+    const double eta = geo.normalised_doppler(num);
+    if (eta >= 0.1) {
+        std::ostringstream msg;
+        msg << "normalised Doppler eta = 2 v fc / (c Delta f) = " << eta
+            << " must be below 0.1 (v = " << geo.velocity_mps
+            << " m/s, fc = " << geo.carrier_hz << " Hz, Delta f = "
+            << num.subcarrier_spacing_hz << " Hz): inter-carrier interference";
+        throw std::invalid_argument(msg.str());
+    }
+    if (ext.max_slant_range_m >= num.max_unambiguous_range_m()) {
+        std::ostringstream msg;
+        msg << "farthest slant range " << ext.max_slant_range_m
+            << " m is beyond the unambiguous range c / (2 Delta f) = "
+            << num.max_unambiguous_range_m() << " m";
+        throw std::invalid_argument(msg.str());
+    }
+    const double pulse_rate_hz = num.prf_hz() / symbols_per_pulse;
+    if (ext.doppler_bandwidth_hz() > pulse_rate_hz) {
+        std::ostringstream msg;
+        msg << "pulse rate " << pulse_rate_hz << " Hz (one pulse every " << symbols_per_pulse
+            << " symbols) is below the scene's Doppler band of "
+            << ext.doppler_bandwidth_hz() << " Hz [" << ext.min_doppler_hz << ", "
+            << ext.max_doppler_hz << "]: the azimuth spectrum aliases";
+        warnings.push_back(msg.str());
+    }
+    return warnings;
+}
+
+} // namespace nrsar
+} // namespace gr

@@ -1,0 +1,31 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include <gnuradio/nrsar/tags.h>
+
+namespace gr {
+namespace nrsar {
+namespace tags {
+
+#define NRSAR_DEFINE_KEY(fn, name)              \
+    const pmt::pmt_t& fn()                      \
+    {                                           \
+        static const pmt::pmt_t key = pmt::mp(name); \
+        return key;                             \
+    }
+
+NRSAR_DEFINE_KEY(symbol_key, "symbol")
+NRSAR_DEFINE_KEY(slot_key, "slot")
+NRSAR_DEFINE_KEY(frame_key, "frame")
+NRSAR_DEFINE_KEY(range_axis_key, "range_axis")
+NRSAR_DEFINE_KEY(nonfinite_key, "nonfinite")
+
+#undef NRSAR_DEFINE_KEY
+
+} // namespace tags
+} // namespace nrsar
+} // namespace gr

@@ -1,0 +1,65 @@
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ *
+ */
+
+#include <pybind11/pybind11.h>
+
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/arrayobject.h>
+
+namespace py = pybind11;
+
+// Headers for binding functions
+/**************************************/
+// The following comment block is used for
+// gr_modtool to insert function prototypes
+// Please do not delete
+/**************************************/
+// BINDING_FUNCTION_PROTOTYPES(
+    void bind_params(py::module& m);
+    void bind_tags(py::module& m);
+    void bind_nr_isac_tx(py::module& m);
+    void bind_scene_echo(py::module& m);
+    void bind_tf_filter(py::module& m);
+    void bind_range_ifft(py::module& m);
+// ) END BINDING_FUNCTION_PROTOTYPES
+
+
+// We need this hack because import_array() returns NULL
+// for newer Python versions.
+// This function is also necessary because it ensures access to the C API
+// and removes a warning.
+void* init_numpy()
+{
+    import_array();
+    return NULL;
+}
+
+PYBIND11_MODULE(nrsar_python, m)
+{
+    // Initialize the numpy C API
+    // (otherwise we will see segmentation faults)
+    init_numpy();
+
+    // Allow access to base block methods
+    py::module::import("gnuradio.gr");
+    // Window types (gr::fft::window::win_type) are taken from gnuradio.fft.
+    py::module::import("gnuradio.fft");
+
+    /**************************************/
+    // The following comment block is used for
+    // gr_modtool to insert binding function calls
+    // Please do not delete
+    /**************************************/
+    // BINDING_FUNCTION_CALLS(
+    bind_params(m);
+    bind_tags(m);
+    bind_nr_isac_tx(m);
+    bind_scene_echo(m);
+    bind_tf_filter(m);
+    bind_range_ifft(m);
+    // ) END BINDING_FUNCTION_CALLS
+}

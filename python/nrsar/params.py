@@ -1,0 +1,118 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""Build and validate the shared parameter types from presets, strings and dicts.
+
+The one place where GRC `make:` lines, the apps and scripts turn user input into
+`numerology`, `geometry`, `scene` and enum values; the numbers are checked by the C++
+`validate()` / `check_scenario()` so every front end gets the same errors.
+"""
+
+from .nrsar_python import (numerology, geometry, scene, point_target, srs_config,
+                           modulation, tx_mode, filter_type, check_scenario)
+
+MODULATIONS = {
+    "qpsk": modulation.QPSK,
+    "qam16": modulation.QAM16,
+    "qam64": modulation.QAM64,
+    "qam256": modulation.QAM256,
+    "psk8": modulation.PSK8,
+    "psk16": modulation.PSK16,
+}
+
+TX_MODES = {"data": tx_mode.DATA, "srs": tx_mode.SRS, "data_srs": tx_mode.DATA_SRS}
+
+FILTERS = {"rf": filter_type.RF, "mf": filter_type.MF, "wf": filter_type.WF}
+
+
+def _lookup(table, kind, name):
+    if not isinstance(name, str):
+        return name
+    try:
+        return table[name.lower()]
+    except KeyError:
+        raise ValueError(f"{kind} '{name}' is unknown; choose one of {sorted(table)}") from None
+
+
+def make_modulation(name):
+    """'qam256' -> modulation.QAM256 (enum values pass through)."""
+    return _lookup(MODULATIONS, "modulation", name)
+
+
+def make_tx_mode(name):
+    return _lookup(TX_MODES, "tx mode", name)
+
+
+def make_filter(name):
+    return _lookup(FILTERS, "filter", name)
+
+
+def _with_overrides(obj, overrides, kind):
+    for key, value in (overrides or {}).items():
+        if not hasattr(obj, key):
+            raise ValueError(f"{kind} has no field '{key}'")
+        setattr(obj, key, value)
+    return obj
+
+
+def make_numerology(preset="paper", **overrides):
+    """A numerology preset with fields overridden, validated."""
+    num = _with_overrides(numerology.preset(preset), overrides, "numerology")
+    num.validate()
+    return num
+
+
+def make_geometry(preset="paper", **overrides):
+    geo = _with_overrides(geometry.preset(preset), overrides, "geometry")
+    geo.validate()
+    return geo
+
+
+def make_srs(**overrides):
+    return _with_overrides(srs_config(), overrides, "srs_config")
+
+
+def parse_target(text):
+    """'X,Y[,RCS]' in metres (RCS linear power) -> point_target."""
+    parts = [p.strip() for p in str(text).split(",")]
+    if len(parts) not in (2, 3):
+        raise ValueError(f"target '{text}' must be X,Y or X,Y,RCS")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise ValueError(f"target '{text}' has a field that is not a number") from None
+    return point_target(*values)
+
+
+def make_scene(spec="paper3"):
+    """A scene from a preset name, 'X,Y[,RCS];X,Y[,RCS]...', a list of such strings,
+    a list of (x, y[, rcs]) tuples, or a scene. Validated."""
+    if isinstance(spec, scene):
+        scn = spec
+    elif isinstance(spec, str):
+        if spec in scene.preset_names():
+            scn = scene.preset(spec)
+        else:
+            scn = scene([parse_target(t) for t in spec.split(";") if t.strip()])
+    else:
+        targets = []
+        for t in spec:
+            if isinstance(t, point_target):
+                targets.append(t)
+            elif isinstance(t, str):
+                targets.append(parse_target(t))
+            else:
+                targets.append(point_target(*[float(v) for v in t]))
+        scn = scene(targets)
+    scn.validate()
+    return scn
+
+
+def symbols_per_pulse(mode, num, srs=None):
+    """Slow-time sampling interval in symbols: 1 for data, one SRS symbol per SRS slot."""
+    if make_tx_mode(mode) == tx_mode.SRS:
+        srs = srs or srs_config()
+        return num.symbols_per_slot * srs.period_slots
+    return 1
