@@ -1,0 +1,50 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""Flowgraph-level throughput measurement shared by the bench_*.py modules.
+
+Every comparison runs our block and its peer (stock GNU Radio blocks, gr-radar, numpy)
+on the same input in the same process, so the reported ratio is meaningful on any
+machine. Each bench_<block>.py module exposes run(quick) -> list of result rows.
+"""
+
+import time
+
+from gnuradio import blocks, gr
+
+
+def items_per_second(build, n_items, repeats=3):
+    """Best-of-`repeats` throughput of a flowgraph.
+
+    build(tb, head_items) must connect a flowgraph into top block tb that processes
+    head_items items through the block under test and then stops by itself.
+    """
+    best = float("inf")
+    for _ in range(repeats):
+        tb = gr.top_block()
+        build(tb, n_items)
+        start = time.perf_counter()
+        tb.run()
+        best = min(best, time.perf_counter() - start)
+    return n_items / best
+
+
+def repeat_source(vector, vlen):
+    """An endless vector source repeating `vector` (a flat list of vlen-multiple length)."""
+    return blocks.vector_source_c(vector, True, vlen)
+
+
+def row(benchmark, ours, peer_name, peer, unit="items/s", **extra):
+    """One result row: our rate, the peer's rate and their ratio (ours / peer)."""
+    result = {
+        "benchmark": benchmark,
+        "unit": unit,
+        "ours": ours,
+        "peer": peer_name,
+        "peer_rate": peer,
+        "ratio": (ours / peer) if peer else None,
+    }
+    result.update(extra)
+    return result
