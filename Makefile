@@ -51,7 +51,15 @@ demo: install
 	$(PREFIX)/bin/nrsar-sim --preset paper --scene paper3 --filter wf --snr-db -20 \
 		--out $(DEMO_OUT) --json
 
+# Kernel benchmarks (Google Benchmark, outside ctest so VOLK uses its fast kernels), then
+# the flowgraph-level comparisons with peers; results land in docs/bench/.
 bench: install
+	mkdir -p docs/bench
+	for b in $(BUILD)/bench/bench_*; do \
+		[ -x "$$b" ] || continue; \
+		"$$b" --benchmark_min_time=0.2 --benchmark_out_format=csv \
+			--benchmark_out=docs/bench/$$(basename $$b).csv; \
+	done
 	$(PREFIX)/bin/nrsar-bench --out docs/bench
 
 clean:
