@@ -23,6 +23,9 @@ NRSAR_DEFINE_KEY(slot_key, "slot")
 NRSAR_DEFINE_KEY(frame_key, "frame")
 NRSAR_DEFINE_KEY(range_axis_key, "range_axis")
 NRSAR_DEFINE_KEY(nonfinite_key, "nonfinite")
+NRSAR_DEFINE_KEY(aperture_key, "aperture")
+NRSAR_DEFINE_KEY(azimuth_axis_key, "azimuth_axis")
+NRSAR_DEFINE_KEY(pulse_interval_key, "pulse_interval")
 
 #undef NRSAR_DEFINE_KEY
 

@@ -22,6 +22,11 @@ namespace nrsar {
  * range_axis_key: pmt tuple (first bin [m], bin spacing [m], number of bins), tagged by
  * range_ifft on its first output item and whenever the axis changes.
  * nonfinite_key: uint64 count of non-finite samples a block zeroed since the last tag.
+ * aperture_key: uint64 aperture index, on the first line of every focused aperture.
+ * azimuth_axis_key: pmt tuple (along-track position of the first line [m], line spacing [m],
+ * number of lines), on the first line of every focused aperture.
+ * pulse_interval_key: double, slow-time spacing of the pulses from here on [s] (presummers
+ * tag their output with the new interval, Tsym * D).
  */
 namespace tags {
 NRSAR_API const pmt::pmt_t& symbol_key();
@@ -29,6 +34,9 @@ NRSAR_API const pmt::pmt_t& slot_key();
 NRSAR_API const pmt::pmt_t& frame_key();
 NRSAR_API const pmt::pmt_t& range_axis_key();
 NRSAR_API const pmt::pmt_t& nonfinite_key();
+NRSAR_API const pmt::pmt_t& aperture_key();
+NRSAR_API const pmt::pmt_t& azimuth_axis_key();
+NRSAR_API const pmt::pmt_t& pulse_interval_key();
 } // namespace tags
 
 } // namespace nrsar
