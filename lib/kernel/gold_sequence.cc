@@ -48,10 +48,10 @@ void gold_sequence::reset(std::uint32_t c_init)
         d_x1 |= b1 << (n + 31);
         d_x2 |= b2 << (n + 31);
     }
-    // Skip Nc = 1600 = 100 * 16 values: the windows then start at x(Nc).
-    static_assert(Nc % 16 == 0, "Nc must be a multiple of the 16-bit step");
-    for (unsigned i = 0; i < Nc / 16; i++)
-        advance16();
+    // Skip Nc = 1600 = 50 * 32 values: the windows then start at x(Nc).
+    static_assert(Nc % 32 == 0, "Nc must be a multiple of the 32-bit step");
+    for (unsigned i = 0; i < Nc / 32; i++)
+        advance32(d_x1, d_x2);
     d_buf = 0;
     d_buf_bits = 0;
     d_position = 0;
@@ -61,6 +61,25 @@ void gold_sequence::generate_packed(std::uint8_t* bytes, std::size_t nbytes)
 {
     const auto& rev = reverse_table();
     std::size_t i = 0;
+    if (d_buf_bits == 0) {
+        // Fast path on word boundaries: registers kept in locals, bits reversed inside
+        // each byte with three mask-and-swap steps instead of four table look-ups.
+        std::uint64_t x1 = d_x1, x2 = d_x2;
+        for (; i + 4 <= nbytes; i += 4) {
+            std::uint32_t w = static_cast<std::uint32_t>(x1 ^ x2);
+            advance32(x1, x2);
+            w = ((w >> 1) & 0x55555555u) | ((w & 0x55555555u) << 1);
+            w = ((w >> 2) & 0x33333333u) | ((w & 0x33333333u) << 2);
+            w = ((w >> 4) & 0x0f0f0f0fu) | ((w & 0x0f0f0f0fu) << 4);
+            bytes[i] = static_cast<std::uint8_t>(w);
+            bytes[i + 1] = static_cast<std::uint8_t>(w >> 8);
+            bytes[i + 2] = static_cast<std::uint8_t>(w >> 16);
+            bytes[i + 3] = static_cast<std::uint8_t>(w >> 24);
+        }
+        d_x1 = x1;
+        d_x2 = x2;
+        d_position += 8 * i;
+    }
     for (; i + 4 <= nbytes; i += 4) {
         const std::uint32_t w = next_word();
         bytes[i] = rev[w & 0xffu];

@@ -23,10 +23,14 @@ namespace kernel {
  *   x2(n+31) = (x2(n+3) + x2(n+2) + x2(n+1) + x2(n)) mod 2, sum_i x2(i) 2^i = c_init
  *   c(n)     = (x1(n + Nc) + x2(n + Nc)) mod 2,          Nc = 1600
  *
- * Word-parallel: each register is a 64-bit window x(n..n+63) (bit i = x(n+i)). Both
- * recursions reach back at most 31 - 3 = 28 positions, so 16 new bits follow from the
- * window in one shift/xor step; two steps give the next 32 bits of c(n). The sequence is
- * continuous across calls (period 2^31 - 1 bits).
+ * Word-parallel: each register is a 64-bit window x(n..n+63) (bit i = x(n+i)). Squaring
+ * the characteristic polynomials over GF(2), (1 + D^3 + D^31)^2 = 1 + D^6 + D^62 and
+ * (1 + D + D^2 + D^3 + D^31)^2 = 1 + D^2 + D^4 + D^6 + D^62, gives recursions that
+ * every sequence of the originals also obeys,
+ *   x1(m+62) = x1(m+6) + x1(m),   x2(m+62) = x2(m+6) + x2(m+4) + x2(m+2) + x2(m),
+ * and they reach only 62 - 6 = 56 positions back: the next 32 values of both registers
+ * follow from the current windows in one shift/xor step, with no dependence inside the
+ * step. The sequence is continuous across calls (period 2^31 - 1 bits).
  */
 class NRSAR_API gold_sequence
 {
@@ -73,22 +77,22 @@ private:
     std::uint32_t raw_word()
     {
         const auto out = static_cast<std::uint32_t>(d_x1 ^ d_x2);
-        advance16();
-        advance16();
+        advance32(d_x1, d_x2);
         return out;
     }
 
-    void advance16()
+public:
+    //! Moves the windows x(n..n+63) on by 32: new bit k is x(n+64+k), from the squared
+    //! recursions with m = n + 2 + k (reads bits 2 + k .. 8 + k <= 39 of the window).
+    static void advance32(std::uint64_t& x1, std::uint64_t& x2)
     {
-        // New bit k (k = 0..15) of the window is x(n+64+k); with m = n+33+k the recursions
-        // read x(m), .., x(m+3), all inside the current window (33 + 15 + 3 = 51 < 64).
-        const std::uint64_t n1 = ((d_x1 >> 36) ^ (d_x1 >> 33)) & 0xffffu;
-        const std::uint64_t n2 =
-            ((d_x2 >> 36) ^ (d_x2 >> 35) ^ (d_x2 >> 34) ^ (d_x2 >> 33)) & 0xffffu;
-        d_x1 = (d_x1 >> 16) | (n1 << 48);
-        d_x2 = (d_x2 >> 16) | (n2 << 48);
+        const std::uint64_t n1 = ((x1 >> 8) ^ (x1 >> 2)) & 0xffffffffu;
+        const std::uint64_t n2 = ((x2 >> 8) ^ (x2 >> 6) ^ (x2 >> 4) ^ (x2 >> 2)) & 0xffffffffu;
+        x1 = (x1 >> 32) | (n1 << 32);
+        x2 = (x2 >> 32) | (n2 << 32);
     }
 
+private:
     std::uint64_t d_x1 = 0;
     std::uint64_t d_x2 = 0;
     std::uint64_t d_position = 0;
