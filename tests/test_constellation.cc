@@ -57,6 +57,15 @@ cd spec_formula(modulation mod, unsigned i)
     }
 }
 
+double min_distance(const std::vector<gr_complex>& pts)
+{
+    double dmin = 1e9;
+    for (unsigned i = 0; i < pts.size(); i++)
+        for (unsigned j = i + 1; j < pts.size(); j++)
+            dmin = std::min(dmin, double(std::abs(pts[i] - pts[j])));
+    return dmin;
+}
+
 const modulation all_mods[] = { modulation::QPSK,   modulation::QAM16, modulation::QAM64,
                                 modulation::QAM256, modulation::PSK8,  modulation::PSK16 };
 } // namespace
@@ -105,10 +114,7 @@ TEST(Constellation, GrayNearestNeighboursDifferInOneBit)
     for (auto mod : all_mods) {
         constellation c(mod);
         const auto& pts = c.points();
-        double dmin = 1e9;
-        for (unsigned i = 0; i < pts.size(); i++)
-            for (unsigned j = i + 1; j < pts.size(); j++)
-                dmin = std::min(dmin, double(std::abs(pts[i] - pts[j])));
+        const double dmin = min_distance(pts);
         unsigned pairs = 0;
         for (unsigned i = 0; i < pts.size(); i++)
             for (unsigned j = i + 1; j < pts.size(); j++)
@@ -152,10 +158,7 @@ TEST(Constellation, DemapInvertsMapWithNoise)
     for (auto mod : all_mods) {
         constellation c(mod);
         const auto& pts = c.points();
-        double dmin = 1e9;
-        for (unsigned i = 0; i < pts.size(); i++)
-            for (unsigned j = i + 1; j < pts.size(); j++)
-                dmin = std::min(dmin, double(std::abs(pts[i] - pts[j])));
+        const double dmin = min_distance(pts);
         const float sigma = static_cast<float>(dmin / 10.0);
         for (unsigned i = 0; i < c.size(); i++) {
             EXPECT_EQ(c.demap(c.map(i)), i);

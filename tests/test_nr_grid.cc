@@ -29,6 +29,18 @@ std::vector<std::uint8_t> random_bytes(std::size_t n, unsigned seed)
         x = static_cast<std::uint8_t>(rng());
     return b;
 }
+srs_config make_srs(unsigned start, unsigned num_rb, unsigned comb, unsigned offset,
+                    unsigned period, unsigned symbol)
+{
+    srs_config srs;
+    srs.start_subcarrier = start;
+    srs.num_rb = num_rb;
+    srs.comb = comb;
+    srs.comb_offset = offset;
+    srs.period_slots = period;
+    srs.symbol_in_slot = symbol;
+    return srs;
+}
 } // namespace
 
 TEST(NrGrid, PaperSrsCombPositions)
@@ -43,11 +55,7 @@ TEST(NrGrid, PaperSrsCombPositions)
 
 TEST(NrGrid, SrsSymbolsPeriodicity)
 {
-    srs_config srs;
-    srs.start_subcarrier = 10;
-    srs.num_rb = 4;
-    srs.period_slots = 3;
-    srs.symbol_in_slot = 5;
+    const srs_config srs = make_srs(10, 4, 4, 0, 3, 5);
     nr_grid g(numerology::preset("small"), modulation::QPSK, tx_mode::SRS, srs);
     for (std::uint64_t m = 0; m < 14 * 30; m++) {
         const bool expect = (m % 14 == 5) && ((m / 14) % 3 == 0);
@@ -58,13 +66,7 @@ TEST(NrGrid, SrsSymbolsPeriodicity)
 
 TEST(NrGrid, SrsModeZerosElsewhere)
 {
-    srs_config srs;
-    srs.start_subcarrier = 7;
-    srs.num_rb = 2;
-    srs.comb = 2;
-    srs.comb_offset = 1;
-    srs.period_slots = 1;
-    srs.symbol_in_slot = 0;
+    const srs_config srs = make_srs(7, 2, 2, 1, 1, 0);
     nr_grid g(numerology::preset("tiny"), modulation::QAM16, tx_mode::SRS, srs);
     std::vector<gr_complex> col(64, gr_complex(9, 9));
     EXPECT_EQ(g.fill(0, nullptr, 0, col.data()), 0u);
@@ -87,13 +89,7 @@ TEST(NrGrid, SrsModeZerosElsewhere)
 
 TEST(NrGrid, DataSrsCarriesDataInOrderAroundPilots)
 {
-    srs_config srs;
-    srs.start_subcarrier = 5;
-    srs.num_rb = 3;
-    srs.comb = 4;
-    srs.comb_offset = 2;
-    srs.period_slots = 2;
-    srs.symbol_in_slot = 13;
+    const srs_config srs = make_srs(5, 3, 4, 2, 2, 13);
     const auto num = numerology::preset("tiny");
     nr_grid g(num, modulation::QAM64, tx_mode::DATA_SRS, srs);
     const auto bytes = random_bytes(200, 3);
