@@ -116,6 +116,14 @@ class scenario:
         self.y_first = self.y - self.m0 * self.dy
         self.rng = np.random.default_rng(seed)
 
+    @classmethod
+    def small(cls):
+        """64 lines x 32 bins, target at line 30.2."""
+        sc = cls(lines=64, bins=32, n_sub=16)
+        sc.m0 = 30.2
+        sc.y_first = sc.y - sc.m0 * sc.dy
+        return sc
+
     def psf(self, dk=0.0, dm=0.0, ramp_k=0.0, ramp_m=0.0):
         """Separable Dirichlet PSF; ramps in whole FFT bins (band offsets) per sample."""
         k = np.arange(self.bins) - (self.k0 + dk)
@@ -281,9 +289,7 @@ class qa_nmse_probe(gr_unittest.TestCase):
         self.assertGreater(got["pel_db"], 0.5)
 
     def test_006_message_dict_and_apertures(self):
-        sc = scenario(lines=64, bins=32, n_sub=16)
-        sc.m0 = 30.2
-        sc.y_first = sc.y - sc.m0 * sc.dy
+        sc = scenario.small()
         ref = sc.psf()
         probe = sc.probe(True)
         # three apertures, the third cut short: it is reported as partial in stop()
@@ -312,9 +318,7 @@ class qa_nmse_probe(gr_unittest.TestCase):
 
     def test_007_untagged_apertures_continue_the_axis(self):
         # Only the first aperture is tagged: the second continues the azimuth axis.
-        sc = scenario(lines=64, bins=32, n_sub=16)
-        sc.m0 = 30.2
-        sc.y_first = sc.y - sc.m0 * sc.dy
+        sc = scenario.small()
         ref = sc.psf()
         probe = sc.probe(True)
         dbg = run(self.tb, sc, probe, [ref, ref], [ref, ref], tag_every=False)
@@ -324,9 +328,7 @@ class qa_nmse_probe(gr_unittest.TestCase):
         self.assertAlmostEqual(y_pk, sc.y + 64 * sc.dy, delta=0.05 * sc.rho_a)
 
     def test_008_nonfinite_samples_zeroed_and_counted(self):
-        sc = scenario(lines=64, bins=32, n_sub=16)
-        sc.m0 = 30.2
-        sc.y_first = sc.y - sc.m0 * sc.dy
+        sc = scenario.small()
         ref = sc.psf()
         img = ref.copy()
         img[5, 3] = np.nan
