@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 import pmt
-from gnuradio import blocks
+from gnuradio import blocks, gr
 
 from . import benchutil
 from .nrsar_python import nmse_probe, tag_keys
@@ -118,7 +118,6 @@ def run(quick=False):
                                                             pmt.from_uint64(lines))),
                      (tag_keys.range_axis, pmt.make_tuple(pmt.from_double(r_first), pmt.from_double(dr),
                                                           pmt.from_uint64(bins)))):
-        from gnuradio import gr
         tags.append(gr.python_to_tag((0, pmt.intern(key), val, src)))
     probes = []
 
