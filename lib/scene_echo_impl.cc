@@ -6,49 +6,149 @@
  */
 
 #include "scene_echo_impl.h"
+#include "param_check.h"
 #include <gnuradio/io_signature.h>
+#include <gnuradio/nrsar/tags.h>
+#include <cmath>
+#include <cstring>
 
 namespace gr {
 namespace nrsar {
 
-#pragma message("set the following appropriately and remove this warning")
-using input_type = float;
-#pragma message("set the following appropriately and remove this warning")
-using output_type = float;
-scene_echo::sptr scene_echo::make()
+namespace {
+
+void check_snr_db(double snr_db)
 {
-    return gnuradio::make_block_sptr<scene_echo_impl>();
+    if (std::isnan(snr_db) || snr_db == -INFINITY)
+        throw_param("snr_db", snr_db, "must be a number above -inf (+inf turns the noise off)");
 }
 
-
-/*
- * The private constructor
- */
-scene_echo_impl::scene_echo_impl()
-    : gr::sync_block("scene_echo",
-                     gr::io_signature::make(
-                         1 /* min inputs */, 1 /* max inputs */, sizeof(input_type)),
-                     gr::io_signature::make(
-                         1 /* min outputs */, 1 /*max outputs */, sizeof(output_type)))
+// Any non-finite float in the symbol? Integer test of the exponent bits: vectorises
+// with the baseline ISA (std::isfinite in a loop does not).
+bool has_nonfinite(const gr_complex* v, std::size_t n)
 {
+    const float* f = reinterpret_cast<const float*>(v);
+    unsigned bad = 0;
+    for (std::size_t k = 0; k < 2 * n; k++) {
+        std::uint32_t u;
+        std::memcpy(&u, f + k, sizeof u);
+        bad |= (u & 0x7f800000u) == 0x7f800000u;
+    }
+    return bad != 0;
 }
 
-/*
- * Our virtual destructor.
- */
-scene_echo_impl::~scene_echo_impl() {}
+} // namespace
+
+scene_echo::sptr scene_echo::make(const numerology& num,
+                                  const geometry& geo,
+                                  const scene& scn,
+                                  double snr_db,
+                                  std::uint64_t seed)
+{
+    return gnuradio::make_block_sptr<scene_echo_impl>(num, geo, scn, snr_db, seed);
+}
+
+scene_echo_impl::scene_echo_impl(const numerology& num,
+                                 const geometry& geo,
+                                 const scene& scn,
+                                 double snr_db,
+                                 std::uint64_t seed)
+    : gr::sync_block(
+          "scene_echo",
+          gr::io_signature::make(1, 1, sizeof(gr_complex) * num.num_subcarriers),
+          gr::io_signature::make(1, 2, sizeof(gr_complex) * num.num_subcarriers)),
+      d_num(num),
+      d_geo(geo),
+      d_echo(num, geo, scn), // validates num, geo and scn
+      d_noise(seed),
+      d_snr_db(snr_db),
+      d_clean(num.num_subcarriers)
+{
+    check_and_log(scn);
+    check_snr_db(snr_db);
+    update_sigma();
+}
+
+void scene_echo_impl::check_and_log(const scene& scn) const
+{
+    for (const auto& warning : check_scenario(d_num, d_geo, scn))
+        d_logger->warn("{}", warning);
+}
+
+void scene_echo_impl::update_sigma()
+{
+    // SNR per RE = sum of RCS powers / sigma^2 (SPEC section 2).
+    d_variance = std::isinf(d_snr_db)
+                     ? 0.0
+                     : d_echo.get_scene().total_rcs() / std::pow(10.0, d_snr_db / 10.0);
+    d_sigma = static_cast<float>(std::sqrt(d_variance));
+}
+
+void scene_echo_impl::set_snr_db(double snr_db)
+{
+    check_snr_db(snr_db);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_snr_db = snr_db;
+    update_sigma();
+}
+
+double scene_echo_impl::snr_db() const { return d_snr_db; }
+
+double scene_echo_impl::noise_variance() const
+{
+    return d_variance;
+}
+
+void scene_echo_impl::set_scene(const scene& scn)
+{
+    scn.validate();
+    check_and_log(scn);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_echo.set_scene(scn);
+    update_sigma();
+}
+
+scene scene_echo_impl::get_scene() const { return d_echo.get_scene(); }
+
+std::uint64_t scene_echo_impl::nonfinite_count() const { return d_nonfinite; }
 
 int scene_echo_impl::work(int noutput_items,
                           gr_vector_const_void_star& input_items,
                           gr_vector_void_star& output_items)
 {
-    auto in = static_cast<const input_type*>(input_items[0]);
-    auto out = static_cast<output_type*>(output_items[0]);
+    gr::thread::scoped_lock guard(d_setlock);
+    const std::size_t n = d_num.num_subcarriers;
+    const auto* in = static_cast<const gr_complex*>(input_items[0]);
+    auto* out = static_cast<gr_complex*>(output_items[0]);
+    auto* ref = output_items.size() > 1 ? static_cast<gr_complex*>(output_items[1]) : nullptr;
+    const std::uint64_t m0 = nitems_read(0);
 
-#pragma message("Implement the signal processing in your block and remove this warning")
-    // Do <+signal processing+>
-
-    // Tell runtime system how many output items we produced.
+    for (int i = 0; i < noutput_items; i++) {
+        const gr_complex* s = in + i * n;
+        if (has_nonfinite(s, n)) {
+            std::uint64_t count = 0;
+            for (std::size_t k = 0; k < n; k++) {
+                const bool ok = std::isfinite(s[k].real()) && std::isfinite(s[k].imag());
+                d_clean[k] = ok ? s[k] : gr_complex(0.0f, 0.0f);
+                count += !ok;
+            }
+            s = d_clean.data();
+            d_nonfinite += count;
+            if (!d_nonfinite_logged) {
+                d_logger->warn("{} non-finite input samples in symbol {} set to zero "
+                               "(logged once; see nonfinite_count() and the tags)",
+                               count,
+                               m0 + i);
+                d_nonfinite_logged = true;
+            }
+            add_item_tag(0, nitems_written(0) + i, tags::nonfinite_key(), pmt::from_uint64(count));
+        }
+        const std::uint64_t m = m0 + i; // absolute slow-time index
+        gr_complex* y = out + i * n;
+        d_echo.echo(m, s, y, ref ? ref + i * n : nullptr); // eq. (7), (8)
+        if (d_sigma > 0.0f)
+            d_noise.add(m, d_sigma, y, n); // + Z[n, m]
+    }
     return noutput_items;
 }
 
