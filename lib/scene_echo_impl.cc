@@ -10,7 +10,6 @@
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
 #include <cmath>
-#include <cstring>
 
 namespace gr {
 namespace nrsar {
@@ -21,20 +20,6 @@ void check_snr_db(double snr_db)
 {
     if (std::isnan(snr_db) || snr_db == -INFINITY)
         throw_param("snr_db", snr_db, "must be a number above -inf (+inf turns the noise off)");
-}
-
-// Any non-finite float in the symbol? Integer test of the exponent bits: vectorises
-// with the baseline ISA (std::isfinite in a loop does not).
-bool has_nonfinite(const gr_complex* v, std::size_t n)
-{
-    const float* f = reinterpret_cast<const float*>(v);
-    unsigned bad = 0;
-    for (std::size_t k = 0; k < 2 * n; k++) {
-        std::uint32_t u;
-        std::memcpy(&u, f + k, sizeof u);
-        bad |= (u & 0x7f800000u) == 0x7f800000u;
-    }
-    return bad != 0;
 }
 
 } // namespace
@@ -61,8 +46,7 @@ scene_echo_impl::scene_echo_impl(const numerology& num,
       d_geo(geo),
       d_echo(num, geo, scn), // validates num, geo and scn
       d_noise(seed),
-      d_snr_db(snr_db),
-      d_clean(num.num_subcarriers)
+      d_snr_db(snr_db)
 {
     check_and_log(scn);
     check_snr_db(snr_db);
@@ -124,30 +108,26 @@ int scene_echo_impl::work(int noutput_items,
     const std::uint64_t m0 = nitems_read(0);
 
     for (int i = 0; i < noutput_items; i++) {
-        const gr_complex* s = in + i * n;
-        if (has_nonfinite(s, n)) {
-            std::uint64_t count = 0;
-            for (std::size_t k = 0; k < n; k++) {
-                const bool ok = std::isfinite(s[k].real()) && std::isfinite(s[k].imag());
-                d_clean[k] = ok ? s[k] : gr_complex(0.0f, 0.0f);
-                count += !ok;
-            }
-            s = d_clean.data();
-            d_nonfinite += count;
+        const std::uint64_t m = m0 + i; // absolute slow-time index
+        // eq. (7), (8) with the noise and the non-finite test in one pass.
+        const std::size_t bad = d_echo.echo(m,
+                                            in + i * n,
+                                            out + i * n,
+                                            ref ? ref + i * n : nullptr,
+                                            &d_noise,
+                                            d_sigma);
+        if (bad) {
+            d_nonfinite += bad;
             if (!d_nonfinite_logged) {
                 d_logger->warn("{} non-finite input samples in symbol {} set to zero "
                                "(logged once; see nonfinite_count() and the tags)",
-                               count,
-                               m0 + i);
+                               bad,
+                               m);
                 d_nonfinite_logged = true;
             }
-            add_item_tag(0, nitems_written(0) + i, tags::nonfinite_key(), pmt::from_uint64(count));
+            add_item_tag(
+                0, nitems_written(0) + i, tags::nonfinite_key(), pmt::from_uint64(bad));
         }
-        const std::uint64_t m = m0 + i; // absolute slow-time index
-        gr_complex* y = out + i * n;
-        d_echo.echo(m, s, y, ref ? ref + i * n : nullptr); // eq. (7), (8)
-        if (d_sigma > 0.0f)
-            d_noise.add(m, d_sigma, y, n); // + Z[n, m]
     }
     return noutput_items;
 }

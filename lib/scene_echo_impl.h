@@ -11,7 +11,6 @@
 #include <gnuradio/nrsar/kernel/gaussian_noise.h>
 #include <gnuradio/nrsar/kernel/scene_echo.h>
 #include <gnuradio/nrsar/scene_echo.h>
-#include <volk/volk_alloc.hh>
 
 namespace gr {
 namespace nrsar {
@@ -28,7 +27,6 @@ private:
     float d_sigma;     //!< noise standard deviation (E|Z|^2 = sigma^2), 0: no noise
     std::uint64_t d_nonfinite = 0;
     bool d_nonfinite_logged = false;
-    volk::vector<gr_complex> d_clean; //!< input symbol with non-finite samples zeroed
 
     void check_and_log(const scene& scn) const;
     void update_sigma();

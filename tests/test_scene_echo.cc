@@ -179,3 +179,42 @@ TEST(SceneEcho, ManyTargetsAccumulateAcrossChunks)
     k.echo(777, s.data(), y.data());
     EXPECT_LT(rel_error_db(y, direct_echo(num, geo, scn, 777, s)), -80.0);
 }
+
+TEST(SceneEcho, FusedNoiseIsTheGeneratorsStream)
+{
+    // echo(..., noise, sigma) adds exactly noise.generate(m, sigma) (both paths; N = 3333
+    // leaves a partial group at the end).
+    const auto num = numerology::preset("paper");
+    const auto s = random_qam(num.num_subcarriers, 10);
+    for (bool simd : { true, false }) {
+        kernel::scene_echo k(num, geometry::preset("paper"), test_scene());
+        k.set_simd(simd);
+        kernel::gaussian_noise g(77, simd);
+        std::vector<gr_complex> fused(num.num_subcarriers), separate(num.num_subcarriers);
+        k.echo(4321, s.data(), fused.data(), nullptr, &g, 0.3f);
+        k.echo(4321, s.data(), separate.data());
+        g.add(4321, 0.3f, separate.data(), separate.size());
+        for (unsigned n = 0; n < num.num_subcarriers; n++)
+            ASSERT_EQ(fused[n], separate[n]) << "simd " << simd << " n " << n;
+    }
+}
+
+TEST(SceneEcho, NonFiniteInputCountsAsZero)
+{
+    const auto num = numerology::preset("small");
+    const auto geo = geometry::preset("paper");
+    const auto scn = test_scene();
+    for (bool simd : { true, false }) {
+        kernel::scene_echo k(num, geo, scn);
+        k.set_simd(simd);
+        auto s = random_qam(num.num_subcarriers, 11);
+        s[3] = gr_complex(NAN, 0.0f);
+        s[100] = gr_complex(0.0f, INFINITY);
+        s[511] = gr_complex(-INFINITY, NAN);
+        std::vector<gr_complex> y(num.num_subcarriers);
+        EXPECT_EQ(k.echo(5, s.data(), y.data()), 3u);
+        s[3] = s[100] = s[511] = gr_complex(0.0f, 0.0f);
+        EXPECT_LT(rel_error_db(y, direct_echo(num, geo, scn, 5, s)), -80.0);
+        EXPECT_EQ(k.echo(5, s.data(), y.data()), 0u);
+    }
+}

@@ -19,30 +19,31 @@ using namespace echo_detail;
 
 namespace echo_detail {
 
-void generic_block(const target_lanes* t,
-                   unsigned nq,
-                   bool accumulate,
-                   const gr_complex* s,
-                   gr_complex* y,
-                   gr_complex* h,
-                   std::size_t len)
+void generic_block(const target_lanes* t, unsigned nq, block_io& io, std::size_t len)
 {
     // Same recurrence as the AVX2 path: 8 lanes advanced by step^8.
-    gr_complex p[max_targets][lanes], step[max_targets];
+    gr_complex p[max_targets][lanes], step[max_targets], z[lanes];
     for (unsigned q = 0; q < nq; q++) {
         for (unsigned l = 0; l < lanes; l++)
             p[q][l] = gr_complex(t[q].v[2 * l], t[q].v[2 * l + 1]);
         step[q] = gr_complex(t[q].step[0], t[q].step[1]);
     }
+    const bool noise = io.s && io.noise;
     for (std::size_t i0 = 0; i0 < len; i0 += lanes) {
         const std::size_t n = std::min<std::size_t>(lanes, len - i0);
+        if (noise)
+            noise_detail::generic_group(*io.noise, io.sigma, z);
         for (std::size_t l = 0; l < n; l++) {
-            gr_complex acc = accumulate ? h[i0 + l] : gr_complex(0.0f, 0.0f);
+            gr_complex acc = io.accumulate ? io.h[i0 + l] : gr_complex(0.0f, 0.0f);
             for (unsigned q = 0; q < nq; q++)
                 acc += p[q][l];
-            h[i0 + l] = acc;
-            if (s)
-                y[i0 + l] = s[i0 + l] * acc; // eq. (7): Y = S H
+            if (io.h)
+                io.h[i0 + l] = acc;
+            if (io.s) {
+                const gr_complex sv = io.s[i0 + l];
+                io.nonfinite |= !(std::isfinite(sv.real()) && std::isfinite(sv.imag()));
+                io.y[i0 + l] = noise ? sv * acc + z[l] : sv * acc; // eq. (7)
+            }
         }
         for (unsigned q = 0; q < nq; q++)
             for (unsigned l = 0; l < lanes; l++)
@@ -59,6 +60,7 @@ scene_echo::scene_echo(const numerology& num, const geometry& geo, const scene& 
     d_geo.validate();
     set_scene(scn);
     d_h.resize(d_num.num_subcarriers);
+    d_clean.resize(d_num.num_subcarriers);
 }
 
 void scene_echo::set_scene(const scene& scn)
@@ -82,15 +84,27 @@ double scene_echo::platform_y(std::uint64_t m) const
            d_geo.velocity_mps * (static_cast<double>(m) * d_num.symbol_s());
 }
 
-void scene_echo::run(std::uint64_t m, const gr_complex* s, gr_complex* y, gr_complex* h)
+std::size_t scene_echo::run(std::uint64_t m,
+                            const gr_complex* s,
+                            gr_complex* y,
+                            gr_complex* h,
+                            const gaussian_noise* noise,
+                            float sigma)
 {
     const std::size_t n_sc = d_num.num_subcarriers;
     const std::size_t nq = d_active.size();
-    if (nq == 0) { // every target has zero RCS
-        std::fill(h, h + n_sc, gr_complex(0.0f, 0.0f));
-        if (s)
-            std::fill(y, y + n_sc, gr_complex(0.0f, 0.0f));
-        return;
+    const bool with_noise = s && noise && sigma > 0.0f;
+    if (nq == 0) { // every target has zero RCS: Y = Z
+        if (h)
+            std::fill(h, h + n_sc, gr_complex(0.0f, 0.0f));
+        if (!s)
+            return 0;
+        std::fill(y, y + n_sc, gr_complex(0.0f, 0.0f));
+        if (with_noise)
+            noise->add(m, sigma, y, n_sc);
+        return static_cast<std::size_t>(std::count_if(s, s + n_sc, [](const gr_complex& v) {
+            return !(std::isfinite(v.real()) && std::isfinite(v.imag()));
+        }));
     }
     const double yp = platform_y(m);
     const double fc = d_geo.carrier_hz;
@@ -114,6 +128,14 @@ void scene_echo::run(std::uint64_t m, const gr_complex* s, gr_complex* y, gr_com
         d_lanes[q].step[1] = static_cast<float>(step8.imag());
     }
 
+    noise_detail::lane_state st;
+    if (with_noise) // the same stream as noise->add(m, ...): block index m
+        noise_detail::seed_lanes(noise->seed(), m, st);
+    // H is stored when asked for, or when targets come in several passes.
+    gr_complex* hbuf = h ? h : (nq > max_targets ? d_h.data() : nullptr);
+    block_io io;
+    io.noise = with_noise ? &st : nullptr;
+    io.sigma = sigma;
     for (std::size_t n0 = 0; n0 < n_sc; n0 += L) {
         const std::size_t len = std::min<std::size_t>(L, n_sc - n0);
         for (std::size_t q = 0; q < nq; q++) {
@@ -125,24 +147,48 @@ void scene_echo::run(std::uint64_t m, const gr_complex* s, gr_complex* y, gr_com
             d_anchor[q] *= d_block_step[q]; // double recurrence: drift ~1e-16 per block
         }
         for (std::size_t q0 = 0; q0 < nq; q0 += max_targets) {
-            const unsigned chunk = static_cast<unsigned>(std::min<std::size_t>(max_targets, nq - q0));
+            const unsigned chunk =
+                static_cast<unsigned>(std::min<std::size_t>(max_targets, nq - q0));
             const bool last = q0 + chunk == nq;
-            const gr_complex* sp = (s && last) ? s + n0 : nullptr;
+            io.s = (s && last) ? s + n0 : nullptr;
+            io.y = y ? y + n0 : nullptr;
+            io.h = hbuf ? hbuf + n0 : nullptr;
+            io.accumulate = q0 > 0;
             if (d_simd)
-                avx2_block(&d_lanes[q0], chunk, q0 > 0, sp, y + n0, h + n0, len);
+                avx2_block(&d_lanes[q0], chunk, io, len);
             else
-                generic_block(&d_lanes[q0], chunk, q0 > 0, sp, y + n0, h + n0, len);
+                generic_block(&d_lanes[q0], chunk, io, len);
         }
     }
+    if (!io.nonfinite)
+        return 0;
+    // Rare path: zero the non-finite samples of S and compute the symbol again (the
+    // noise is a function of (seed, m), so it comes out the same).
+    std::size_t count = 0;
+    for (std::size_t n = 0; n < n_sc; n++) {
+        const bool ok = std::isfinite(s[n].real()) && std::isfinite(s[n].imag());
+        d_clean[n] = ok ? s[n] : gr_complex(0.0f, 0.0f);
+        count += !ok;
+    }
+    run(m, d_clean.data(), y, h, noise, sigma);
+    return count;
 }
 
 void scene_echo::set_simd(bool allow) { d_simd = allow && avx2_available(); }
 
-void scene_echo::reference(std::uint64_t m, gr_complex* h) { run(m, nullptr, nullptr, h); }
-
-void scene_echo::echo(std::uint64_t m, const gr_complex* s, gr_complex* y, gr_complex* h)
+void scene_echo::reference(std::uint64_t m, gr_complex* h)
 {
-    run(m, s, y, h ? h : d_h.data());
+    run(m, nullptr, nullptr, h, nullptr, 0.0f);
+}
+
+std::size_t scene_echo::echo(std::uint64_t m,
+                             const gr_complex* s,
+                             gr_complex* y,
+                             gr_complex* h,
+                             const gaussian_noise* noise,
+                             float sigma)
+{
+    return run(m, s, y, h, noise, sigma);
 }
 
 } // namespace kernel

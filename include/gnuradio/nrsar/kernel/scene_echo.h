@@ -10,9 +10,11 @@
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/gaussian_noise.h>
 #include <gnuradio/nrsar/params.h>
 #include <volk/volk_alloc.hh>
 #include <complex>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -48,10 +50,10 @@ struct alignas(32) target_lanes {
  * double-precision recurrence started at an exact sincos; in between, the 8 lanes are
  * advanced in float by exp(-j 4 pi 8 Delta f R / c) (AVX2/FMA with runtime dispatch, or
  * the same recurrence in scalar code), summed over the targets and multiplied by S in
- * the same pass. The error against a float64 evaluation stays below -100 dB
+ * the same pass, together with the noise and the non-finite test of S. The error against a float64 evaluation stays below -100 dB
  * (tests/test_scene_echo.cc). VOLK's rotator was measured at -48 dB here (its SIMD
  * versions compound the float increment), hence the own loop.
- * Noise is added separately (kernel::gaussian_noise).
+ * Noise: kernel::gaussian_noise, drawn inside the same pass (echo()).
  */
 class NRSAR_API scene_echo
 {
@@ -77,8 +79,24 @@ public:
     //! h[n] = H[n, m]: the echo of S = 1 without noise (the reference of SPEC 8).
     void reference(std::uint64_t m, gr_complex* h);
 
-    //! y[n] = s[n] H[n, m]; h, when not null, receives H[n, m] as well.
-    void echo(std::uint64_t m, const gr_complex* s, gr_complex* y, gr_complex* h = nullptr);
+    /*!
+     * y[n] = s[n] H[n, m] + sigma Z[n, m], eq. (7), in one pass over the symbol.
+     *
+     * \param m absolute symbol index (slow time).
+     * \param s transmit symbol S[:, m] (N values); non-finite values count as 0.
+     * \param y output Y[:, m] (not aliasing s).
+     * \param h when not null, receives H[n, m] as well.
+     * \param noise when not null and sigma > 0, Z = the samples noise->generate(m, ...)
+     *        gives (same seed and block index; drawn here in the same pass).
+     * \param sigma noise standard deviation, E|sigma Z|^2 = sigma^2.
+     * \return the number of non-finite samples of s (then treated as 0).
+     */
+    std::size_t echo(std::uint64_t m,
+                     const gr_complex* s,
+                     gr_complex* y,
+                     gr_complex* h = nullptr,
+                     const gaussian_noise* noise = nullptr,
+                     float sigma = 0.0f);
 
     //! false: the portable scalar inner loop even when the CPU has AVX2 (tests).
     void set_simd(bool allow);
@@ -86,7 +104,12 @@ public:
     const char* implementation() const { return d_simd ? "avx2" : "generic"; }
 
 private:
-    void run(std::uint64_t m, const gr_complex* s, gr_complex* y, gr_complex* h);
+    std::size_t run(std::uint64_t m,
+                    const gr_complex* s,
+                    gr_complex* y,
+                    gr_complex* h,
+                    const gaussian_noise* noise,
+                    float sigma);
 
     numerology d_num;
     geometry d_geo;
@@ -95,7 +118,8 @@ private:
     std::vector<point_target> d_active; //!< targets with rcs > 0
     std::vector<echo_detail::target_lanes> d_lanes;
     std::vector<std::complex<double>> d_anchor, d_block_step, d_sc_pow;
-    volk::vector<gr_complex> d_h; //!< reference when the caller does not want it
+    volk::vector<gr_complex> d_h;     //!< H across target passes when the caller has no buffer
+    volk::vector<gr_complex> d_clean; //!< S with non-finite samples zeroed
 };
 
 } // namespace kernel
