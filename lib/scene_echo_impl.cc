@@ -45,6 +45,7 @@ scene_echo_impl::scene_echo_impl(const numerology& num,
       d_num(num),
       d_geo(geo),
       d_echo(num, geo, scn), // validates num, geo and scn
+      d_echo2(num, geo, scn),
       d_noise(seed),
       d_snr_db(snr_db)
 {
@@ -89,12 +90,79 @@ void scene_echo_impl::set_scene(const scene& scn)
     check_and_log(scn);
     gr::thread::scoped_lock guard(d_setlock);
     d_echo.set_scene(scn);
+    d_echo2.set_scene(scn);
     update_sigma();
 }
 
 scene scene_echo_impl::get_scene() const { return d_echo.get_scene(); }
 
 std::uint64_t scene_echo_impl::nonfinite_count() const { return d_nonfinite; }
+
+void scene_echo_impl::set_threads(unsigned threads)
+{
+    check_range("threads", threads, 1u, 2u);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_threads = threads;
+}
+
+unsigned scene_echo_impl::threads() const { return d_threads; }
+
+void scene_echo_impl::process(kernel::scene_echo& k,
+                              const gr_complex* in,
+                              gr_complex* out,
+                              gr_complex* ref,
+                              std::uint64_t m0,
+                              int count,
+                              std::size_t* bad)
+{
+    const std::size_t n = d_num.num_subcarriers;
+    for (int i = 0; i < count; i++) {
+        // eq. (7), (8) with the noise and the non-finite test in one pass; m is the
+        // absolute slow-time index.
+        bad[i] = k.echo(m0 + i,
+                        in + i * n,
+                        out + i * n,
+                        ref ? ref + i * n : nullptr,
+                        &d_noise,
+                        d_sigma);
+    }
+}
+
+void scene_echo_impl::worker_loop()
+{
+    std::unique_lock<std::mutex> lock(d_job_mutex);
+    for (;;) {
+        d_job_cv.wait(lock, [this] { return d_job.pending || d_job.quit; });
+        if (d_job.quit)
+            return;
+        lock.unlock();
+        process(d_echo2, d_job.in, d_job.out, d_job.ref, d_job.m0, d_job.count, d_job.bad);
+        lock.lock();
+        d_job.pending = false;
+        d_job_cv.notify_all();
+    }
+}
+
+void scene_echo_impl::stop_worker()
+{
+    if (!d_worker.joinable())
+        return;
+    {
+        std::lock_guard<std::mutex> lock(d_job_mutex);
+        d_job.quit = true;
+    }
+    d_job_cv.notify_all();
+    d_worker.join();
+    d_job.quit = false;
+}
+
+bool scene_echo_impl::stop()
+{
+    stop_worker();
+    return true;
+}
+
+scene_echo_impl::~scene_echo_impl() { stop_worker(); }
 
 int scene_echo_impl::work(int noutput_items,
                           gr_vector_const_void_star& input_items,
@@ -106,28 +174,43 @@ int scene_echo_impl::work(int noutput_items,
     auto* out = static_cast<gr_complex*>(output_items[0]);
     auto* ref = output_items.size() > 1 ? static_cast<gr_complex*>(output_items[1]) : nullptr;
     const std::uint64_t m0 = nitems_read(0);
+    d_bad.resize(noutput_items);
+
+    if (d_threads > 1 && noutput_items >= 4) {
+        if (!d_worker.joinable())
+            d_worker = std::thread([this] { worker_loop(); });
+        const int first = noutput_items / 2;
+        {
+            std::lock_guard<std::mutex> lock(d_job_mutex);
+            d_job.in = in + first * n;
+            d_job.out = out + first * n;
+            d_job.ref = ref ? ref + first * n : nullptr;
+            d_job.m0 = m0 + first;
+            d_job.count = noutput_items - first;
+            d_job.bad = d_bad.data() + first;
+            d_job.pending = true;
+        }
+        d_job_cv.notify_all();
+        process(d_echo, in, out, ref, m0, first, d_bad.data());
+        std::unique_lock<std::mutex> lock(d_job_mutex);
+        d_job_cv.wait(lock, [this] { return !d_job.pending; });
+    } else {
+        process(d_echo, in, out, ref, m0, noutput_items, d_bad.data());
+    }
 
     for (int i = 0; i < noutput_items; i++) {
-        const std::uint64_t m = m0 + i; // absolute slow-time index
-        // eq. (7), (8) with the noise and the non-finite test in one pass.
-        const std::size_t bad = d_echo.echo(m,
-                                            in + i * n,
-                                            out + i * n,
-                                            ref ? ref + i * n : nullptr,
-                                            &d_noise,
-                                            d_sigma);
-        if (bad) {
-            d_nonfinite += bad;
-            if (!d_nonfinite_logged) {
-                d_logger->warn("{} non-finite input samples in symbol {} set to zero "
-                               "(logged once; see nonfinite_count() and the tags)",
-                               bad,
-                               m);
-                d_nonfinite_logged = true;
-            }
-            add_item_tag(
-                0, nitems_written(0) + i, tags::nonfinite_key(), pmt::from_uint64(bad));
+        const std::size_t bad = d_bad[i];
+        if (!bad)
+            continue;
+        d_nonfinite += bad;
+        if (!d_nonfinite_logged) {
+            d_logger->warn("{} non-finite input samples in symbol {} set to zero "
+                           "(logged once; see nonfinite_count() and the tags)",
+                           bad,
+                           m0 + i);
+            d_nonfinite_logged = true;
         }
+        add_item_tag(0, nitems_written(0) + i, tags::nonfinite_key(), pmt::from_uint64(bad));
     }
     return noutput_items;
 }

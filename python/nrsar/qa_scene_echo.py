@@ -191,6 +191,27 @@ class qa_scene_echo(gr_unittest.TestCase):
         marks = [t.offset for t in tags if pmt.eq(t.key, pmt.intern("marker"))]
         self.assertEqual(marks, [2])
 
+    def test_018_two_threads_same_output(self):
+        # The second thread takes half of every work() call; noise is a function of
+        # (seed, m), so the output is the same as with one thread.
+        rng = np.random.default_rng(18)
+        s = qam256(rng, (300, self.N))
+        s[150, 7] = np.nan
+        outs = []
+        for threads in (1, 2):
+            self.tb = gr.top_block()
+            blk = nrsar.scene_echo(self.num, self.geo, nrsar.make_scene("paper3"), 5.0, 21)
+            blk.set_threads(threads)
+            blk.set_min_output_buffer(64)  # work() calls of many symbols, so both threads work
+            self.assertEqual(blk.threads(), threads)
+            y, h, tags = self.run_block(blk, s, with_reference=True)
+            outs.append((y, h, [(t.offset, pmt.to_uint64(t.value)) for t in tags
+                                if pmt.eq(t.key, pmt.intern("nonfinite"))], blk.nonfinite_count()))
+        np.testing.assert_array_equal(outs[0][0], outs[1][0])
+        np.testing.assert_array_equal(outs[0][1], outs[1][1])
+        self.assertEqual(outs[1][2], [(150, 1)])
+        self.assertEqual(outs[0][2:], outs[1][2:])
+
     # One test per invalid-parameter rule.
     def assert_refused(self, text, make):
         with self.assertRaises(ValueError) as ctx:
@@ -238,6 +259,12 @@ class qa_scene_echo(gr_unittest.TestCase):
         self.assert_refused("no targets", lambda: nrsar.scene_echo(self.num, self.geo, nrsar.scene([])))
         negative = nrsar.scene([nrsar.point_target(300.0, 100.0, -1.0)])
         self.assert_refused("rcs = -1", lambda: nrsar.scene_echo(self.num, self.geo, negative))
+
+    def test_019_threads_range(self):
+        blk = nrsar.scene_echo(self.num, self.geo, nrsar.make_scene("paper3"))
+        self.assert_refused("threads = 3 must be in [1, 2]", lambda: blk.set_threads(3))
+        self.assert_refused("threads = 0 must be in [1, 2]", lambda: blk.set_threads(0))
+        self.assertEqual(blk.threads(), 1)
 
     def test_017_set_scene_refuses_and_keeps_old(self):
         blk = nrsar.scene_echo(self.num, self.geo, nrsar.make_scene("paper3"))

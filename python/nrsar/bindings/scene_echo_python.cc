@@ -55,5 +55,10 @@ void bind_scene_echo(py::module& m)
         .def("get_scene", &scene_echo::get_scene, "The current scene.")
         .def("nonfinite_count",
              &scene_echo::nonfinite_count,
-             "Non-finite input samples zeroed so far.");
+             "Non-finite input samples zeroed so far.")
+        .def("set_threads",
+             &scene_echo::set_threads,
+             py::arg("threads"),
+             "Threads computing the echo: 1 (default) or 2.")
+        .def("threads", &scene_echo::threads, "Threads computing the echo.");
 }
