@@ -8,8 +8,10 @@
 // AVX2/FMA inner loop of kernel::scene_echo. This file alone is compiled with
 // -mavx2 -mfma (lib/CMakeLists.txt) and called only after a runtime CPU check.
 
+// No std:: templates here: an out-of-line instantiation compiled for AVX2 could be
+// picked by the linker for the generic code too (checked: `nm` shows no weak symbols).
+
 #include "scene_echo_impl.h"
-#include <algorithm>
 
 #if defined(__x86_64__) || defined(__i386__)
 #define NRSAR_HAVE_AVX2_PATH 1
@@ -104,19 +106,22 @@ void avx2_block(const target_lanes* t, unsigned nq, block_io& io, std::size_t le
         group(sf ? sf + 16 * g : nullptr, yf + 16 * g, hf ? hf + 16 * g : nullptr);
     const std::size_t rest = len - full * lanes;
     if (rest) {
-        alignas(32) gr_complex st[lanes] = {}, yt[lanes], ht[lanes] = {};
-        const std::size_t off = full * lanes;
+        alignas(32) float st[2 * lanes] = {}, yt[2 * lanes], ht[2 * lanes] = {};
+        const std::size_t off = 2 * full * lanes;
+        const std::size_t nf = 2 * rest;
         if (io.accumulate)
-            std::copy(io.h + off, io.h + len, ht);
+            for (std::size_t i = 0; i < nf; i++)
+                ht[i] = hf[off + i];
         if (io.s)
-            std::copy(io.s + off, io.s + len, st);
-        group(io.s ? reinterpret_cast<const float*>(st) : nullptr,
-              reinterpret_cast<float*>(yt),
-              io.h ? reinterpret_cast<float*>(ht) : nullptr);
+            for (std::size_t i = 0; i < nf; i++)
+                st[i] = sf[off + i];
+        group(io.s ? st : nullptr, yt, io.h ? ht : nullptr);
         if (io.h)
-            std::copy(ht, ht + rest, io.h + off);
+            for (std::size_t i = 0; i < nf; i++)
+                hf[off + i] = ht[i];
         if (io.s)
-            std::copy(yt, yt + rest, io.y + off);
+            for (std::size_t i = 0; i < nf; i++)
+                yf[off + i] = yt[i];
     }
     if (noise)
         rng.store(*io.noise);
