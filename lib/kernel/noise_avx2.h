@@ -12,6 +12,9 @@
 #define INCLUDED_NRSAR_KERNEL_NOISE_AVX2_H
 
 #include "gaussian_noise_impl.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#define NRSAR_HAVE_AVX2_PATH 1
 #include <immintrin.h>
 
 namespace gr {
@@ -131,4 +134,5 @@ inline void box_muller8(xoshiro8& g, __m256 v_sigma, __m256& out0, __m256& out1)
 } // namespace nrsar
 } // namespace gr
 
+#endif // x86
 #endif

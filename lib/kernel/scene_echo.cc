@@ -84,12 +84,12 @@ double scene_echo::platform_y(std::uint64_t m) const
            d_geo.velocity_mps * (static_cast<double>(m) * d_num.symbol_s());
 }
 
-std::size_t scene_echo::run(std::uint64_t m,
-                            const gr_complex* s,
-                            gr_complex* y,
-                            gr_complex* h,
-                            const gaussian_noise* noise,
-                            float sigma)
+std::size_t scene_echo::echo(std::uint64_t m,
+                             const gr_complex* s,
+                             gr_complex* y,
+                             gr_complex* h,
+                             const gaussian_noise* noise,
+                             float sigma)
 {
     const std::size_t n_sc = d_num.num_subcarriers;
     const std::size_t nq = d_active.size();
@@ -170,7 +170,7 @@ std::size_t scene_echo::run(std::uint64_t m,
         d_clean[n] = ok ? s[n] : gr_complex(0.0f, 0.0f);
         count += !ok;
     }
-    run(m, d_clean.data(), y, h, noise, sigma);
+    echo(m, d_clean.data(), y, h, noise, sigma);
     return count;
 }
 
@@ -178,17 +178,7 @@ void scene_echo::set_simd(bool allow) { d_simd = allow && avx2_available(); }
 
 void scene_echo::reference(std::uint64_t m, gr_complex* h)
 {
-    run(m, nullptr, nullptr, h, nullptr, 0.0f);
-}
-
-std::size_t scene_echo::echo(std::uint64_t m,
-                             const gr_complex* s,
-                             gr_complex* y,
-                             gr_complex* h,
-                             const gaussian_noise* noise,
-                             float sigma)
-{
-    return run(m, s, y, h, noise, sigma);
+    echo(m, nullptr, nullptr, h, nullptr, 0.0f);
 }
 
 } // namespace kernel

@@ -13,10 +13,7 @@
 
 #include "scene_echo_impl.h"
 
-#if defined(__x86_64__) || defined(__i386__)
-#define NRSAR_HAVE_AVX2_PATH 1
-#include "noise_avx2.h"
-#endif
+#include "noise_avx2.h" // defines NRSAR_HAVE_AVX2_PATH on x86
 
 namespace gr {
 namespace nrsar {

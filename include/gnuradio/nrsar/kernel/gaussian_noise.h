@@ -27,7 +27,7 @@ namespace kernel {
  * Per block, eight xoshiro128++ lanes are seeded by splitmix64 from (seed, b); element
  * i of the block uses lane i % 8 at step i / 8. Two 32-bit words give one complex
  * sample by Box-Muller in polar form: |z|^2 = -ln(u1) is exponential with mean 1
- * (u1 from 24 bits, so |z| <= 4.16), the angle takes 26 bits of u2 (2 quadrant bits,
+ * (u1 = k / 2^24, so |z| <= 4.08), the angle takes 26 bits of u2 (2 quadrant bits,
  * 24 bits of a polynomial sincos on [-pi/4, pi/4)). ln, sin and cos are polynomials
  * with relative error below 1e-6, evaluated 8 lanes at a time with AVX2/FMA when the
  * CPU has them (runtime dispatch, no -march flag), or by the same algorithm in scalar

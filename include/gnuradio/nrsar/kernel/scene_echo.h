@@ -104,13 +104,6 @@ public:
     const char* implementation() const { return d_simd ? "avx2" : "generic"; }
 
 private:
-    std::size_t run(std::uint64_t m,
-                    const gr_complex* s,
-                    gr_complex* y,
-                    gr_complex* h,
-                    const gaussian_noise* noise,
-                    float sigma);
-
     numerology d_num;
     geometry d_geo;
     scene d_scene;
