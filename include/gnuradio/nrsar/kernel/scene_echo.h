@@ -18,7 +18,6 @@
 #include <cstdint>
 #include <vector>
 
-
 namespace gr {
 namespace nrsar {
 namespace kernel {
@@ -37,12 +36,12 @@ struct alignas(32) target_lanes {
 } // namespace echo_detail
 
 /*!
- * \brief Noise-free TF echo of a point-target scene, one OFDM symbol at a time:
- * eq. (7) with the exact range (8),
+ * \brief TF echo of a point-target scene, one OFDM symbol at a time: eq. (7) with the
+ * exact range (8),
  *
  *     H[n, m] = sum_q alpha_q exp(-j 4 pi (fc + n Delta f) R_q(m) / c),  n = 0 .. N-1
  *     R_q(m) = sqrt(x_q^2 + H^2 + (y_p(m) - y_q)^2),  y_p(m) = track_start + v m Tsym
- *     alpha_q = sqrt(rcs_q) exp(j phase_q),           Y[n, m] = S[n, m] H[n, m]
+ *     alpha_q = sqrt(rcs_q) exp(j phase_q),   Y[n, m] = S[n, m] H[n, m] + sigma Z[n, m]
  *
  * m is the absolute symbol index (an endless stream keeps the platform moving).
  * Ranges and phases are formed in double: per symbol and target, the phasors of 8
@@ -50,15 +49,15 @@ struct alignas(32) target_lanes {
  * double-precision recurrence started at an exact sincos; in between, the 8 lanes are
  * advanced in float by exp(-j 4 pi 8 Delta f R / c) (AVX2/FMA with runtime dispatch, or
  * the same recurrence in scalar code), summed over the targets and multiplied by S in
- * the same pass, together with the noise and the non-finite test of S. The error against a float64 evaluation stays below -100 dB
- * (tests/test_scene_echo.cc). VOLK's rotator was measured at -48 dB here (its SIMD
- * versions compound the float increment), hence the own loop.
- * Noise: kernel::gaussian_noise, drawn inside the same pass (echo()).
+ * one pass, together with the noise (kernel::gaussian_noise) and the non-finite test
+ * of S. Error against a float64 evaluation: about -125 dB (tests/test_scene_echo.cc).
+ * VOLK 2.5's rotator gave -43 to -58 dB here (its SIMD versions compound the float
+ * increment), hence the own loop.
  */
 class NRSAR_API scene_echo
 {
 public:
-    //! Subcarriers between exact anchors (float rotator drift over 256 steps ~1e-5 rad).
+    //! Subcarriers between exact anchors: 32 float steps of step^8, drift ~2e-6 rad.
     static constexpr unsigned anchor_interval = 256;
 
     //! Validates num, geo and scn (std::invalid_argument); no scenario check here.
