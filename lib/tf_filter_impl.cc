@@ -16,24 +16,17 @@ namespace nrsar {
 tf_filter::sptr
 tf_filter::make(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool estimate_snr)
 {
+    // Checked here: the io signatures built from vlen would reject 0 with a vaguer message.
+    check_at_least("vlen", vlen, 1u);
     return gnuradio::make_block_sptr<tf_filter_impl>(vlen, type, snr_db, estimate_snr);
 }
-
-namespace {
-// Validates before the io signatures are built from vlen.
-unsigned checked_vlen(unsigned vlen)
-{
-    check_at_least("vlen", vlen, 1u);
-    return vlen;
-}
-} // namespace
 
 tf_filter_impl::tf_filter_impl(unsigned vlen,
                                gr::nrsar::filter_type type,
                                double snr_db,
                                bool estimate_snr)
     : gr::sync_block("tf_filter",
-                     gr::io_signature::make(2, 2, sizeof(gr_complex) * checked_vlen(vlen)),
+                     gr::io_signature::make(2, 2, sizeof(gr_complex) * vlen),
                      gr::io_signature::make(1, 1, sizeof(gr_complex) * vlen)),
       d_kernel(vlen, type, snr_db, estimate_snr)
 {

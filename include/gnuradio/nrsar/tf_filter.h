@@ -31,7 +31,7 @@ namespace nrsar {
  * tag (uint64 count) on the output item they affected. Input tags propagate.
  *
  * With estimate_snr, WF uses a method-of-moments estimate of SNR_in from the echo and
- * the known symbols over a sliding window of about 4.2 M REs (see
+ * the known symbols over a sliding window of 2^24 (16.8 M) REs (see
  * kernel::snr_estimator); until the first valid estimate, and for constant-modulus
  * constellations (where WF is MF up to scale), it uses snr_db.
  */
