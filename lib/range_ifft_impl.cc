@@ -98,6 +98,13 @@ void range_ifft_impl::set_window(gr::fft::window::win_type window, double window
     d_tag_pending = true;
 }
 
+bool range_ifft_impl::start()
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_tag_pending = true;
+    return gr::sync_block::start();
+}
+
 int range_ifft_impl::work(int noutput_items,
                           gr_vector_const_void_star& input_items,
                           gr_vector_void_star& output_items)

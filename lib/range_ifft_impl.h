@@ -29,6 +29,8 @@ public:
     range_ifft_impl(const numerology& num, kernel::range_ifft&& kern);
 
     void set_window(gr::fft::window::win_type window, double window_param) override;
+    //! Re-arms the range-axis tag: every run starts a new stream for the blocks downstream.
+    bool start() override;
 
     gr::fft::window::win_type window() const override { return d_kernel.window(); }
     double window_param() const override { return d_kernel.window_param(); }
