@@ -40,3 +40,22 @@ BENCHMARK(BM_range_ifft)
     ->Args({ 3333, 3333 })
     ->Args({ 3333, 3360 })
     ->Args({ 3333, 4096 });
+
+#include <gnuradio/nrsar/kernel/finite_guard.h>
+
+namespace {
+// The non-finite check every block runs on its input before the transform.
+void BM_finite_guard(benchmark::State& state)
+{
+    const std::size_t n = state.range(0);
+    std::vector<gr_complex> x(n, gr_complex(0.5f, -0.25f));
+    kernel::finite_guard guard;
+    for (auto _ : state) {
+        std::size_t bad = 0;
+        benchmark::DoNotOptimize(guard.guard(x.data(), n, bad));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+} // namespace
+
+BENCHMARK(BM_finite_guard)->Arg(3333);

@@ -6,6 +6,7 @@
  */
 
 #include "range_ifft_impl.h"
+#include "nonfinite_log.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
@@ -128,18 +129,12 @@ int range_ifft_impl::work(int noutput_items,
         d_kernel.execute(x, out + i * k);
         if (bad > 0) {
             d_nonfinite += bad;
+            const std::uint64_t item = nitems_written(0) + i;
             add_item_tag(0,
-                         nitems_written(0) + i,
+                         item,
                          tags::nonfinite_key(),
-                         pmt::from_uint64(bad),
+                         note_nonfinite(d_logger, d_warned_nonfinite, bad, item),
                          alias_pmt());
-            if (!d_warned_nonfinite) {
-                d_logger->warn("{} non-finite input samples in item {} replaced by 0 "
-                               "(further occurrences are only tagged and counted)",
-                               bad,
-                               nitems_written(0) + i);
-                d_warned_nonfinite = true;
-            }
         }
     }
     return noutput_items;

@@ -6,6 +6,7 @@
  */
 
 #include "tf_filter_impl.h"
+#include "nonfinite_log.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
@@ -71,18 +72,12 @@ int tf_filter_impl::work(int noutput_items,
         const std::size_t bad =
             d_kernel.process(y + i * vlen, s + i * vlen, out + i * vlen);
         if (bad > 0) {
+            const std::uint64_t item = nitems_written(0) + i;
             add_item_tag(0,
-                         nitems_written(0) + i,
+                         item,
                          tags::nonfinite_key(),
-                         pmt::from_uint64(bad),
+                         note_nonfinite(d_logger, d_warned_nonfinite, bad, item),
                          alias_pmt());
-            if (!d_warned_nonfinite) {
-                d_logger->warn("{} non-finite input samples in item {} replaced by 0 "
-                               "(further occurrences are only tagged and counted)",
-                               bad,
-                               nitems_written(0) + i);
-                d_warned_nonfinite = true;
-            }
         }
     }
     return noutput_items;

@@ -29,6 +29,14 @@ void ensure(volk::vector<float>& v, std::size_t n)
 
 double db_to_linear(double db) { return std::pow(10.0, db / 10.0); }
 
+// out = y conj(s) w: the common tail of RF and WF, whose real weights w differ.
+void weighted_conj_product(
+    const gr_complex* y, const gr_complex* s, const float* w, gr_complex* out, std::size_t n)
+{
+    volk_32fc_x2_multiply_conjugate_32fc(out, y, s, n);
+    volk_32fc_32f_multiply_32fc(out, out, w, n);
+}
+
 } // namespace
 
 // ---------------------------------------------------------------- strategies, eq. (25)
@@ -50,8 +58,7 @@ void rf_filter::apply(const gr_complex* y,
         const float empty = m < empty_mag2 ? 1.0f : 0.0f;
         w[i] = (1.0f - empty) / (m + empty); // empty: 0 / (m + 1) = 0
     }
-    volk_32fc_x2_multiply_conjugate_32fc(out, y, s, n);
-    volk_32fc_32f_multiply_32fc(out, out, w, n);
+    weighted_conj_product(y, s, w, out, n);
 }
 
 void mf_filter::apply(const gr_complex* y,
@@ -80,8 +87,7 @@ void wf_filter::apply(const gr_complex* y,
     const float inv_snr = static_cast<float>(1.0 / d_snr);
     for (std::size_t i = 0; i < n; i++)
         w[i] = 1.0f / (s_mag2[i] + inv_snr);
-    volk_32fc_x2_multiply_conjugate_32fc(out, y, s, n);
-    volk_32fc_32f_multiply_32fc(out, out, w, n);
+    weighted_conj_product(y, s, w, out, n);
 }
 
 std::unique_ptr<re_filter> make_re_filter(filter_type type, double snr_linear)

@@ -59,7 +59,8 @@ class qa_tf_filter(gr_unittest.TestCase):
     def tearDown(self):
         self.tb = None
 
-    def run_block(self, blk, y, s, vlen, y_tags=()):
+    def connect(self, blk, y, s, vlen, y_tags=()):
+        """vector sources of y (with tags) and s -> blk -> vector sink."""
         src_y = blocks.vector_source_c(y.astype(np.complex64).ravel().tolist(), False, vlen,
                                        list(y_tags))
         src_s = blocks.vector_source_c(s.astype(np.complex64).ravel().tolist(), False, vlen)
@@ -67,6 +68,10 @@ class qa_tf_filter(gr_unittest.TestCase):
         self.tb.connect(src_y, (blk, 0))
         self.tb.connect(src_s, (blk, 1))
         self.tb.connect(blk, snk)
+        return src_y, src_s, snk
+
+    def run_block(self, blk, y, s, vlen, y_tags=()):
+        _, _, snk = self.connect(blk, y, s, vlen, y_tags)
         self.tb.run()
         return np.array(snk.data()).reshape(-1, vlen), snk.tags()
 
@@ -177,12 +182,7 @@ class qa_tf_filter(gr_unittest.TestCase):
         s = qam256(rng, vlen * m).reshape(m, vlen)
         y = rng.normal(size=(m, vlen)) + 1j * rng.normal(size=(m, vlen))
         blk = nrsar.tf_filter(vlen, nrsar.filter_type.MF, 0.0, False)
-        src_y = blocks.vector_source_c(y.astype(np.complex64).ravel().tolist(), False, vlen)
-        src_s = blocks.vector_source_c(s.astype(np.complex64).ravel().tolist(), False, vlen)
-        snk = blocks.vector_sink_c(vlen)
-        self.tb.connect(src_y, (blk, 0))
-        self.tb.connect(src_s, (blk, 1))
-        self.tb.connect(blk, snk)
+        src_y, src_s, snk = self.connect(blk, y, s, vlen)
         self.tb.run()
         runs = [("mf", 0.0)]
         for name, snr_db in (("wf", -3.0), ("rf", 0.0), ("wf", 12.0)):
