@@ -17,11 +17,7 @@ from the same 3333-vectors our block reads (the chain a user would build).
 import numpy as np
 from gnuradio import blocks, fft, gr
 
-try:
-    from gnuradio import nrsar
-except ImportError:  # running from the source tree
-    import nrsar  # noqa: F401
-
+from gnuradio import nrsar
 from gnuradio.nrsar import benchutil
 
 N = 3333
