@@ -49,8 +49,17 @@ void range_ifft::set_window(gr::fft::window::win_type window, double window_para
     std::vector<float> w;
     if (window == gr::fft::window::WIN_NONE)
         w.assign(d_n, 1.0f);
-    else
-        w = gr::fft::window::build(window, int(d_n), window_param, false);
+    else {
+        try {
+            w = gr::fft::window::build(window, int(d_n), window_param, false);
+        } catch (const std::invalid_argument&) {
+            throw;
+        } catch (const std::exception& e) {
+            // gr::fft::window throws std::out_of_range (Python IndexError) for a missing
+            // Kaiser beta, Tukey alpha, ...: report it as the parameter error it is.
+            throw_param("window_param", window_param, std::string("is invalid: ") + e.what());
+        }
+    }
     if (w.size() != d_n)
         throw_param("window", int(window), "gave a window of the wrong length");
     double sum = 0.0;

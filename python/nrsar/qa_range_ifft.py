@@ -218,7 +218,13 @@ class qa_range_ifft(gr_unittest.TestCase):
         with self.assertRaisesRegex(ValueError, r"window_param = nan must be finite"):
             blk.set_window(WIN.WIN_KAISER, nan)
 
-    def test_017_invalid_numerology(self):
+    def test_017_window_param_missing(self):
+        with self.assertRaisesRegex(ValueError, r"window_param = -1 is invalid: .*kaiser"):
+            nrsar.range_ifft(self.num, 0, WIN.WIN_KAISER, -1)
+        with self.assertRaisesRegex(ValueError, r"window_param = 2 is invalid: .*tukey"):
+            nrsar.range_ifft(self.num, 0, WIN.WIN_TUKEY, 2.0)
+
+    def test_018_invalid_numerology(self):
         num = nrsar.make_numerology("tiny")
         num.subcarrier_spacing_hz = -1.0
         with self.assertRaisesRegex(ValueError, r"subcarrier_spacing_hz = -1"):

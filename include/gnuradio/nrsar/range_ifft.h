@@ -46,8 +46,8 @@ public:
      *        fast_fft_size() for a fast choice
      * \param window window across the N subcarriers before the IFFT (gr::fft::window),
      *        default WIN_RECTANGULAR (none)
-     * \param window_param Kaiser beta / Tukey alpha / ...; -1 (INVALID_WIN_PARAM) is the
-     *        window's default
+     * \param window_param Kaiser beta, Tukey alpha, Gaussian sigma, exponential d (these
+     *        windows need it); ignored by the others, for which -1 (INVALID_WIN_PARAM) is fine
      * \param r_min_m first slant range of the crop [m], >= 0 and below c/(2 Delta f)
      * \param r_max_m last slant range of the crop [m]; <= 0 means up to the last bin,
      *        otherwise in [r_min_m, c/(2 Delta f)]; bins ceil(r_min/bin) .. floor(r_max/bin)
