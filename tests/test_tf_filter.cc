@@ -209,3 +209,31 @@ TEST(SnrEstimator, ConstantModulusKeepsGivenSnr)
     EXPECT_TRUE(std::isnan(f.estimated_snr_db()));
     EXPECT_DOUBLE_EQ(f.effective_snr_db(), 7.0);
 }
+
+TEST(SnrEstimator, WindowForgetsOldData)
+{
+    // 50000 REs at 0 dB, then 40000 at 10 dB, window 20000 REs of 10-RE vectors: the
+    // estimate must be the second SNR alone.
+    const std::size_t n = 10;
+    kernel::snr_estimator est(20000);
+    std::mt19937 rng(4);
+    std::uniform_int_distribution<int> pick(0, 255);
+    std::uniform_real_distribution<double> ph(0, 2 * M_PI);
+    const auto pts = qam256_points();
+    std::vector<gr_complex> y(n);
+    std::vector<float> m(n);
+    for (double snr_db : { 0.0, 10.0 }) {
+        std::normal_distribution<double> g(0.0, std::sqrt(std::pow(10.0, -snr_db / 10) / 2));
+        const std::size_t vectors = snr_db == 0.0 ? 5000 : 4000;
+        for (std::size_t v = 0; v < vectors; v++) {
+            for (std::size_t i = 0; i < n; i++) {
+                const gr_complex s = pts[pick(rng)];
+                m[i] = std::norm(s);
+                y[i] = gr_complex(std::polar(1.0, ph(rng)) * cd(s) + cd(g(rng), g(rng)));
+            }
+            est.update(y.data(), m.data(), n);
+        }
+        EXPECT_TRUE(est.valid());
+        EXPECT_NEAR(est.snr_db(), snr_db, 0.5);
+    }
+}

@@ -106,23 +106,23 @@ std::unique_ptr<re_filter> make_re_filter(filter_type type, double snr_linear)
 // ---------------------------------------------------------------- SNR estimator
 
 snr_estimator::snr_estimator(std::size_t window_res)
-    : d_window(window_res == 0 ? 1 : window_res)
+    : d_window(window_res == 0 ? 1 : window_res),
+      d_bucket_res(std::max<std::size_t>(1, d_window / buckets))
 {
 }
 
-void snr_estimator::add(moments& total, const moments& m, double sign)
+void snr_estimator::add(moments& total, const moments& m)
 {
-    total.n += sign * m.n;
-    total.y2 += sign * m.y2;
-    total.s2 += sign * m.s2;
-    total.s4 += sign * m.s4;
-    total.y2s2 += sign * m.y2s2;
+    total.n += m.n;
+    total.y2 += m.y2;
+    total.s2 += m.s2;
+    total.s4 += m.s4;
+    total.y2s2 += m.y2s2;
 }
 
 void snr_estimator::reset()
 {
-    d_total = { 0, 0, 0, 0, 0 };
-    d_since_recompute = 0;
+    d_partial = { 0, 0, 0, 0, 0 };
     d_hist.clear();
     d_hist_res = 0;
     d_valid = false;
@@ -139,25 +139,25 @@ bool snr_estimator::update(const gr_complex* y, const float* s_mag2, std::size_t
     volk_32f_accumulator_s32f(&s2, s_mag2, n);
     volk_32f_x2_dot_prod_32f(&s4, s_mag2, s_mag2, n);
     volk_32f_x2_dot_prod_32f(&y2s2, d_y2.data(), s_mag2, n);
-    const moments v{ double(n), y2, s2, s4, y2s2 };
-    d_hist.push_back(v);
-    d_hist_res += n;
-    add(d_total, v, 1.0);
-    // Keep whole vectors covering at most the window (always the newest one).
-    while (d_hist.size() > 1 && d_hist_res - std::size_t(d_hist.front().n) >= d_window) {
+    add(d_partial, { double(n), y2, s2, s4, y2s2 });
+    // Vectors are pooled into buckets of window/64 REs, so the history holds about 64
+    // entries whatever the vector length (one entry per vector would take 670 MB for
+    // vlen 1), at the price of a window that moves in steps of 1/64 of its length.
+    if (d_partial.n >= double(d_bucket_res)) {
+        d_hist.push_back(d_partial);
+        d_hist_res += std::size_t(d_partial.n);
+        d_partial = { 0, 0, 0, 0, 0 };
+    }
+    // Drop the oldest buckets while the rest still covers the window.
+    while (!d_hist.empty() &&
+           d_hist_res + std::size_t(d_partial.n) - std::size_t(d_hist.front().n) >= d_window) {
         d_hist_res -= std::size_t(d_hist.front().n);
-        add(d_total, d_hist.front(), -1.0);
         d_hist.pop_front();
     }
-    // Running sums, recomputed from the history once per window length so that the
-    // subtractions cannot accumulate rounding drift.
-    if (++d_since_recompute >= d_hist.size()) {
-        d_total = { 0, 0, 0, 0, 0 };
-        for (const auto& m : d_hist)
-            add(d_total, m, 1.0);
-        d_since_recompute = 0;
-    }
-    const moments& t = d_total;
+    // Totals summed afresh (about 64 buckets): no drift from running subtraction.
+    moments t = d_partial;
+    for (const auto& m : d_hist)
+        add(t, m);
     // Solve  [B/n  1  ] [P      ]   [A/n]
     //        [C/n  B/n] [sigma^2] = [D/n]   (A = sum|y|^2, B = sum|s|^2, ...)
     const double det = t.s4 - t.s2 * t.s2 / t.n; // = n Var(|s|^2) >= 0

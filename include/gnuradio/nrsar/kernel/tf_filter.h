@@ -108,7 +108,8 @@ NRSAR_API std::unique_ptr<re_filter> make_re_filter(filter_type type, double snr
  * to scale and the previous estimate is kept. Empty REs (|s|^2 = 0) carry noise only
  * and make the system regular even for PSK data in SRS modes.
  *
- * Smoothing: running sums over the last `window_res` REs (whole vectors, at least one).
+ * Smoothing: sums over the last `window_res` REs, kept as 64 buckets of window_res / 64
+ * REs (whole vectors) plus the vectors since the last full bucket.
  * Accuracy: the regression residual has variance about sigma^4 + 2 P sigma^2, so the
  * relative standard deviation of P is sqrt((sigma^4 + 2 P sigma^2) / (n Var|s|^2))
  * (Var|s|^2 = 0.40 for 256-QAM): 0.17 dB at -20 dB with n = 2^24, far less at higher SNR.
@@ -141,10 +142,11 @@ private:
         double n, y2, s2, s4, y2s2;
     };
     std::size_t d_window;
-    std::deque<moments> d_hist;
-    moments d_total{ 0, 0, 0, 0, 0 };
-    std::size_t d_since_recompute = 0;
-    static void add(moments& total, const moments& m, double sign);
+    static constexpr std::size_t buckets = 64;
+    static void add(moments& total, const moments& m);
+    std::size_t d_bucket_res;
+    moments d_partial{ 0, 0, 0, 0, 0 }; // vectors not yet pooled into a bucket
+    std::deque<moments> d_hist;         // full buckets, oldest first
     std::size_t d_hist_res = 0;
     volk::vector<float> d_y2;
     bool d_valid = false;
