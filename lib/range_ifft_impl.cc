@@ -6,51 +6,139 @@
  */
 
 #include "range_ifft_impl.h"
+#include "nonfinite_log.h"
+#include "param_check.h"
 #include <gnuradio/io_signature.h>
+#include <gnuradio/nrsar/tags.h>
+#include <sstream>
 
 namespace gr {
 namespace nrsar {
 
-#pragma message("set the following appropriately and remove this warning")
-using input_type = float;
-#pragma message("set the following appropriately and remove this warning")
-using output_type = float;
-range_ifft::sptr range_ifft::make()
+namespace {
+
+std::string metres(double x)
 {
-    return gnuradio::make_block_sptr<range_ifft_impl>();
+    std::ostringstream s;
+    s << x << " m";
+    return s.str();
 }
 
+// Validates every make() parameter and builds the kernel with the crop in bins.
+kernel::range_ifft make_kernel(const numerology& num,
+                               unsigned fft_size,
+                               gr::fft::window::win_type window,
+                               double window_param,
+                               double r_min_m,
+                               double r_max_m)
+{
+    num.validate();
+    const unsigned n = num.num_subcarriers;
+    if (fft_size != 0 && fft_size < n)
+        throw_param("fft_size",
+                    fft_size,
+                    "must be 0 (no padding) or at least num_subcarriers = " +
+                        std::to_string(n));
+    const unsigned nfft = fft_size == 0 ? n : fft_size;
+    check_finite("window_param", window_param);
+    const double r_unamb = num.max_unambiguous_range_m();
+    check_finite("r_min_m", r_min_m);
+    check_finite("r_max_m", r_max_m);
+    if (r_min_m < 0.0 || r_min_m >= r_unamb)
+        throw_param("r_min_m",
+                    r_min_m,
+                    "must be in [0, " + metres(r_unamb) +
+                        ") (the unambiguous range c / (2 Delta f))");
+    if (r_max_m > 0.0 && r_max_m > r_unamb)
+        throw_param("r_max_m",
+                    r_max_m,
+                    "must be at most the unambiguous range c / (2 Delta f) = " +
+                        metres(r_unamb) + " (or <= 0 for the last bin)");
+    if (r_max_m > 0.0 && r_max_m < r_min_m)
+        throw_param("r_max_m", r_max_m, "must be at least r_min_m = " + metres(r_min_m));
+    const double bin_m = num.range_bin_m(nfft);
+    const auto crop = kernel::range_ifft::crop_bins(bin_m, nfft, r_min_m, r_max_m);
+    if (crop.count == 0) {
+        std::ostringstream limit;
+        limit << "leaves no range bin in [r_min_m, r_max_m] = [" << r_min_m << ", "
+              << r_max_m << "] m (bin spacing " << bin_m << " m)";
+        throw_param("r_max_m", r_max_m, limit.str());
+    }
+    return kernel::range_ifft(n, nfft, window, window_param, crop.first, crop.count);
+}
 
-/*
- * The private constructor
- */
-range_ifft_impl::range_ifft_impl()
+} // namespace
+
+range_ifft::sptr range_ifft::make(const numerology& num,
+                                  unsigned fft_size,
+                                  gr::fft::window::win_type window,
+                                  double window_param,
+                                  double r_min_m,
+                                  double r_max_m)
+{
+    return gnuradio::make_block_sptr<range_ifft_impl>(
+        num, make_kernel(num, fft_size, window, window_param, r_min_m, r_max_m));
+}
+
+unsigned range_ifft::fast_fft_size(unsigned n) { return kernel::range_ifft::fast_fft_size(n); }
+
+range_ifft_impl::range_ifft_impl(const numerology& num, kernel::range_ifft&& kern)
     : gr::sync_block("range_ifft",
-                     gr::io_signature::make(
-                         1 /* min inputs */, 1 /* max inputs */, sizeof(input_type)),
-                     gr::io_signature::make(
-                         1 /* min outputs */, 1 /*max outputs */, sizeof(output_type)))
+                     gr::io_signature::make(1, 1, sizeof(gr_complex) * kern.n()),
+                     gr::io_signature::make(1, 1, sizeof(gr_complex) * kern.num_bins())),
+      d_kernel(std::move(kern)),
+      d_bin_m(num.range_bin_m(d_kernel.fft_size()))
 {
 }
 
-/*
- * Our virtual destructor.
- */
-range_ifft_impl::~range_ifft_impl() {}
+void range_ifft_impl::set_window(gr::fft::window::win_type window, double window_param)
+{
+    check_finite("window_param", window_param);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_kernel.set_window(window, window_param);
+    d_tag_pending = true;
+}
+
+bool range_ifft_impl::start()
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_tag_pending = true;
+    return gr::sync_block::start();
+}
 
 int range_ifft_impl::work(int noutput_items,
                           gr_vector_const_void_star& input_items,
                           gr_vector_void_star& output_items)
 {
-    auto in = static_cast<const input_type*>(input_items[0]);
-    auto out = static_cast<output_type*>(output_items[0]);
+    gr::thread::scoped_lock guard(d_setlock);
+    const auto in = static_cast<const gr_complex*>(input_items[0]);
+    auto out = static_cast<gr_complex*>(output_items[0]);
+    const std::size_t n = d_kernel.n();
+    const std::size_t k = d_kernel.num_bins();
 
-#pragma message("Implement the signal processing in your block and remove this warning")
-    // Do <+signal processing+>
-
-    // Tell runtime system how many output items we produced.
+    if (d_tag_pending && noutput_items > 0) {
+        const pmt::pmt_t axis = pmt::make_tuple(pmt::from_double(range_axis_first_m()),
+                                                pmt::from_double(d_bin_m),
+                                                pmt::from_uint64(k));
+        add_item_tag(0, nitems_written(0), tags::range_axis_key(), axis, alias_pmt());
+        d_tag_pending = false;
+    }
+    for (int i = 0; i < noutput_items; i++) {
+        std::size_t bad = 0;
+        const gr_complex* x = d_guard.guard(in + i * n, n, bad);
+        d_kernel.execute(x, out + i * k);
+        if (bad > 0) {
+            d_nonfinite += bad;
+            const std::uint64_t item = nitems_written(0) + i;
+            add_item_tag(0,
+                         item,
+                         tags::nonfinite_key(),
+                         note_nonfinite(d_logger, d_warned_nonfinite, bad, item),
+                         alias_pmt());
+        }
+    }
     return noutput_items;
 }
 
-} /* namespace nrsar */
-} /* namespace gr */
+} // namespace nrsar
+} // namespace gr

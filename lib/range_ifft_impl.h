@@ -8,6 +8,8 @@
 #ifndef INCLUDED_NRSAR_RANGE_IFFT_IMPL_H
 #define INCLUDED_NRSAR_RANGE_IFFT_IMPL_H
 
+#include <gnuradio/nrsar/kernel/finite_guard.h>
+#include <gnuradio/nrsar/kernel/range_ifft.h>
 #include <gnuradio/nrsar/range_ifft.h>
 
 namespace gr {
@@ -16,16 +18,33 @@ namespace nrsar {
 class range_ifft_impl : public range_ifft
 {
 private:
-    // Nothing to declare in this block.
+    kernel::range_ifft d_kernel;
+    kernel::finite_guard d_guard;
+    double d_bin_m;
+    bool d_tag_pending = true;
+    bool d_warned_nonfinite = false;
+    std::uint64_t d_nonfinite = 0;
 
 public:
-    range_ifft_impl();
-    ~range_ifft_impl();
+    range_ifft_impl(const numerology& num, kernel::range_ifft&& kern);
 
-    // Where all the action really happens
+    void set_window(gr::fft::window::win_type window, double window_param) override;
+    //! Re-arms the range-axis tag: every run starts a new stream for the blocks downstream.
+    bool start() override;
+
+    gr::fft::window::win_type window() const override { return d_kernel.window(); }
+    double window_param() const override { return d_kernel.window_param(); }
+    unsigned num_bins() const override { return d_kernel.num_bins(); }
+    unsigned first_bin() const override { return d_kernel.first_bin(); }
+    double range_axis_first_m() const override { return d_kernel.first_bin() * d_bin_m; }
+    double range_bin_m() const override { return d_bin_m; }
+    unsigned fft_size() const override { return d_kernel.fft_size(); }
+    double coherent_gain() const override { return d_kernel.coherent_gain(); }
+    std::uint64_t nonfinite_count() const override { return d_nonfinite; }
+
     int work(int noutput_items,
              gr_vector_const_void_star& input_items,
-             gr_vector_void_star& output_items);
+             gr_vector_void_star& output_items) override;
 };
 
 } // namespace nrsar

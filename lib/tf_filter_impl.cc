@@ -6,48 +6,82 @@
  */
 
 #include "tf_filter_impl.h"
+#include "nonfinite_log.h"
+#include "param_check.h"
 #include <gnuradio/io_signature.h>
+#include <gnuradio/nrsar/tags.h>
 
 namespace gr {
 namespace nrsar {
 
-#pragma message("set the following appropriately and remove this warning")
-using input_type = float;
-#pragma message("set the following appropriately and remove this warning")
-using output_type = float;
-tf_filter::sptr tf_filter::make() { return gnuradio::make_block_sptr<tf_filter_impl>(); }
+tf_filter::sptr
+tf_filter::make(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool estimate_snr)
+{
+    // Checked here: the io signatures built from vlen would reject 0 with a vaguer message.
+    check_at_least("vlen", vlen, 1u);
+    return gnuradio::make_block_sptr<tf_filter_impl>(vlen, type, snr_db, estimate_snr);
+}
 
-
-/*
- * The private constructor
- */
-tf_filter_impl::tf_filter_impl()
+tf_filter_impl::tf_filter_impl(unsigned vlen,
+                               gr::nrsar::filter_type type,
+                               double snr_db,
+                               bool estimate_snr)
     : gr::sync_block("tf_filter",
-                     gr::io_signature::make(
-                         1 /* min inputs */, 1 /* max inputs */, sizeof(input_type)),
-                     gr::io_signature::make(
-                         1 /* min outputs */, 1 /*max outputs */, sizeof(output_type)))
+                     gr::io_signature::make(2, 2, sizeof(gr_complex) * vlen),
+                     gr::io_signature::make(1, 1, sizeof(gr_complex) * vlen)),
+      d_kernel(vlen, type, snr_db, estimate_snr)
 {
 }
 
-/*
- * Our virtual destructor.
- */
-tf_filter_impl::~tf_filter_impl() {}
+void tf_filter_impl::set_filter_type(gr::nrsar::filter_type type)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_kernel.set_filter_type(type);
+}
+
+void tf_filter_impl::set_snr_db(double snr_db)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_kernel.set_snr_db(snr_db);
+}
+
+void tf_filter_impl::set_estimate_snr(bool estimate)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_kernel.set_estimate_snr(estimate);
+}
+
+gr::nrsar::filter_type tf_filter_impl::filter_type() const { return d_kernel.type(); }
+double tf_filter_impl::snr_db() const { return d_kernel.snr_db(); }
+bool tf_filter_impl::estimate_snr() const { return d_kernel.estimate_snr(); }
+double tf_filter_impl::estimated_snr_db() const { return d_kernel.estimated_snr_db(); }
+std::uint64_t tf_filter_impl::empty_re_count() const { return d_kernel.empty_re_count(); }
+std::uint64_t tf_filter_impl::nonfinite_count() const { return d_kernel.nonfinite_count(); }
 
 int tf_filter_impl::work(int noutput_items,
                          gr_vector_const_void_star& input_items,
                          gr_vector_void_star& output_items)
 {
-    auto in = static_cast<const input_type*>(input_items[0]);
-    auto out = static_cast<output_type*>(output_items[0]);
+    gr::thread::scoped_lock guard(d_setlock);
+    const auto y = static_cast<const gr_complex*>(input_items[0]);
+    const auto s = static_cast<const gr_complex*>(input_items[1]);
+    auto out = static_cast<gr_complex*>(output_items[0]);
+    const std::size_t vlen = d_kernel.vlen();
 
-#pragma message("Implement the signal processing in your block and remove this warning")
-    // Do <+signal processing+>
-
-    // Tell runtime system how many output items we produced.
+    for (int i = 0; i < noutput_items; i++) {
+        const std::size_t bad =
+            d_kernel.process(y + i * vlen, s + i * vlen, out + i * vlen);
+        if (bad > 0) {
+            const std::uint64_t item = nitems_written(0) + i;
+            add_item_tag(0,
+                         item,
+                         tags::nonfinite_key(),
+                         note_nonfinite(d_logger, d_warned_nonfinite, bad, item),
+                         alias_pmt());
+        }
+    }
     return noutput_items;
 }
 
-} /* namespace nrsar */
-} /* namespace gr */
+} // namespace nrsar
+} // namespace gr

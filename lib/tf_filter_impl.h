@@ -8,6 +8,7 @@
 #ifndef INCLUDED_NRSAR_TF_FILTER_IMPL_H
 #define INCLUDED_NRSAR_TF_FILTER_IMPL_H
 
+#include <gnuradio/nrsar/kernel/tf_filter.h>
 #include <gnuradio/nrsar/tf_filter.h>
 
 namespace gr {
@@ -16,16 +17,26 @@ namespace nrsar {
 class tf_filter_impl : public tf_filter
 {
 private:
-    // Nothing to declare in this block.
+    kernel::tf_filter d_kernel;
+    bool d_warned_nonfinite = false;
 
 public:
-    tf_filter_impl();
-    ~tf_filter_impl();
+    tf_filter_impl(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool estimate_snr);
 
-    // Where all the action really happens
+    void set_filter_type(gr::nrsar::filter_type type) override;
+    void set_snr_db(double snr_db) override;
+    void set_estimate_snr(bool estimate) override;
+
+    gr::nrsar::filter_type filter_type() const override;
+    double snr_db() const override;
+    bool estimate_snr() const override;
+    double estimated_snr_db() const override;
+    std::uint64_t empty_re_count() const override;
+    std::uint64_t nonfinite_count() const override;
+
     int work(int noutput_items,
              gr_vector_const_void_star& input_items,
-             gr_vector_void_star& output_items);
+             gr_vector_void_star& output_items) override;
 };
 
 } // namespace nrsar

@@ -9,15 +9,31 @@
 #define INCLUDED_NRSAR_TF_FILTER_H
 
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/params.h>
 #include <gnuradio/sync_block.h>
+#include <cstdint>
 
 namespace gr {
 namespace nrsar {
 
 /*!
- * \brief <+description of block+>
+ * \brief Per-RE time-frequency filter of SPEC section 4, eq. (25)-(26).
  * \ingroup nrsar
  *
+ * Y_tf = Y * G with, per resource element, RF g = 1/s, MF g = conj(s) or
+ * WF g = conj(s) / (|s|^2 + 1/SNR_in). Input 0 (`echo`): received grid Y, one OFDM symbol
+ * of vlen REs per item. Input 1 (`reference`): the transmitted symbols S of the same
+ * REs. Output (`out`): Y_tf, vlen REs per item.
+ *
+ * REs the reference leaves empty (|s|^2 = 0, e.g. outside the SRS comb) give 0 for all
+ * three filters and are counted (empty_re_count). Non-finite input samples are replaced
+ * by 0, counted (nonfinite_count), logged once and reported by a tags::nonfinite_key()
+ * tag (uint64 count) on the output item they affected. Input tags propagate.
+ *
+ * With estimate_snr, WF uses a method-of-moments estimate of SNR_in from the echo and
+ * the known symbols over a sliding window of 2^24 (16.8 M) REs (see
+ * kernel::snr_estimator); until the first valid estimate, and for constant-modulus
+ * constellations (where WF is MF up to scale), it uses snr_db.
  */
 class NRSAR_API tf_filter : virtual public gr::sync_block
 {
@@ -25,14 +41,30 @@ public:
     typedef std::shared_ptr<tf_filter> sptr;
 
     /*!
-     * \brief Return a shared_ptr to a new instance of nrsar::tf_filter.
-     *
-     * To avoid accidental use of raw pointers, nrsar::tf_filter's
-     * constructor is in a private implementation
-     * class. nrsar::tf_filter::make is the public interface for
-     * creating new instances.
+     * \param vlen REs per item (the numerology's num_subcarriers), >= 1
+     * \param type filter: filter_type::RF, MF or WF
+     * \param snr_db SNR_in [dB] per RE for WF (finite, in [-100, 200]); default 20
+     * \param estimate_snr estimate SNR_in from the data instead (WF), default false
      */
-    static sptr make();
+    static sptr make(unsigned vlen,
+                     gr::nrsar::filter_type type = gr::nrsar::filter_type::WF,
+                     double snr_db = 20.0,
+                     bool estimate_snr = false);
+
+    virtual void set_filter_type(gr::nrsar::filter_type type) = 0;
+    virtual void set_snr_db(double snr_db) = 0;
+    virtual void set_estimate_snr(bool estimate) = 0;
+
+    //! The filter in use (named like the enum; qualify the enum inside the class).
+    virtual gr::nrsar::filter_type filter_type() const = 0;
+    virtual double snr_db() const = 0;
+    virtual bool estimate_snr() const = 0;
+    //! Latest SNR_in estimate [dB]; NaN before the first valid estimate.
+    virtual double estimated_snr_db() const = 0;
+    //! REs with an empty reference (|s|^2 = 0) seen so far.
+    virtual std::uint64_t empty_re_count() const = 0;
+    //! Non-finite input samples replaced by 0 so far.
+    virtual std::uint64_t nonfinite_count() const = 0;
 };
 
 } // namespace nrsar

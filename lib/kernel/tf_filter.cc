@@ -1,0 +1,249 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include "../param_check.h"
+#include <gnuradio/nrsar/kernel/tf_filter.h>
+#include <volk/volk.h>
+#include <cmath>
+#include <algorithm>
+#include <limits>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+
+namespace {
+
+// |s|^2 below the smallest normal float counts as an empty RE: 1/|s|^2 would overflow.
+constexpr float empty_mag2 = std::numeric_limits<float>::min();
+
+void ensure(volk::vector<float>& v, std::size_t n)
+{
+    if (v.size() < n)
+        v.resize(n);
+}
+
+double db_to_linear(double db) { return std::pow(10.0, db / 10.0); }
+
+// out = y conj(s) w: the common tail of RF and WF, whose real weights w differ.
+void weighted_conj_product(
+    const gr_complex* y, const gr_complex* s, const float* w, gr_complex* out, std::size_t n)
+{
+    volk_32fc_x2_multiply_conjugate_32fc(out, y, s, n);
+    volk_32fc_32f_multiply_32fc(out, out, w, n);
+}
+
+} // namespace
+
+// ---------------------------------------------------------------- strategies, eq. (25)
+
+void rf_filter::apply(const gr_complex* y,
+                      const gr_complex* s,
+                      const float* s_mag2,
+                      gr_complex* out,
+                      std::size_t n)
+{
+    // eq. (17): Y / S written as Y conj(S) / |S|^2, so an empty RE gets weight 0
+    // instead of a division by zero.
+    ensure(d_weight, n);
+    float* w = d_weight.data();
+    // Written with a 0/1 mask and no std::max: GCC (with trapping math) does not vectorise a
+    // conditional 1/m. Measured at 3333 REs: 6.4 us per call with the ternary, 4.2 us now.
+    for (std::size_t i = 0; i < n; i++) {
+        const float m = s_mag2[i];
+        const float empty = m < empty_mag2 ? 1.0f : 0.0f;
+        w[i] = (1.0f - empty) / (m + empty); // empty: 0 / (m + 1) = 0
+    }
+    weighted_conj_product(y, s, w, out, n);
+}
+
+void mf_filter::apply(const gr_complex* y,
+                      const gr_complex* s,
+                      const float* /*s_mag2*/,
+                      gr_complex* out,
+                      std::size_t n)
+{
+    // eq. (20): Y conj(S); an empty RE gives 0 by itself.
+    volk_32fc_x2_multiply_conjugate_32fc(out, y, s, n);
+}
+
+wf_filter::wf_filter(double snr_linear) : d_snr(snr_linear) {}
+
+void wf_filter::set_snr_linear(double snr) { d_snr = snr; }
+
+void wf_filter::apply(const gr_complex* y,
+                      const gr_complex* s,
+                      const float* s_mag2,
+                      gr_complex* out,
+                      std::size_t n)
+{
+    // eq. (23): Y conj(S) / (|S|^2 + 1/SNR_in); the regulariser keeps empty REs at 0.
+    ensure(d_weight, n);
+    float* w = d_weight.data();
+    const float inv_snr = static_cast<float>(1.0 / d_snr);
+    for (std::size_t i = 0; i < n; i++)
+        w[i] = 1.0f / (s_mag2[i] + inv_snr);
+    weighted_conj_product(y, s, w, out, n);
+}
+
+std::unique_ptr<re_filter> make_re_filter(filter_type type, double snr_linear)
+{
+    switch (type) {
+    case filter_type::RF:
+        return std::make_unique<rf_filter>();
+    case filter_type::MF:
+        return std::make_unique<mf_filter>();
+    case filter_type::WF:
+        return std::make_unique<wf_filter>(snr_linear);
+    }
+    throw_param("filter_type", static_cast<int>(type), "must be RF, MF or WF");
+}
+
+// ---------------------------------------------------------------- SNR estimator
+
+snr_estimator::snr_estimator(std::size_t window_res)
+    : d_window(window_res == 0 ? 1 : window_res),
+      d_bucket_res(std::max<std::size_t>(1, d_window / buckets))
+{
+}
+
+void snr_estimator::add(moments& total, const moments& m)
+{
+    total.n += m.n;
+    total.y2 += m.y2;
+    total.s2 += m.s2;
+    total.s4 += m.s4;
+    total.y2s2 += m.y2s2;
+}
+
+void snr_estimator::reset()
+{
+    d_partial = { 0, 0, 0, 0, 0 };
+    d_hist.clear();
+    d_hist_res = 0;
+    d_valid = false;
+}
+
+bool snr_estimator::update(const gr_complex* y, const float* s_mag2, std::size_t n)
+{
+    if (n == 0)
+        return false;
+    ensure(d_y2, n);
+    volk_32fc_magnitude_squared_32f(d_y2.data(), y, n);
+    float y2 = 0.0f, s2 = 0.0f, s4 = 0.0f, y2s2 = 0.0f;
+    volk_32f_accumulator_s32f(&y2, d_y2.data(), n);
+    volk_32f_accumulator_s32f(&s2, s_mag2, n);
+    volk_32f_x2_dot_prod_32f(&s4, s_mag2, s_mag2, n);
+    volk_32f_x2_dot_prod_32f(&y2s2, d_y2.data(), s_mag2, n);
+    add(d_partial, { double(n), y2, s2, s4, y2s2 });
+    // Vectors are pooled into buckets of window/64 REs, so the history holds about 64
+    // entries whatever the vector length (one entry per vector would take 670 MB for
+    // vlen 1), at the price of a window that moves in steps of 1/64 of its length.
+    if (d_partial.n >= double(d_bucket_res)) {
+        d_hist.push_back(d_partial);
+        d_hist_res += std::size_t(d_partial.n);
+        d_partial = { 0, 0, 0, 0, 0 };
+    }
+    // Drop the oldest buckets while the rest still covers the window.
+    while (!d_hist.empty() &&
+           d_hist_res + std::size_t(d_partial.n) - std::size_t(d_hist.front().n) >= d_window) {
+        d_hist_res -= std::size_t(d_hist.front().n);
+        d_hist.pop_front();
+    }
+    // Totals summed afresh (about 64 buckets): no drift from running subtraction.
+    moments t = d_partial;
+    for (const auto& m : d_hist)
+        add(t, m);
+    // Solve  [B/n  1  ] [P      ]   [A/n]
+    //        [C/n  B/n] [sigma^2] = [D/n]   (A = sum|y|^2, B = sum|s|^2, ...)
+    const double det = t.s4 - t.s2 * t.s2 / t.n; // = n Var(|s|^2) >= 0
+    if (!(t.y2 > 0.0) || !(t.s4 > 0.0) || !(det > 1e-6 * t.s4))
+        return false; // no energy, no reference, or constant modulus: keep the last value
+    const double p = (t.y2s2 - t.y2 * t.s2 / t.n) / det;
+    const double sigma2 = (t.y2 - p * t.s2) / t.n;
+    d_p = p;
+    d_sigma2 = sigma2;
+    double db;
+    if (!(p > 0.0))
+        db = min_db;
+    else if (!(sigma2 > 0.0))
+        db = max_db;
+    else
+        db = std::min(max_db, std::max(min_db, 10.0 * std::log10(p / sigma2)));
+    d_snr_db = db;
+    d_valid = true;
+    return true;
+}
+
+// ---------------------------------------------------------------- the TF filter
+
+tf_filter::tf_filter(
+    unsigned vlen, filter_type type, double snr_db, bool estimate_snr, std::size_t window_res)
+    : d_vlen(vlen), d_snr_db(snr_db), d_estimate(estimate_snr), d_estimator(window_res)
+{
+    check_at_least("vlen", vlen, 1u);
+    check_range("snr_db", snr_db, -100.0, 200.0);
+    d_filter = make_re_filter(type, db_to_linear(snr_db));
+    d_s_mag2.resize(vlen);
+}
+
+double tf_filter::estimated_snr_db() const
+{
+    return d_estimator.valid() ? d_estimator.snr_db()
+                               : std::numeric_limits<double>::quiet_NaN();
+}
+
+double tf_filter::effective_snr_db() const
+{
+    return (d_estimate && d_estimator.valid()) ? d_estimator.snr_db() : d_snr_db;
+}
+
+void tf_filter::push_snr() { d_filter->set_snr_linear(db_to_linear(effective_snr_db())); }
+
+void tf_filter::set_filter_type(filter_type type)
+{
+    d_filter = make_re_filter(type, db_to_linear(effective_snr_db()));
+}
+
+void tf_filter::set_snr_db(double snr_db)
+{
+    check_range("snr_db", snr_db, -100.0, 200.0);
+    d_snr_db = snr_db;
+    push_snr();
+}
+
+void tf_filter::set_estimate_snr(bool estimate)
+{
+    d_estimate = estimate;
+    push_snr();
+}
+
+std::size_t tf_filter::process(const gr_complex* y, const gr_complex* s, gr_complex* out)
+{
+    const std::size_t n = d_vlen;
+    std::size_t bad_y = 0, bad_s = 0;
+    const gr_complex* yy = d_guard.guard(y, n, bad_y, 0);
+    const gr_complex* ss = d_guard.guard(s, n, bad_s, 1);
+
+    float* m = d_s_mag2.data();
+    volk_32fc_magnitude_squared_32f(m, ss, n);
+    std::size_t empty = 0;
+    for (std::size_t i = 0; i < n; i++)
+        empty += std::size_t(m[i] < empty_mag2);
+    d_empty += empty;
+
+    if (d_estimate && d_estimator.update(yy, m, n))
+        push_snr();
+
+    d_filter->apply(yy, ss, m, out, n);
+    d_nonfinite += bad_y + bad_s;
+    return bad_y + bad_s;
+}
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr

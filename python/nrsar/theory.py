@@ -1,0 +1,99 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""Theory of SPEC section 8: statistics of chi = s g per constellation and filter.
+
+Everything here is exact expectation over the equiprobable points of a constellation,
+built from the 3GPP TS 38.211 section 5.1 formulas of SPEC section 2 in numpy (float64),
+independently of the C++ blocks, so the QA can check the blocks against it.
+
+    RF g = 1/s, MF g = conj(s), WF g = conj(s) / (|s|^2 + 1/SNR_in)        eq. (25)
+    chi = s g (real), NMSE_theory = (Var(chi) + E|g|^2 / SNR_in) / E{chi}^2  SPEC 8
+"""
+
+import math
+
+import numpy as np
+
+MODULATIONS = ("qpsk", "qam16", "qam64", "qam256", "psk8", "psk16")
+FILTERS = ("rf", "mf", "wf")
+
+
+def _name(value, allowed, kind):
+    """Accepts 'qam256', 'QAM256' or an enum value whose str ends with the name."""
+    text = str(value).split(".")[-1].lower()
+    if text not in allowed:
+        raise ValueError(f"{kind} '{value}' is unknown; choose one of {list(allowed)}")
+    return text
+
+
+def _bits(n_bits):
+    """All bit patterns of n_bits, b(0) first: array (2**n_bits, n_bits) of 0/1."""
+    idx = np.arange(2 ** n_bits)
+    return (idx[:, None] >> (n_bits - 1 - np.arange(n_bits))[None, :]) & 1
+
+
+def constellation(modulation):
+    """Points of the constellation (complex128, unit mean power), SPEC 2 / 38.211 5.1."""
+    mod = _name(modulation, MODULATIONS, "modulation")
+    if mod.startswith("psk"):
+        m = int(mod[3:])
+        return np.exp(1j * (2 * np.pi * np.arange(m) / m + np.pi / m))
+    n_bits = {"qpsk": 2, "qam16": 4, "qam64": 6, "qam256": 8}[mod]
+    a = 1 - 2 * _bits(n_bits).astype(float)  # (1 - 2 b(i))
+    if mod == "qpsk":
+        return (a[:, 0] + 1j * a[:, 1]) / np.sqrt(2)
+    if mod == "qam16":
+        return (a[:, 0] * (2 - a[:, 2]) + 1j * a[:, 1] * (2 - a[:, 3])) / np.sqrt(10)
+    if mod == "qam64":
+        return (a[:, 0] * (4 - a[:, 2] * (2 - a[:, 4])) +
+                1j * a[:, 1] * (4 - a[:, 3] * (2 - a[:, 5]))) / np.sqrt(42)
+    return (a[:, 0] * (8 - a[:, 2] * (4 - a[:, 4] * (2 - a[:, 6]))) +
+            1j * a[:, 1] * (8 - a[:, 3] * (4 - a[:, 5] * (2 - a[:, 7])))) / np.sqrt(170)
+
+
+def filter_gain(s, filt, snr_db):
+    """g of eq. (25) for symbols s (numpy, float64); snr_db is used by WF only."""
+    f = _name(filt, FILTERS, "filter")
+    s = np.asarray(s, dtype=np.complex128)
+    if f == "rf":
+        return 1.0 / s
+    if f == "mf":
+        return np.conj(s)
+    return np.conj(s) / (np.abs(s) ** 2 + 10.0 ** (-snr_db / 10.0))
+
+
+def filter_moments(modulation, filt, snr_db):
+    """dict(E_chi, Var_chi, E_g2) over the equiprobable points of the constellation."""
+    s = constellation(modulation)
+    g = filter_gain(s, filt, snr_db)
+    chi = (s * g).real
+    return {
+        "E_chi": float(np.mean(chi)),
+        "Var_chi": float(np.var(chi)),
+        "E_g2": float(np.mean(np.abs(g) ** 2)),
+    }
+
+
+def nmse_theory(modulation, filt, snr_db):
+    """Linear NMSE_theory = (Var(chi) + E|g|^2 / SNR_in) / E{chi}^2 (SPEC 8)."""
+    m = filter_moments(modulation, filt, snr_db)
+    snr = 10.0 ** (snr_db / 10.0)
+    return (m["Var_chi"] + m["E_g2"] / snr) / m["E_chi"] ** 2
+
+
+def nmse_theory_db(modulation, filt, snr_db):
+    """NMSE_theory of SPEC 8 in dB."""
+    return 10.0 * math.log10(nmse_theory(modulation, filt, snr_db))
+
+
+def table(modulation="qam256", snrs_db=(-20.0, 5.0, 20.0)):
+    """{filter: [NMSE_theory dB per SNR]}: SPEC 8's table for one constellation."""
+    return {f: [nmse_theory_db(modulation, f, x) for x in snrs_db] for f in FILTERS}
+
+
+if __name__ == "__main__":
+    for f, row in table().items():
+        print(f.upper(), " ".join(f"{v:6.1f}" for v in row))

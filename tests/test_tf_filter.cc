@@ -1,0 +1,239 @@
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+// Kernel tests of the per-RE filters, eq. (25), against direct double-precision formulas.
+
+#include <gnuradio/nrsar/kernel/tf_filter.h>
+#include <gtest/gtest.h>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <random>
+#include <vector>
+
+using namespace gr::nrsar;
+using cd = std::complex<double>;
+
+namespace {
+
+// 256-QAM points of SPEC 2 (38.211 5.1), unit mean power, written out here independently.
+std::vector<gr_complex> qam256_points()
+{
+    std::vector<gr_complex> pts;
+    for (int b = 0; b < 256; b++) {
+        auto bit = [&](int i) { return 1 - 2 * ((b >> (7 - i)) & 1); };
+        const double re = bit(0) * (8 - bit(2) * (4 - bit(4) * (2 - bit(6))));
+        const double im = bit(1) * (8 - bit(3) * (4 - bit(5) * (2 - bit(7))));
+        pts.emplace_back(float(re / std::sqrt(170.0)), float(im / std::sqrt(170.0)));
+    }
+    return pts;
+}
+
+struct grid {
+    std::vector<gr_complex> y, s;
+};
+
+grid random_grid(std::size_t n, unsigned seed, std::size_t every_empty = 0)
+{
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    const auto pts = qam256_points();
+    std::uniform_int_distribution<int> pick(0, 255);
+    grid d;
+    for (std::size_t i = 0; i < n; i++) {
+        d.y.emplace_back(g(rng), g(rng));
+        const bool empty = every_empty && (i % every_empty == 0);
+        d.s.push_back(empty ? gr_complex(0, 0) : pts[pick(rng)]);
+    }
+    return d;
+}
+
+cd reference_g(filter_type type, cd s, double snr)
+{
+    const double m = std::norm(s);
+    switch (type) {
+    case filter_type::RF:
+        return m == 0.0 ? cd(0) : 1.0 / s;
+    case filter_type::MF:
+        return std::conj(s);
+    case filter_type::WF:
+        return std::conj(s) / (m + 1.0 / snr);
+    }
+    return 0;
+}
+
+void expect_matches(filter_type type, double snr_db, std::size_t every_empty)
+{
+    const std::size_t n = 1001; // odd: exercises the VOLK tails
+    auto d = random_grid(n, 7, every_empty);
+    kernel::tf_filter f(n, type, snr_db, false);
+    std::vector<gr_complex> out(n);
+    EXPECT_EQ(f.process(d.y.data(), d.s.data(), out.data()), 0u);
+    const double snr = std::pow(10.0, snr_db / 10.0);
+    for (std::size_t i = 0; i < n; i++) {
+        const cd ref = cd(d.y[i]) * reference_g(type, cd(d.s[i]), snr);
+        EXPECT_NEAR(std::abs(cd(out[i]) - ref), 0.0, 1e-5 * (1.0 + std::abs(ref)))
+            << "RE " << i;
+    }
+}
+
+} // namespace
+
+TEST(ReFilter, ReciprocalMatchesDirectFormula) { expect_matches(filter_type::RF, 0.0, 0); }
+TEST(ReFilter, MatchedMatchesDirectFormula) { expect_matches(filter_type::MF, 0.0, 0); }
+TEST(ReFilter, WienerMatchesDirectFormulaLowSnr) { expect_matches(filter_type::WF, -20.0, 0); }
+TEST(ReFilter, WienerMatchesDirectFormulaHighSnr) { expect_matches(filter_type::WF, 20.0, 0); }
+TEST(ReFilter, AllFiltersWithEmptyREs)
+{
+    for (auto t : { filter_type::RF, filter_type::MF, filter_type::WF })
+        expect_matches(t, 5.0, 4);
+}
+
+TEST(ReFilter, FactoryReturnsRequestedType)
+{
+    for (auto t : { filter_type::RF, filter_type::MF, filter_type::WF })
+        EXPECT_EQ(kernel::make_re_filter(t, 1.0)->type(), t);
+}
+
+TEST(TfFilter, EmptyREsGiveZeroAndAreCounted)
+{
+    const std::size_t n = 64;
+    auto d = random_grid(n, 3, 4); // every 4th RE empty: 16 per vector
+    for (auto t : { filter_type::RF, filter_type::MF, filter_type::WF }) {
+        kernel::tf_filter f(n, t, 10.0, false);
+        std::vector<gr_complex> out(n);
+        f.process(d.y.data(), d.s.data(), out.data());
+        f.process(d.y.data(), d.s.data(), out.data());
+        EXPECT_EQ(f.empty_re_count(), 32u);
+        for (std::size_t i = 0; i < n; i += 4) {
+            EXPECT_EQ(out[i], gr_complex(0, 0));
+        }
+        for (std::size_t i = 1; i < n; i += 4)
+            EXPECT_TRUE(std::isfinite(out[i].real()));
+    }
+}
+
+TEST(TfFilter, NonFiniteInputsAreZeroedAndCounted)
+{
+    const std::size_t n = 40;
+    auto d = random_grid(n, 5);
+    d.y[3] = gr_complex(std::numeric_limits<float>::quiet_NaN(), 0.0f);
+    d.y[10] = gr_complex(0.0f, std::numeric_limits<float>::infinity());
+    d.s[20] = gr_complex(std::numeric_limits<float>::infinity(), 1.0f);
+    kernel::tf_filter f(n, filter_type::RF, 10.0, false);
+    std::vector<gr_complex> out(n);
+    EXPECT_EQ(f.process(d.y.data(), d.s.data(), out.data()), 3u);
+    EXPECT_EQ(f.nonfinite_count(), 3u);
+    EXPECT_EQ(out[3], gr_complex(0, 0));
+    EXPECT_EQ(out[10], gr_complex(0, 0));
+    EXPECT_EQ(out[20], gr_complex(0, 0)); // zeroed reference: an empty RE
+    EXPECT_EQ(f.empty_re_count(), 1u);
+    for (std::size_t i = 0; i < n; i++)
+        EXPECT_TRUE(std::isfinite(out[i].real()) && std::isfinite(out[i].imag()));
+}
+
+TEST(TfFilter, SetFilterTypeAndSnrTakeEffect)
+{
+    const std::size_t n = 16;
+    auto d = random_grid(n, 9);
+    kernel::tf_filter f(n, filter_type::MF, 0.0, false);
+    std::vector<gr_complex> out(n);
+    f.set_filter_type(filter_type::WF);
+    f.set_snr_db(-10.0);
+    EXPECT_EQ(f.type(), filter_type::WF);
+    f.process(d.y.data(), d.s.data(), out.data());
+    const cd ref = cd(d.y[2]) * reference_g(filter_type::WF, cd(d.s[2]), 0.1);
+    EXPECT_NEAR(std::abs(cd(out[2]) - ref), 0.0, 1e-5 * (1 + std::abs(ref)));
+}
+
+TEST(TfFilter, RejectsBadParameters)
+{
+    EXPECT_THROW(kernel::tf_filter(0, filter_type::RF, 0.0, false), std::invalid_argument);
+    EXPECT_THROW(kernel::tf_filter(8, filter_type::WF, NAN, false), std::invalid_argument);
+    kernel::tf_filter f(8, filter_type::WF, 0.0, false);
+    EXPECT_THROW(f.set_snr_db(INFINITY), std::invalid_argument);
+}
+
+// Echo y = H s + z of one target (|H|^2 = 1) in complex white noise.
+class SnrEstimate : public ::testing::TestWithParam<double>
+{
+};
+
+TEST_P(SnrEstimate, WithinHalfDbFor256Qam)
+{
+    const double snr_db = GetParam();
+    // 2^24 REs at -20 dB (the default window: 0.17 dB standard deviation), 1000 symbols
+    // above (0.05 dB or better).
+    const std::size_t n = 3333, vectors = snr_db < 0 ? 5034 : 1000;
+    const double sigma = std::sqrt(std::pow(10.0, -snr_db / 10.0) / 2.0);
+    std::mt19937 rng(11);
+    std::normal_distribution<double> g(0.0, sigma);
+    std::uniform_int_distribution<int> pick(0, 255);
+    std::uniform_real_distribution<double> ph(0, 2 * M_PI);
+    const auto pts = qam256_points();
+    kernel::tf_filter f(n, filter_type::WF, 0.0, true, n * vectors);
+    std::vector<gr_complex> y(n), s(n), out(n);
+    for (std::size_t v = 0; v < vectors; v++) {
+        for (std::size_t i = 0; i < n; i++) {
+            s[i] = pts[pick(rng)];
+            const cd h = std::polar(1.0, ph(rng));
+            y[i] = gr_complex(h * cd(s[i]) + cd(g(rng), g(rng)));
+        }
+        f.process(y.data(), s.data(), out.data());
+    }
+    EXPECT_NEAR(f.estimated_snr_db(), snr_db, 0.5);
+    EXPECT_NEAR(f.effective_snr_db(), snr_db, 0.5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Paper, SnrEstimate, ::testing::Values(-20.0, 5.0, 20.0));
+
+TEST(SnrEstimator, ConstantModulusKeepsGivenSnr)
+{
+    const std::size_t n = 256;
+    std::mt19937 rng(2);
+    std::uniform_int_distribution<int> bit(0, 1);
+    std::normal_distribution<float> g(0.0f, 0.3f);
+    kernel::tf_filter f(n, filter_type::WF, 7.0, true);
+    std::vector<gr_complex> y(n), s(n), out(n);
+    for (int v = 0; v < 10; v++) {
+        for (std::size_t i = 0; i < n; i++) {
+            const float a = float(M_SQRT1_2);
+            s[i] = gr_complex(bit(rng) ? a : -a, bit(rng) ? a : -a); // QPSK
+            y[i] = s[i] + gr_complex(g(rng), g(rng));
+        }
+        f.process(y.data(), s.data(), out.data());
+    }
+    EXPECT_TRUE(std::isnan(f.estimated_snr_db()));
+    EXPECT_DOUBLE_EQ(f.effective_snr_db(), 7.0);
+}
+
+TEST(SnrEstimator, WindowForgetsOldData)
+{
+    // 50000 REs at 0 dB, then 40000 at 10 dB, window 20000 REs of 10-RE vectors: the
+    // estimate must be the second SNR alone.
+    const std::size_t n = 10;
+    kernel::snr_estimator est(20000);
+    std::mt19937 rng(4);
+    std::uniform_int_distribution<int> pick(0, 255);
+    std::uniform_real_distribution<double> ph(0, 2 * M_PI);
+    const auto pts = qam256_points();
+    std::vector<gr_complex> y(n);
+    std::vector<float> m(n);
+    for (double snr_db : { 0.0, 10.0 }) {
+        std::normal_distribution<double> g(0.0, std::sqrt(std::pow(10.0, -snr_db / 10) / 2));
+        const std::size_t vectors = snr_db == 0.0 ? 5000 : 4000;
+        for (std::size_t v = 0; v < vectors; v++) {
+            for (std::size_t i = 0; i < n; i++) {
+                const gr_complex s = pts[pick(rng)];
+                m[i] = std::norm(s);
+                y[i] = gr_complex(std::polar(1.0, ph(rng)) * cd(s) + cd(g(rng), g(rng)));
+            }
+            est.update(y.data(), m.data(), n);
+        }
+        EXPECT_TRUE(est.valid());
+        EXPECT_NEAR(est.snr_db(), snr_db, 0.5);
+    }
+}
