@@ -11,7 +11,7 @@ The one place where GRC `make:` lines, the apps and scripts turn user input into
 """
 
 from .nrsar_python import (numerology, geometry, scene, point_target, srs_config,
-                           modulation, tx_mode, filter_type, check_scenario)
+                           modulation, tx_mode, filter_type, check_scenario, compute_extent)
 
 MODULATIONS = {
     "qpsk": modulation.QPSK,

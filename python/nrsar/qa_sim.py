@@ -19,7 +19,7 @@ import numpy as np
 from gnuradio import gr_unittest
 from gnuradio.nrsar import sim
 
-APP = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "apps",
+APP = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "apps",
                    "nrsar-sim")
 
 
