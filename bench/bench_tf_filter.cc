@@ -15,16 +15,24 @@ using namespace gr::nrsar;
 
 namespace {
 
-void run(benchmark::State& state, filter_type type, bool estimate)
+// Gaussian echo y and reference s of n REs (fixed seed).
+void random_pair(std::size_t n, std::vector<gr_complex>& y, std::vector<gr_complex>& s)
 {
-    const std::size_t n = state.range(0);
     std::mt19937 rng(1);
     std::normal_distribution<float> g(0.0f, 1.0f);
-    std::vector<gr_complex> y(n), s(n), out(n);
+    y.resize(n);
+    s.resize(n);
     for (std::size_t i = 0; i < n; i++) {
         y[i] = gr_complex(g(rng), g(rng));
         s[i] = gr_complex(g(rng), g(rng));
     }
+}
+
+void run(benchmark::State& state, filter_type type, bool estimate)
+{
+    const std::size_t n = state.range(0);
+    std::vector<gr_complex> y, s, out(n);
+    random_pair(n, y, s);
     kernel::tf_filter f(n, type, 5.0, estimate);
     for (auto _ : state) {
         f.process(y.data(), s.data(), out.data());
@@ -52,15 +60,11 @@ namespace {
 void BM_wf_apply_only(benchmark::State& state)
 {
     const std::size_t n = state.range(0);
-    std::mt19937 rng(1);
-    std::normal_distribution<float> g(0.0f, 1.0f);
-    std::vector<gr_complex> y(n), s(n), out(n);
+    std::vector<gr_complex> y, s, out(n);
+    random_pair(n, y, s);
     std::vector<float> m(n);
-    for (std::size_t i = 0; i < n; i++) {
-        y[i] = gr_complex(g(rng), g(rng));
-        s[i] = gr_complex(g(rng), g(rng));
+    for (std::size_t i = 0; i < n; i++)
         m[i] = std::norm(s[i]);
-    }
     kernel::wf_filter f(3.16);
     for (auto _ : state) {
         f.apply(y.data(), s.data(), m.data(), out.data(), n);
@@ -73,13 +77,8 @@ void BM_wf_apply_only(benchmark::State& state)
 void BM_wf_fused_loop(benchmark::State& state)
 {
     const std::size_t n = state.range(0);
-    std::mt19937 rng(1);
-    std::normal_distribution<float> g(0.0f, 1.0f);
-    std::vector<gr_complex> y(n), s(n), out(n);
-    for (std::size_t i = 0; i < n; i++) {
-        y[i] = gr_complex(g(rng), g(rng));
-        s[i] = gr_complex(g(rng), g(rng));
-    }
+    std::vector<gr_complex> y, s, out(n);
+    random_pair(n, y, s);
     const float c = 1.0f / 3.16f;
     for (auto _ : state) {
         const float* yp = reinterpret_cast<const float*>(y.data());

@@ -56,15 +56,20 @@ def _sink(tb, n, vlen):
     return head
 
 
+def _build_ours(tb, n_items, y, s, vlen, ftype):
+    hy, hs = _sources(tb, y, s, vlen)
+    blk = nrsar.tf_filter(vlen, ftype, SNR_DB, False)
+    tb.connect(hy, (blk, 0))
+    tb.connect(hs, (blk, 1))
+    tb.connect(blk, _sink(tb, n_items, vlen))
+    return [blk]
+
+
 def _build_wf(tb, n_items, y, s, vlen, stock):
     """Our WF block or the stock WF chain; returns the blocks that compute the filter."""
-    hy, hs = _sources(tb, y, s, vlen)
     if not stock:
-        blk = nrsar.tf_filter(vlen, nrsar.filter_type.WF, SNR_DB, False)
-        tb.connect(hy, (blk, 0))
-        tb.connect(hs, (blk, 1))
-        tb.connect(blk, _sink(tb, n_items, vlen))
-        return [blk]
+        return _build_ours(tb, n_items, y, s, vlen, nrsar.filter_type.WF)
+    hy, hs = _sources(tb, y, s, vlen)
     num = blocks.multiply_conjugate_cc(vlen)
     mag2 = blocks.complex_to_mag_squared(vlen)
     reg = blocks.add_const_vff([10 ** (-SNR_DB / 10)] * vlen)
@@ -81,13 +86,9 @@ def _build_wf(tb, n_items, y, s, vlen, stock):
 
 def _build_rf(tb, n_items, y, s, vlen, radar_peer):
     """Our RF block or gr-radar's ofdm_divide_vcvc; returns the blocks that compute it."""
-    hy, hs = _sources(tb, y, s, vlen)
     if not radar_peer:
-        blk = nrsar.tf_filter(vlen, nrsar.filter_type.RF, SNR_DB, False)
-        tb.connect(hy, (blk, 0))
-        tb.connect(hs, (blk, 1))
-        tb.connect(blk, _sink(tb, n_items, vlen))
-        return [blk]
+        return _build_ours(tb, n_items, y, s, vlen, nrsar.filter_type.RF)
+    hy, hs = _sources(tb, y, s, vlen)
     from gnuradio import radar
     key = "packet_len"
     ty = blocks.stream_to_tagged_stream(gr.sizeof_gr_complex, vlen, PACKET, key)

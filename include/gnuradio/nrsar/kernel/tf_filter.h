@@ -110,9 +110,9 @@ NRSAR_API std::unique_ptr<re_filter> make_re_filter(filter_type type, double snr
  *
  * Smoothing: sums over the last `window_res` REs, kept as 64 buckets of window_res / 64
  * REs (whole vectors) plus the vectors since the last full bucket.
- * Accuracy: the regression residual has variance about sigma^4 + 2 P sigma^2, so the
- * relative standard deviation of P is sqrt((sigma^4 + 2 P sigma^2) / (n Var|s|^2))
- * (Var|s|^2 = 0.40 for 256-QAM): 0.17 dB at -20 dB with n = 2^24, far less at higher SNR.
+ * Accuracy: the regression residual has variance about sigma^4 + 2 P sigma^2, so
+ * std(P_hat) = sqrt((sigma^4 + 2 P sigma^2) / (n Var|s|^2)) (Var|s|^2 = 0.40 for 256-QAM):
+ * 0.17 dB in SNR at -20 dB with n = 2^24, far less at higher SNR.
  * The estimate is clamped to [min_db, max_db] = [-60, 80] dB.
  */
 class NRSAR_API snr_estimator
