@@ -26,6 +26,7 @@ rd_focuser::sptr rd_focuser::make(const numerology& num,
                                   double range_bin_m,
                                   const focuser_config& cfg)
 {
+    check_at_least("num_range_bins", num_range_bins, 1u); // before the io_signatures
     return gnuradio::make_block_sptr<rd_focuser_impl>(
         num, geo, scn, num_range_bins, first_range_m, range_bin_m, cfg);
 }
