@@ -18,6 +18,7 @@
 #include <pybind11/complex.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <limits>
 
 namespace py = pybind11;
 
@@ -38,7 +39,52 @@ void bind_rd_focuser(py::module& m)
         .export_values();
 
     py::class_<focuser_config>(m, "focuser_config", "Processing options of rd_focuser")
-        .def(py::init<>())
+        .def(py::init([](unsigned symbols_per_pulse,
+                         unsigned lines_per_aperture,
+                         int overlap_lines,
+                         bool fast_fft_size,
+                         doppler_band band,
+                         double band_margin_hz,
+                         double estimate_threshold_db,
+                         bool hyperbolic,
+                         bool rcmc,
+                         unsigned rcmc_taps,
+                         gr::fft::window::win_type rcmc_window,
+                         double rcmc_window_param,
+                         double rcmc_skip_below_bins,
+                         double range_centre_cycles) {
+                 focuser_config c;
+                 c.symbols_per_pulse = symbols_per_pulse;
+                 c.lines_per_aperture = lines_per_aperture;
+                 c.overlap_lines = overlap_lines;
+                 c.fast_fft_size = fast_fft_size;
+                 c.band = band;
+                 c.band_margin_hz = band_margin_hz;
+                 c.estimate_threshold_db = estimate_threshold_db;
+                 c.hyperbolic = hyperbolic;
+                 c.rcmc = rcmc;
+                 c.rcmc_taps = rcmc_taps;
+                 c.rcmc_window = rcmc_window;
+                 c.rcmc_window_param = rcmc_window_param;
+                 c.rcmc_skip_below_bins = rcmc_skip_below_bins;
+                 c.range_centre_cycles = range_centre_cycles;
+                 return c;
+             }),
+             py::arg("symbols_per_pulse") = 1u,
+             py::arg("lines_per_aperture") = 0u,
+             py::arg("overlap_lines") = -1,
+             py::arg("fast_fft_size") = true,
+             py::arg("band") = doppler_band::SCENE,
+             py::arg("band_margin_hz") = -1.0,
+             py::arg("estimate_threshold_db") = 20.0,
+             py::arg("hyperbolic") = true,
+             py::arg("rcmc") = true,
+             py::arg("rcmc_taps") = 16u,
+             py::arg("rcmc_window") = gr::fft::window::WIN_KAISER,
+             py::arg("rcmc_window_param") = 6.0,
+             py::arg("rcmc_skip_below_bins") = 0.05,
+             py::arg("range_centre_cycles") = std::numeric_limits<double>::quiet_NaN(),
+             "focuser_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &focuser_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &focuser_config::lines_per_aperture)
         .def_readwrite("overlap_lines", &focuser_config::overlap_lines)
