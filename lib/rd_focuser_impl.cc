@@ -245,17 +245,32 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
     }
 }
 
-void rd_focuser_impl::ingest(const gr_complex* line)
+void rd_focuser_impl::ingest(const gr_complex* lines, unsigned n)
 {
     gr_complex* dst = &d_block[static_cast<size_t>(d_fill) * d_K];
+    const size_t count = static_cast<size_t>(n) * d_K;
+    std::memcpy(dst, lines, sizeof(gr_complex) * count);
+    // Non-finite check: x - x is 0 for finite x and NaN otherwise; one branch-free pass.
+    const float* f = reinterpret_cast<const float*>(dst);
+    // Eight independent accumulators so the loop vectorises without -ffast-math.
+    float part[8] = { 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f };
+    const size_t nf = 2 * count;
+    size_t i = 0;
+    for (; i + 8 <= nf; i += 8)
+        for (int j = 0; j < 8; ++j)
+            part[j] += f[i + j] - f[i + j];
+    float acc = 0.0f;
+    for (; i < nf; ++i)
+        acc += f[i] - f[i];
+    for (float p : part)
+        acc += p;
     std::uint64_t bad = 0;
-    for (unsigned k = 0; k < d_K; ++k) {
-        const gr_complex x = line[k];
-        if (std::isfinite(x.real()) && std::isfinite(x.imag())) {
-            dst[k] = x;
-        } else {
-            dst[k] = gr_complex(0.0f, 0.0f);
-            ++bad;
+    if (acc != 0.0f) { // NaN (or a NaN sum): find and zero the offenders
+        for (size_t j = 0; j < count; ++j) {
+            if (!(std::isfinite(dst[j].real()) && std::isfinite(dst[j].imag()))) {
+                dst[j] = gr_complex(0.0f, 0.0f);
+                ++bad;
+            }
         }
     }
     if (bad) {
@@ -269,8 +284,8 @@ void rd_focuser_impl::ingest(const gr_complex* line)
             d_nonfinite_logged = true;
         }
     }
-    ++d_fill;
-    ++d_lines_in;
+    d_fill += n;
+    d_lines_in += n;
 }
 
 void rd_focuser_impl::process_block()
@@ -360,16 +375,25 @@ int rd_focuser_impl::general_work(int noutput_items,
     ensure_kernel();
 
     int produced = drain(out, noutput_items, 0);
+    // The tags of everything not yet ingested, in offset order.
     std::vector<tag_t> tags;
+    get_tags_in_range(tags, 0, d_lines_in, nread + navail);
+    std::sort(tags.begin(), tags.end(), tag_t::offset_compare);
+    size_t next_tag = 0;
     while (produced < noutput_items && d_out_pos >= d_out_len) {
         const uint64_t next = d_lines_in; // absolute index of the next line to ingest
         const int i = static_cast<int>(next - nread);
         if (i < navail) {
-            get_tags_in_range(tags, 0, next, next + 1);
-            for (const auto& t : tags)
-                handle_tag(t);
+            while (next_tag < tags.size() && tags[next_tag].offset <= next)
+                handle_tag(tags[next_tag++]);
             ensure_kernel();
-            ingest(in + static_cast<size_t>(i) * d_K);
+            // Ingest up to the next tag, the end of the input or a full block.
+            uint64_t end = nread + navail;
+            if (next_tag < tags.size())
+                end = std::min<uint64_t>(end, tags[next_tag].offset);
+            const unsigned room = d_before + d_M + d_after - d_fill;
+            const unsigned n = static_cast<unsigned>(std::min<uint64_t>(end - next, room));
+            ingest(in + static_cast<size_t>(i) * d_K, n);
             if (d_fill == d_before + d_M + d_after)
                 process_block();
         } else if (upstream_done && !d_flush_done) {

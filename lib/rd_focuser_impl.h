@@ -66,7 +66,7 @@ private:
 
     void configure(double T, double first_range, double range_bin);
     void ensure_kernel();
-    void ingest(const gr_complex* line);
+    void ingest(const gr_complex* lines, unsigned n);
     void process_block(); // focus the full block, queue the aperture, shift history
     void handle_tag(const tag_t& tag);
     int drain(gr_complex* out, int noutput, int produced);
