@@ -56,7 +56,7 @@ static void BM_scene_band(benchmark::State& s) { run(s, doppler_band::SCENE, tru
 static void BM_full_band(benchmark::State& s) { run(s, doppler_band::FULL, true); }
 static void BM_scene_band_no_rcmc(benchmark::State& s) { run(s, doppler_band::SCENE, false); }
 
-#define SIZES Args({ 64, 4800 })->Args({ 256, 4800 })->Args({ 512, 4800 })->Args({ 256, 1024 })->Args({ 256, 16384 })
+#define SIZES Args({ 128, 2400 })->Args({ 64, 4800 })->Args({ 256, 4800 })->Args({ 512, 4800 })->Args({ 256, 1024 })->Args({ 256, 16384 })
 BENCHMARK(BM_scene_band)->SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_full_band)->SIZES->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_scene_band_no_rcmc)->SIZES->Unit(benchmark::kMillisecond);

@@ -101,7 +101,7 @@ double sinc_interpolator::kernel(double x) const
 
 const float* sinc_interpolator::phase_taps(double mu) const
 {
-    const unsigned q = static_cast<unsigned>(std::lround(mu * d_phases));
+    const unsigned q = static_cast<unsigned>(mu * d_phases + 0.5);
     return &d_table[static_cast<size_t>(q) * d_taps];
 }
 
@@ -126,11 +126,13 @@ void sinc_interpolator::resample(const gr_complex* in,
 {
     const int L = static_cast<int>(d_taps);
     const int half = L / 2;
+    const float* table = d_table.data();
     for (int k = 0; k < n; ++k) {
         const double pos = k + static_cast<double>(shift[k]);
         const double fl = std::floor(pos);
         const int first = static_cast<int>(fl) - half + 1;
-        const float* h = phase_taps(pos - fl);
+        const size_t ph = static_cast<size_t>((pos - fl) * d_phases + 0.5);
+        const float* h = table + ph * L;
         if (first >= 0 && first + L <= n) {
             // Interior: no bounds checks (the hot path of RCMC).
             const gr_complex* x = in + first;

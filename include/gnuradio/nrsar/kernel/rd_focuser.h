@@ -113,7 +113,7 @@ private:
     std::unique_ptr<gr::fft::fft_complex_rev> d_rev;
     sinc_interpolator d_interp;
     volk::vector<gr_complex> d_work;       // K x nfft, range-bin major
-    volk::vector<gr_complex> d_band;       // K x band bins, range-bin major
+    volk::vector<gr_complex> d_band;       // band bins x K, band-major
     volk::vector<gr_complex> d_filter;     // band bins x K, compression x scale
     volk::vector<float> d_shift;           // band bins x K, migration
     volk::vector<gr_complex> d_col;        // K
