@@ -47,6 +47,13 @@ double default_range_bin(const numerology& num, double range_bin_m)
     return range_bin_m;
 }
 
+// Bin 0 of an uncropped range IFFT is at 0 m: allowed.
+void check_first_range(double r)
+{
+    if (!std::isfinite(r) || r < 0.0)
+        throw_param("first_range_m", r, "must be finite and >= 0");
+}
+
 bool differs(double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); }
 } // namespace
 
@@ -71,7 +78,7 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
     d_geo.validate();
     d_scn.validate();
     d_cfg.validate();
-    check_finite_positive("first_range_m", first_range_m);
+    check_first_range(first_range_m);
     configure(d_num.symbol_s() * d_cfg.symbols_per_pulse, first_range_m, d_ctor_range_bin);
     d_next_y = d_geo.track_start_m;
     // The output is a different domain (azimuth lines); the block places its own tags.
@@ -84,7 +91,7 @@ rd_focuser_impl::~rd_focuser_impl() {}
 void rd_focuser_impl::configure(double T, double first_range, double range_bin)
 {
     check_finite_positive("pulse_interval_s", T);
-    check_finite_positive("first_range_m", first_range);
+    check_first_range(first_range);
     check_finite_positive("range_bin_m", range_bin);
     d_T = T;
     d_first_range = first_range;
@@ -207,7 +214,7 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
         const double first = pmt::to_double(pmt::tuple_ref(v, 0));
         const double step = pmt::to_double(pmt::tuple_ref(v, 1));
         const uint64_t k = pmt::to_uint64(pmt::tuple_ref(v, 2));
-        if (k != d_K || !(first > 0.0) || !(step > 0.0) || !std::isfinite(first + step)) {
+        if (k != d_K || !(first >= 0.0) || !(step > 0.0) || !std::isfinite(first + step)) {
             d_logger->warn("ignoring range_axis tag ({}, {}, {}): the block has {} bins",
                            first,
                            step,

@@ -388,7 +388,7 @@ class qa_rd_focuser(gr_unittest.TestCase):
         self.assert_invalid("num_range_bins = 0 must be at least 1", k=0)
 
     def test_011_invalid_first_range(self):
-        self.assert_invalid("first_range_m = -5 must be finite and > 0", first=-5.0)
+        self.assert_invalid("first_range_m = -5 must be finite and >= 0", first=-5.0)
 
     def test_012_invalid_range_bin(self):
         self.assert_invalid("range_bin_m = -1 must be finite and > 0", rho=-1.0)
