@@ -170,9 +170,10 @@ void rd_focuser_impl::ensure_kernel()
                        gib);
     d_kernel = std::make_unique<kernel::rd_focuser>(d_cfg, blk);
 
-    // Resize the input block, keeping the most recent lines (history and look-ahead).
-    const size_t P = blk.num_lines;
-    volk::vector<gr_complex> fresh(P * d_K, gr_complex(0.0f, 0.0f));
+    // Resize the input block (range-major: row k holds the P lines of range bin k, the
+    // kernel's own layout), keeping the most recent lines (history and look-ahead).
+    const unsigned P = blk.num_lines;
+    volk::vector<gr_complex> fresh(static_cast<size_t>(P) * d_K, gr_complex(0.0f, 0.0f));
     if (d_fill > 0 && !d_block.empty()) {
         // Old layout: [history | look-ahead], d_fill lines. Keep the look-ahead (lines past
         // the aperture start) and as much history as the new block wants.
@@ -180,16 +181,18 @@ void rd_focuser_impl::ensure_kernel()
         const unsigned lookahead = d_fill > old_before ? d_fill - old_before : 0u;
         const unsigned history = d_fill - lookahead;
         const unsigned keep_hist = std::min(history, d_before);
-        const unsigned keep_look = std::min<unsigned>(lookahead, static_cast<unsigned>(P) - d_before);
-        std::memcpy(&fresh[static_cast<size_t>(d_before - keep_hist) * d_K],
-                    &d_block[static_cast<size_t>(history - keep_hist) * d_K],
-                    sizeof(gr_complex) * (keep_hist + keep_look) * d_K);
+        const unsigned keep_look = std::min(lookahead, P - d_before);
+        for (unsigned k = 0; k < d_K; ++k)
+            std::memcpy(&fresh[static_cast<size_t>(k) * P + d_before - keep_hist],
+                        &d_block[static_cast<size_t>(k) * d_layout_lines + history - keep_hist],
+                        sizeof(gr_complex) * (keep_hist + keep_look));
         d_fill = d_before + keep_look;
     } else {
         d_fill = d_before; // lines before the stream start are zero
     }
     d_block.swap(fresh);
     d_layout_before = d_before;
+    d_layout_lines = P;
     d_out.resize(static_cast<size_t>(d_M) * d_K);
 }
 
@@ -254,11 +257,12 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
 
 void rd_focuser_impl::ingest(const gr_complex* lines, unsigned n)
 {
-    gr_complex* dst = &d_block[static_cast<size_t>(d_fill) * d_K];
+    // Straight into the range-major block: the transpose happens while the lines are hot.
+    const unsigned P = d_layout_lines;
+    kernel::transpose(lines, d_K, &d_block[d_fill], P, n, d_K);
     const size_t count = static_cast<size_t>(n) * d_K;
-    std::memcpy(dst, lines, sizeof(gr_complex) * count);
     // Non-finite check: x - x is 0 for finite x and NaN otherwise; one branch-free pass.
-    const float* f = reinterpret_cast<const float*>(dst);
+    const float* f = reinterpret_cast<const float*>(lines);
     // Eight independent accumulators so the loop vectorises without -ffast-math.
     float part[8] = { 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f };
     const size_t nf = 2 * count;
@@ -274,8 +278,8 @@ void rd_focuser_impl::ingest(const gr_complex* lines, unsigned n)
     std::uint64_t bad = 0;
     if (acc != 0.0f) { // NaN (or a NaN sum): find and zero the offenders
         for (size_t j = 0; j < count; ++j) {
-            if (!(std::isfinite(dst[j].real()) && std::isfinite(dst[j].imag()))) {
-                dst[j] = gr_complex(0.0f, 0.0f);
+            if (!(std::isfinite(lines[j].real()) && std::isfinite(lines[j].imag()))) {
+                d_block[(j % d_K) * P + d_fill + j / d_K] = gr_complex(0.0f, 0.0f);
                 ++bad;
             }
         }
@@ -299,11 +303,12 @@ void rd_focuser_impl::process_block()
 {
     const unsigned P = d_before + d_M + d_after;
     // Zero padding for a partial (flushed) block.
-    std::fill(d_block.begin() + static_cast<size_t>(d_fill) * d_K,
-              d_block.begin() + static_cast<size_t>(P) * d_K,
-              gr_complex(0.0f, 0.0f));
+    for (unsigned k = 0; k < d_K; ++k)
+        std::fill(&d_block[static_cast<size_t>(k) * P + d_fill],
+                  &d_block[static_cast<size_t>(k) * P] + P,
+                  gr_complex(0.0f, 0.0f));
     // Only lines [before, before + M) of the block are valid output (overlap-save).
-    d_kernel->focus(d_block.data(), d_out.data(), d_before, d_M);
+    d_kernel->focus_range_major(d_block.data(), P, d_out.data(), d_before, d_M);
     d_out_pos = 0;
     d_out_len = d_M;
     d_out_tags_due = true;
@@ -314,9 +319,10 @@ void rd_focuser_impl::process_block()
     d_aperture_start += d_M;
     // Shift: the next block starts M lines later; keep before + after lines.
     const unsigned keep = std::min(d_fill, P) > d_M ? std::min(d_fill, P) - d_M : 0u;
-    std::memmove(d_block.data(),
-                 &d_block[static_cast<size_t>(d_M) * d_K],
-                 sizeof(gr_complex) * keep * d_K);
+    for (unsigned k = 0; k < d_K; ++k)
+        std::memmove(&d_block[static_cast<size_t>(k) * P],
+                     &d_block[static_cast<size_t>(k) * P + d_M],
+                     sizeof(gr_complex) * keep);
     d_fill = keep;
     if (d_pending) {
         d_pending = false;

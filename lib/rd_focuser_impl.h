@@ -44,9 +44,10 @@ private:
     double d_pending_first_range = 0.0;
     double d_pending_range_bin = 0.0;
 
-    volk::vector<gr_complex> d_block; // (before + M + after) x K input lines
+    volk::vector<gr_complex> d_block; // K x (before + M + after): range-major input lines
     unsigned d_fill = 0;              // lines in d_block
     unsigned d_layout_before = 0;     // history lines d_block was laid out with
+    unsigned d_layout_lines = 0;      // lines per range bin (row length) of d_block
     volk::vector<gr_complex> d_out;   // M x K focused lines waiting for output
     unsigned d_out_pos = 0;
     unsigned d_out_len = 0;

@@ -10,6 +10,7 @@
 #include <volk/volk.h>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace gr {
@@ -53,11 +54,13 @@ void rd_block::validate() const
 
 namespace {
 constexpr unsigned transpose_tile = 32;
+constexpr unsigned ifft_tile_rows = 16; // range bins per output transpose
+} // namespace
 
-// dst[c * dst_stride + r] = src[r * src_stride + c], r < rows, c < cols.
-// Tile by tile through a local buffer, so that every cache line of src and dst is read or
-// written whole and in sequence (measured about as fast as a plain blocked transpose on the
-// development machine; both are memory bound at K = 512).
+// dst[c * dst_stride + r] = src[r * src_stride + c], r < rows, c < cols: blocked, each
+// complex sample moved as one 64-bit word (std::complex copies compiled to two 32-bit
+// moves). Measured on 4800 x 256: 1.0 ms against 1.8 ms for a tile through a local buffer
+// and 0.7 ms for a plain memcpy of the same data.
 void transpose(const gr_complex* src,
                size_t src_stride,
                gr_complex* dst,
@@ -65,24 +68,21 @@ void transpose(const gr_complex* src,
                unsigned rows,
                unsigned cols)
 {
-    gr_complex tile[transpose_tile][transpose_tile];
+    static_assert(sizeof(gr_complex) == sizeof(std::uint64_t), "complex<float> is 8 bytes");
+    const auto* s = reinterpret_cast<const std::uint64_t*>(src);
+    auto* d = reinterpret_cast<std::uint64_t*>(dst);
     for (unsigned r0 = 0; r0 < rows; r0 += transpose_tile) {
-        const unsigned nr = std::min(rows - r0, transpose_tile);
+        const unsigned r1 = std::min(rows, r0 + transpose_tile);
         for (unsigned c0 = 0; c0 < cols; c0 += transpose_tile) {
-            const unsigned nc = std::min(cols - c0, transpose_tile);
-            for (unsigned r = 0; r < nr; ++r) {
-                const gr_complex* s = src + static_cast<size_t>(r0 + r) * src_stride + c0;
-                for (unsigned c = 0; c < nc; ++c)
-                    tile[c][r] = s[c];
+            const unsigned c1 = std::min(cols, c0 + transpose_tile);
+            for (unsigned c = c0; c < c1; ++c) {
+                std::uint64_t* dc = d + static_cast<size_t>(c) * dst_stride;
+                for (unsigned r = r0; r < r1; ++r)
+                    dc[r] = s[static_cast<size_t>(r) * src_stride + c];
             }
-            for (unsigned c = 0; c < nc; ++c)
-                std::memcpy(dst + static_cast<size_t>(c0 + c) * dst_stride + r0,
-                            tile[c],
-                            sizeof(gr_complex) * nr);
         }
     }
 }
-} // namespace
 
 unsigned rd_focuser::next_fast_size(unsigned n)
 {
@@ -113,7 +113,9 @@ rd_focuser::rd_focuser(const focuser_config& cfg, const rd_block& blk)
     const unsigned K = blk.num_range_bins;
     d_fwd = std::make_unique<gr::fft::fft_complex_fwd>(d_nfft, 1);
     d_rev = std::make_unique<gr::fft::fft_complex_rev>(d_nfft, 1);
-    d_work.resize(static_cast<size_t>(K) * d_nfft);
+    if (cfg.band == doppler_band::ESTIMATE)
+        d_spec.resize(static_cast<size_t>(K) * d_nfft);
+    d_tile.resize(static_cast<size_t>(ifft_tile_rows) * d_nfft);
     d_col.resize(K);
     d_col2.resize(K);
     d_demod.resize(K);
@@ -192,7 +194,7 @@ void rd_focuser::estimate_band()
     std::fill(d_power.begin(), d_power.end(), 0.0f);
     volk::vector<float> mag(N);
     for (unsigned k = 0; k < K; ++k) {
-        volk_32fc_magnitude_squared_32f(mag.data(), &d_work[static_cast<size_t>(k) * N], N);
+        volk_32fc_magnitude_squared_32f(mag.data(), &d_spec[static_cast<size_t>(k) * N], N);
         volk_32f_x2_add_32f(d_power.data(), d_power.data(), mag.data(), N);
     }
     // Circular moving average over w bins.
@@ -302,29 +304,41 @@ void rd_focuser::focus(const gr_complex* in, gr_complex* out)
 
 void rd_focuser::focus(const gr_complex* in, gr_complex* out, unsigned first_line, unsigned count)
 {
+    const unsigned K = d_blk.num_range_bins;
+    const unsigned P = d_blk.num_lines;
+    d_stage.resize(static_cast<size_t>(K) * P);
+    transpose(in, K, d_stage.data(), P, P, K);
+    focus_range_major(d_stage.data(), P, out, first_line, count);
+}
+
+void rd_focuser::focus_range_major(const gr_complex* in,
+                                   size_t row_stride,
+                                   gr_complex* out,
+                                   unsigned first_line,
+                                   unsigned count)
+{
     if (first_line > d_blk.num_lines || count > d_blk.num_lines - first_line)
         throw_param("first_line + count", first_line + count, "must be at most num_lines");
+    if (row_stride < d_blk.num_lines)
+        throw_param("row_stride", row_stride, "must be at least num_lines");
     const unsigned K = d_blk.num_range_bins;
     const unsigned P = d_blk.num_lines;
     const unsigned N = d_nfft;
-    gr_complex* work = d_work.data();
 
-    // 1. Range-bin-major, then the azimuth FFT of every range bin zero-padded to N, eq. (31).
-    //    With a fixed band only the band bins of each spectrum are kept (band-major, B x K);
-    //    the estimator needs the whole spectra first.
+    // 1. Azimuth FFT of every range bin zero-padded to N, eq. (31). With a fixed band only
+    //    the band bins of each spectrum are kept (band-major, B x K); the estimator needs the
+    //    whole spectra first.
     const bool estimate = d_cfg.band == doppler_band::ESTIMATE;
     if (!estimate)
         build_filter();
-    transpose(in, K, work, N, P, K);
     for (unsigned k = 0; k < K; ++k) {
-        gr_complex* row = work + static_cast<size_t>(k) * N;
         gr_complex* ib = d_fwd->get_inbuf();
-        std::memcpy(ib, row, sizeof(gr_complex) * P);
+        std::memcpy(ib, in + k * row_stride, sizeof(gr_complex) * P);
         std::fill(ib + P, ib + N, gr_complex(0.0f, 0.0f));
         d_fwd->execute();
         const gr_complex* ob = d_fwd->get_outbuf();
         if (estimate) {
-            std::memcpy(row, ob, sizeof(gr_complex) * N);
+            std::memcpy(&d_spec[static_cast<size_t>(k) * N], ob, sizeof(gr_complex) * N);
         } else {
             const size_t B = d_band_bins.size();
             for (size_t b = 0; b < B; ++b)
@@ -332,13 +346,13 @@ void rd_focuser::focus(const gr_complex* in, gr_complex* out, unsigned first_lin
         }
     }
 
-    // 2. The Doppler band to process (ESTIMATE: from the azimuth power spectrum).
+    // 2. ESTIMATE: the band from the azimuth power spectrum.
     if (estimate) {
         estimate_band();
         build_filter();
         for (unsigned k = 0; k < K; ++k)
             for (size_t b = 0; b < d_band_bins.size(); ++b)
-                d_band[b * K + k] = work[static_cast<size_t>(k) * N + d_band_bins[b]];
+                d_band[b * K + k] = d_spec[static_cast<size_t>(k) * N + d_band_bins[b]];
     }
     const size_t nb = d_band_bins.size();
 
@@ -354,20 +368,23 @@ void rd_focuser::focus(const gr_complex* in, gr_complex* out, unsigned first_lin
         }
     }
 
-    // 4. Inverse azimuth FFT per range bin, eq. (47); out-of-band bins stay zero.
-    for (unsigned k = 0; k < K; ++k) {
-        gr_complex* ib = d_rev->get_inbuf();
-        std::fill(ib, ib + N, gr_complex(0.0f, 0.0f));
-        for (size_t b = 0; b < nb; ++b)
-            ib[d_band_bins[b]] = d_band[b * K + k];
-        d_rev->execute();
-        std::memcpy(work + static_cast<size_t>(k) * N,
-                    d_rev->get_outbuf() + first_line,
-                    sizeof(gr_complex) * count);
+    // 4. Inverse azimuth FFT per range bin, eq. (47) (out-of-band bins stay zero), a tile of
+    //    range bins at a time, transposed straight into the azimuth x range output.
+    for (unsigned k0 = 0; k0 < K; k0 += ifft_tile_rows) {
+        const unsigned rows = std::min(ifft_tile_rows, K - k0);
+        for (unsigned r = 0; r < rows; ++r) {
+            const unsigned k = k0 + r;
+            gr_complex* ib = d_rev->get_inbuf();
+            std::fill(ib, ib + N, gr_complex(0.0f, 0.0f));
+            for (size_t b = 0; b < nb; ++b)
+                ib[d_band_bins[b]] = d_band[b * K + k];
+            d_rev->execute();
+            std::memcpy(&d_tile[static_cast<size_t>(r) * N],
+                        d_rev->get_outbuf() + first_line,
+                        sizeof(gr_complex) * count);
+        }
+        transpose(d_tile.data(), N, out + k0, K, rows, count);
     }
-
-    // 5. Back to azimuth x range.
-    transpose(work, N, out, K, K, count);
 }
 
 } // namespace kernel

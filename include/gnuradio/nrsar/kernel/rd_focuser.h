@@ -58,6 +58,16 @@ struct NRSAR_API rd_block {
  * 47), so a unit target with range peak A illuminated over M_t pulses focuses to
  * A sqrt(M_t B_t T), B_t = Ka M_t T its Doppler bandwidth, independent of fft_size.
  */
+/*!
+ * \brief dst[c * dst_stride + r] = src[r * src_stride + c] for r < rows, c < cols (tiled).
+ */
+NRSAR_API void transpose(const gr_complex* src,
+                         size_t src_stride,
+                         gr_complex* dst,
+                         size_t dst_stride,
+                         unsigned rows,
+                         unsigned cols);
+
 class NRSAR_API rd_focuser
 {
 public:
@@ -74,6 +84,16 @@ public:
      * to out (count x num_range_bins() samples): the valid part of an overlap-save block.
      */
     void focus(const gr_complex* in, gr_complex* out, unsigned first_line, unsigned count);
+    /*!
+     * \brief The same from range-major input: range bin k holds lines 0..num_lines()-1 at
+     * in + k * row_stride (row_stride >= num_lines()). This is the kernel's own layout; a
+     * streaming caller that stores its pulses this way saves a full transpose.
+     */
+    void focus_range_major(const gr_complex* in,
+                           size_t row_stride,
+                           gr_complex* out,
+                           unsigned first_line,
+                           unsigned count);
 
     unsigned num_range_bins() const { return d_blk.num_range_bins; }
     unsigned num_lines() const { return d_blk.num_lines; }
@@ -112,7 +132,9 @@ private:
     std::unique_ptr<gr::fft::fft_complex_fwd> d_fwd;
     std::unique_ptr<gr::fft::fft_complex_rev> d_rev;
     sinc_interpolator d_interp;
-    volk::vector<gr_complex> d_work;       // K x nfft, range-bin major
+    volk::vector<gr_complex> d_stage;      // K x num_lines, for line-major input (lazy)
+    volk::vector<gr_complex> d_spec;       // K x nfft spectra, ESTIMATE only
+    volk::vector<gr_complex> d_tile;       // tile_rows x nfft inverse-FFT outputs
     volk::vector<gr_complex> d_band;       // band bins x K, band-major
     volk::vector<gr_complex> d_filter;     // band bins x K, compression x scale
     volk::vector<float> d_shift;           // band bins x K, migration
