@@ -161,7 +161,13 @@ void rd_focuser_impl::ensure_kernel()
                                                        d_range_bin / speed_of_light,
                                                    1.0)
                                   : d_cfg.range_centre_cycles;
-    const double gib = 8.0 * d_K * (2.0 * blk.num_lines + d_M) / (1 << 30);
+    // Aperture buffer, output queue and the band matrix (at most the FFT size); ESTIMATE
+    // also keeps every spectrum.
+    const double fft = kernel::rd_focuser::next_fast_size(blk.num_lines);
+    const double gib = 8.0 * d_K *
+                       (blk.num_lines + d_M +
+                        fft * (d_cfg.band == doppler_band::ESTIMATE ? 2.0 : 1.0)) /
+                       (1 << 30);
     if (gib > 2.0)
         d_logger->warn("processing blocks of {} lines x {} bins need about {:.1f} GiB; "
                        "presum or crop the range window to reduce it",

@@ -344,6 +344,28 @@ class qa_rd_focuser(gr_unittest.TestCase):
             self.assertAlmostEqual(20 * math.log10(seg.max() / pred), 0.0, delta=0.6,
                                    msg=f"target at line {line}")
 
+    def test_007b_pulse_interval_change_mid_stream(self):
+        # A pulse_interval tag in the middle of aperture 1 applies from aperture 2.
+        m = 100
+        t2 = 2 * T
+        geo = geometry(m * T)
+        scn = nrsar.make_scene([(800.0, 5.0)])
+        data = echo([(800.0, 5.0, 1.0)], 3 * m)
+        tags = [gr.tag_utils.python_to_tag((150, pmt.intern(nrsar.tag_keys.pulse_interval),
+                                            pmt.from_double(t2)))]
+        blk, img, out_tags = run_block(data, geo=geo, scn=scn,
+                                       cfg=self.cfg(overlap_lines=0, lines_per_aperture=m),
+                                       tags=tags)
+        self.assertEqual(img.shape[0], 3 * m)
+        axes = [(off, pmt.to_double(pmt.tuple_ref(v, 0)), pmt.to_double(pmt.tuple_ref(v, 1)))
+                for off, v in tag_map(out_tags)[nrsar.tag_keys.azimuth_axis]]
+        expected = [(0, 0.0, V * T), (m, m * V * T, V * T), (2 * m, 2 * m * V * T, V * t2)]
+        for (off, y0, dy), (eoff, ey0, edy) in zip(axes, expected):
+            self.assertEqual(off, eoff)
+            self.assertAlmostEqual(y0, ey0, places=9)
+            self.assertAlmostEqual(dy, edy, places=9)
+        self.assertAlmostEqual(blk.pulse_interval_s(), t2)
+
     def test_008_nonfinite_input(self):
         m = 200
         geo = geometry(m * T)

@@ -39,7 +39,8 @@ namespace nrsar {
  * processed Doppler band, so consecutive apertures join into one continuous image. With
  * overlap 0 every aperture is focused alone and circularly (the paper's whole-block case:
  * targets whose zero-Doppler line lies outside the aperture wrap around). Memory: about
- * (2 (before + M + after) + M) K complex samples. When the input ends, the apertures that the
+ * (before + 2 M + after + B) K complex samples, B the processed Doppler bins (ESTIMATE adds
+ * K x FFT size). When the input ends, the apertures that the
  * received pulses can still reach are flushed with zero padding (no hang, nothing lost).
  * Non-finite input samples are zeroed, counted, logged once and reported with a
  * tags::nonfinite_key() tag on the next aperture's first line.
