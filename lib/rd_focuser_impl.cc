@@ -84,6 +84,9 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
     // The output is a different domain (azimuth lines); the block places its own tags.
     set_tag_propagation_policy(TPP_DONT);
     set_relative_rate(1.0);
+    // Whole apertures come out at once: an output buffer of about 2 MiB instead of GNU Radio's
+    // default (16 items of 2 KiB at K = 256) cuts the scheduler round trips downstream.
+    set_min_output_buffer(std::max<long>(64, (2l << 20) / (sizeof(gr_complex) * d_K)));
 }
 
 rd_focuser_impl::~rd_focuser_impl() {}
