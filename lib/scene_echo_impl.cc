@@ -6,49 +6,212 @@
  */
 
 #include "scene_echo_impl.h"
+#include "param_check.h"
 #include <gnuradio/io_signature.h>
+#include <gnuradio/nrsar/tags.h>
+#include <cmath>
 
 namespace gr {
 namespace nrsar {
 
-#pragma message("set the following appropriately and remove this warning")
-using input_type = float;
-#pragma message("set the following appropriately and remove this warning")
-using output_type = float;
-scene_echo::sptr scene_echo::make()
+namespace {
+
+void check_snr_db(double snr_db)
 {
-    return gnuradio::make_block_sptr<scene_echo_impl>();
+    if (std::isnan(snr_db) || snr_db == -INFINITY)
+        throw_param("snr_db", snr_db, "must be a number above -inf (+inf turns the noise off)");
 }
 
+} // namespace
 
-/*
- * The private constructor
- */
-scene_echo_impl::scene_echo_impl()
-    : gr::sync_block("scene_echo",
-                     gr::io_signature::make(
-                         1 /* min inputs */, 1 /* max inputs */, sizeof(input_type)),
-                     gr::io_signature::make(
-                         1 /* min outputs */, 1 /*max outputs */, sizeof(output_type)))
+scene_echo::sptr scene_echo::make(const numerology& num,
+                                  const geometry& geo,
+                                  const scene& scn,
+                                  double snr_db,
+                                  std::uint64_t seed)
 {
+    return gnuradio::make_block_sptr<scene_echo_impl>(num, geo, scn, snr_db, seed);
 }
 
-/*
- * Our virtual destructor.
- */
-scene_echo_impl::~scene_echo_impl() {}
+scene_echo_impl::scene_echo_impl(const numerology& num,
+                                 const geometry& geo,
+                                 const scene& scn,
+                                 double snr_db,
+                                 std::uint64_t seed)
+    : gr::sync_block(
+          "scene_echo",
+          gr::io_signature::make(1, 1, sizeof(gr_complex) * num.num_subcarriers),
+          gr::io_signature::make(1, 2, sizeof(gr_complex) * num.num_subcarriers)),
+      d_num(num),
+      d_geo(geo),
+      d_echo(num, geo, scn), // validates num, geo and scn
+      d_echo2(num, geo, scn),
+      d_noise(seed),
+      d_snr_db(snr_db)
+{
+    check_and_log(scn);
+    check_snr_db(snr_db);
+    update_sigma();
+}
+
+void scene_echo_impl::check_and_log(const scene& scn) const
+{
+    for (const auto& warning : check_scenario(d_num, d_geo, scn))
+        d_logger->warn("{}", warning);
+}
+
+void scene_echo_impl::update_sigma()
+{
+    // SNR per RE = sum of RCS powers / sigma^2 (SPEC section 2).
+    d_variance = std::isinf(d_snr_db)
+                     ? 0.0
+                     : d_echo.get_scene().total_rcs() / std::pow(10.0, d_snr_db / 10.0);
+    d_sigma = static_cast<float>(std::sqrt(d_variance));
+}
+
+void scene_echo_impl::set_snr_db(double snr_db)
+{
+    check_snr_db(snr_db);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_snr_db = snr_db;
+    update_sigma();
+}
+
+double scene_echo_impl::snr_db() const { return d_snr_db; }
+
+double scene_echo_impl::noise_variance() const
+{
+    return d_variance;
+}
+
+void scene_echo_impl::set_scene(const scene& scn)
+{
+    scn.validate();
+    check_and_log(scn);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_echo.set_scene(scn);
+    d_echo2.set_scene(scn);
+    update_sigma();
+}
+
+scene scene_echo_impl::get_scene() const { return d_echo.get_scene(); }
+
+std::uint64_t scene_echo_impl::nonfinite_count() const { return d_nonfinite; }
+
+void scene_echo_impl::set_threads(unsigned threads)
+{
+    check_range("threads", threads, 1u, 2u);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_threads = threads;
+}
+
+unsigned scene_echo_impl::threads() const { return d_threads; }
+
+void scene_echo_impl::process(kernel::scene_echo& k,
+                              const gr_complex* in,
+                              gr_complex* out,
+                              gr_complex* ref,
+                              std::uint64_t m0,
+                              int count,
+                              std::size_t* bad)
+{
+    const std::size_t n = d_num.num_subcarriers;
+    for (int i = 0; i < count; i++) {
+        // eq. (7), (8) with the noise and the non-finite test in one pass; m is the
+        // absolute slow-time index.
+        bad[i] = k.echo(m0 + i,
+                        in + i * n,
+                        out + i * n,
+                        ref ? ref + i * n : nullptr,
+                        &d_noise,
+                        d_sigma);
+    }
+}
+
+void scene_echo_impl::worker_loop()
+{
+    std::unique_lock<std::mutex> lock(d_job_mutex);
+    for (;;) {
+        d_job_cv.wait(lock, [this] { return d_job.pending || d_job.quit; });
+        if (d_job.quit)
+            return;
+        lock.unlock();
+        process(d_echo2, d_job.in, d_job.out, d_job.ref, d_job.m0, d_job.count, d_job.bad);
+        lock.lock();
+        d_job.pending = false;
+        d_job_cv.notify_all();
+    }
+}
+
+void scene_echo_impl::stop_worker()
+{
+    if (!d_worker.joinable())
+        return;
+    {
+        std::lock_guard<std::mutex> lock(d_job_mutex);
+        d_job.quit = true;
+    }
+    d_job_cv.notify_all();
+    d_worker.join();
+    d_job.quit = false;
+}
+
+bool scene_echo_impl::stop()
+{
+    stop_worker();
+    return true;
+}
+
+scene_echo_impl::~scene_echo_impl() { stop_worker(); }
 
 int scene_echo_impl::work(int noutput_items,
                           gr_vector_const_void_star& input_items,
                           gr_vector_void_star& output_items)
 {
-    auto in = static_cast<const input_type*>(input_items[0]);
-    auto out = static_cast<output_type*>(output_items[0]);
+    gr::thread::scoped_lock guard(d_setlock);
+    const std::size_t n = d_num.num_subcarriers;
+    const auto* in = static_cast<const gr_complex*>(input_items[0]);
+    auto* out = static_cast<gr_complex*>(output_items[0]);
+    auto* ref = output_items.size() > 1 ? static_cast<gr_complex*>(output_items[1]) : nullptr;
+    const std::uint64_t m0 = nitems_read(0);
+    d_bad.resize(noutput_items);
 
-#pragma message("Implement the signal processing in your block and remove this warning")
-    // Do <+signal processing+>
+    if (d_threads > 1 && noutput_items >= 4) {
+        if (!d_worker.joinable())
+            d_worker = std::thread([this] { worker_loop(); });
+        const int first = noutput_items / 2;
+        {
+            std::lock_guard<std::mutex> lock(d_job_mutex);
+            d_job.in = in + first * n;
+            d_job.out = out + first * n;
+            d_job.ref = ref ? ref + first * n : nullptr;
+            d_job.m0 = m0 + first;
+            d_job.count = noutput_items - first;
+            d_job.bad = d_bad.data() + first;
+            d_job.pending = true;
+        }
+        d_job_cv.notify_all();
+        process(d_echo, in, out, ref, m0, first, d_bad.data());
+        std::unique_lock<std::mutex> lock(d_job_mutex);
+        d_job_cv.wait(lock, [this] { return !d_job.pending; });
+    } else {
+        process(d_echo, in, out, ref, m0, noutput_items, d_bad.data());
+    }
 
-    // Tell runtime system how many output items we produced.
+    for (int i = 0; i < noutput_items; i++) {
+        const std::size_t bad = d_bad[i];
+        if (!bad)
+            continue;
+        d_nonfinite += bad;
+        if (!d_nonfinite_logged) {
+            d_logger->warn("{} non-finite input samples in symbol {} set to zero "
+                           "(logged once; see nonfinite_count() and the tags)",
+                           bad,
+                           m0 + i);
+            d_nonfinite_logged = true;
+        }
+        add_item_tag(0, nitems_written(0) + i, tags::nonfinite_key(), pmt::from_uint64(bad));
+    }
     return noutput_items;
 }
 

@@ -8,7 +8,13 @@
 #ifndef INCLUDED_NRSAR_SCENE_ECHO_IMPL_H
 #define INCLUDED_NRSAR_SCENE_ECHO_IMPL_H
 
+#include <gnuradio/nrsar/kernel/gaussian_noise.h>
+#include <gnuradio/nrsar/kernel/scene_echo.h>
 #include <gnuradio/nrsar/scene_echo.h>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -16,16 +22,70 @@ namespace nrsar {
 class scene_echo_impl : public scene_echo
 {
 private:
-    // Nothing to declare in this block.
+    const numerology d_num;
+    const geometry d_geo;
+    kernel::scene_echo d_echo;
+    kernel::scene_echo d_echo2; //!< scratch of the second thread (same parameters)
+    kernel::gaussian_noise d_noise;
+    double d_snr_db;
+    double d_variance; //!< sigma^2, 0: no noise
+    float d_sigma;     //!< noise standard deviation (E|Z|^2 = sigma^2), 0: no noise
+    std::uint64_t d_nonfinite = 0;
+    bool d_nonfinite_logged = false;
+
+    std::vector<std::size_t> d_bad; //!< non-finite count per item of one work() call
+
+    // Optional second thread: takes the second half of the items of a work() call.
+    unsigned d_threads = 1;
+    std::thread d_worker;
+    std::mutex d_job_mutex;
+    std::condition_variable d_job_cv;
+    struct job_t {
+        const gr_complex* in = nullptr;
+        gr_complex* out = nullptr;
+        gr_complex* ref = nullptr;
+        std::uint64_t m0 = 0;
+        int count = 0;
+        std::size_t* bad = nullptr;
+        bool pending = false;
+        bool quit = false;
+    } d_job;
+
+    void check_and_log(const scene& scn) const;
+    void update_sigma();
+    //! Echo of `count` symbols starting at absolute index m0 with kernel k.
+    void process(kernel::scene_echo& k,
+                 const gr_complex* in,
+                 gr_complex* out,
+                 gr_complex* ref,
+                 std::uint64_t m0,
+                 int count,
+                 std::size_t* bad);
+    void worker_loop();
+    void stop_worker();
 
 public:
-    scene_echo_impl();
-    ~scene_echo_impl();
+    scene_echo_impl(const numerology& num,
+                    const geometry& geo,
+                    const scene& scn,
+                    double snr_db,
+                    std::uint64_t seed);
 
-    // Where all the action really happens
+    void set_snr_db(double snr_db) override;
+    double snr_db() const override;
+    double noise_variance() const override;
+    void set_scene(const scene& scn) override;
+    scene get_scene() const override;
+    std::uint64_t nonfinite_count() const override;
+    void set_threads(unsigned threads) override;
+    unsigned threads() const override;
+
+    bool stop() override;
+    ~scene_echo_impl() override;
+
     int work(int noutput_items,
              gr_vector_const_void_star& input_items,
-             gr_vector_void_star& output_items);
+             gr_vector_void_star& output_items) override;
 };
 
 } // namespace nrsar

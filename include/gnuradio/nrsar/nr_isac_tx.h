@@ -10,29 +10,62 @@
 
 #include <gnuradio/block.h>
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/params.h>
+#include <cstdint>
 
 namespace gr {
 namespace nrsar {
 
 /*!
- * \brief <+description of block+>
+ * \brief The UAV's NR transmit grid: one vector of N = num.num_subcarriers gr_complex per
+ * OFDM symbol (column S[:, m], SPEC section 3), both backhaul data and radar reference.
  * \ingroup nrsar
  *
+ * Data bits, MSB first, come from (in this order of preference):
+ * - input 0 (packed bytes, optional): when connected, the only source; the block waits for it;
+ * - PDUs on message port "pdus" (pmt pair, cdr u8vector), queued (at most 64 PDUs; when full
+ *   the newest PDU is dropped and counted);
+ * - otherwise the seeded Gold sequence c(n) of 3GPP TS 38.211 5.2.1 with c_init = seed,
+ *   one continuous sequence across symbols.
+ * Bits carry over between symbols (bits per symbol need not be a multiple of 8).
+ * Data REs are mapped with kernel::constellation (TS 38.211 5.1, unit average power);
+ * SRS REs (tx_mode SRS, DATA_SRS) carry the low-PAPR Zadoff-Chu sequence of TS 38.211
+ * 5.2.2 (u = v = 0, alpha = 0) on the comb of srs; in SRS mode every other RE is 0.
+ *
+ * Output tags at the first symbol of every slot: tags::symbol_key() (absolute symbol
+ * index, uint64) and tags::slot_key() (absolute slot index); at every frame start also
+ * tags::frame_key() (frame index). Input tags are not propagated.
  */
 class NRSAR_API nr_isac_tx : virtual public gr::block
 {
 public:
     typedef std::shared_ptr<nr_isac_tx> sptr;
 
+    //! Maximum number of queued PDUs; more are dropped (pdus_dropped()).
+    static constexpr unsigned max_queued_pdus = 64;
+
     /*!
-     * \brief Return a shared_ptr to a new instance of nrsar::nr_isac_tx.
-     *
-     * To avoid accidental use of raw pointers, nrsar::nr_isac_tx's
-     * constructor is in a private implementation
-     * class. nrsar::nr_isac_tx::make is the public interface for
-     * creating new instances.
+     * \param num   OFDM numerology (validated); output vlen = num.num_subcarriers.
+     * \param mod   constellation of the data REs (QPSK, QAM16/64/256, PSK8, PSK16).
+     * \param mode  DATA (all REs data), SRS (pilot only), DATA_SRS (data + pilot).
+     * \param srs   SRS comb layout (validated against num when mode is SRS or DATA_SRS;
+     *              comb_offset must also lie inside the num_rb * 12 band).
+     * \param seed  c_init of the PRBS, 0 .. 2^31 - 1.
      */
-    static sptr make();
+    static sptr make(const numerology& num = numerology(),
+                     modulation mod = modulation::QAM256,
+                     tx_mode mode = tx_mode::DATA,
+                     const srs_config& srs = srs_config(),
+                     std::uint64_t seed = 0);
+
+    //! Payload bytes (stream or PDU) taken into the grid so far.
+    virtual std::uint64_t payload_bytes_sent() const = 0;
+    //! PDUs dropped (queue full, wrong type, or stream input connected).
+    virtual std::uint64_t pdus_dropped() const = 0;
+    //! Output symbols for which PRBS bits were drawn.
+    virtual std::uint64_t prbs_symbols() const = 0;
+    //! PDUs waiting in the queue.
+    virtual unsigned queued_pdus() const = 0;
 };
 
 } // namespace nrsar

@@ -1,7 +1,5 @@
 /*
- * Copyright 2026 Free Software Foundation, Inc.
- *
- * This file is part of GNU Radio
+ * Copyright 2026 gr-nrsar authors.
  *
  * SPDX-License-Identifier: GPL-3.0-or-later
  *
@@ -14,7 +12,7 @@
 /* BINDTOOL_GEN_AUTOMATIC(0)                                                       */
 /* BINDTOOL_USE_PYGCCXML(0)                                                        */
 /* BINDTOOL_HEADER_FILE(nr_isac_tx.h)                                        */
-/* BINDTOOL_HEADER_FILE_HASH(5343d66a3e972c9d7dbf7eaee112aac3)                     */
+/* BINDTOOL_HEADER_FILE_HASH(0)                     */
 /***********************************************************************************/
 
 #include <pybind11/complex.h>
@@ -23,37 +21,56 @@
 
 namespace py = pybind11;
 
+#include <gnuradio/nrsar/kernel/constellation.h>
+#include <gnuradio/nrsar/kernel/low_papr_sequence.h>
 #include <gnuradio/nrsar/nr_isac_tx.h>
 // pydoc.h is automatically generated in the build directory
 #include <nr_isac_tx_pydoc.h>
 
 void bind_nr_isac_tx(py::module& m)
 {
+    using nr_isac_tx = gr::nrsar::nr_isac_tx;
+    using gr::nrsar::kernel::constellation;
 
-    using nr_isac_tx    = gr::nrsar::nr_isac_tx;
-
-
-    py::class_<nr_isac_tx, gr::block, gr::basic_block,
-        std::shared_ptr<nr_isac_tx>>(m, "nr_isac_tx", D(nr_isac_tx))
+    py::class_<nr_isac_tx, gr::block, gr::basic_block, std::shared_ptr<nr_isac_tx>>(
+        m, "nr_isac_tx", D(nr_isac_tx))
 
         .def(py::init(&nr_isac_tx::make),
-           D(nr_isac_tx,make)
-        )
-        
+             py::arg("num") = gr::nrsar::numerology(),
+             py::arg("mod") = gr::nrsar::modulation::QAM256,
+             py::arg("mode") = gr::nrsar::tx_mode::DATA,
+             py::arg("srs") = gr::nrsar::srs_config(),
+             py::arg("seed") = 0,
+             D(nr_isac_tx, make))
+        .def("payload_bytes_sent",
+             &nr_isac_tx::payload_bytes_sent,
+             "Payload bytes (stream or PDU) taken into the grid so far")
+        .def("pdus_dropped",
+             &nr_isac_tx::pdus_dropped,
+             "PDUs dropped (queue full, wrong type, or stream input connected)")
+        .def("prbs_symbols", &nr_isac_tx::prbs_symbols, "Output symbols that drew PRBS bits")
+        .def("queued_pdus", &nr_isac_tx::queued_pdus, "PDUs waiting in the queue")
+        .def_readonly_static("max_queued_pdus", &nr_isac_tx::max_queued_pdus);
 
+    // The hard-decision demapper and tables, for tests and receivers written in Python.
+    py::class_<constellation>(m, "constellation", "Bits <-> symbol mapper of nr_isac_tx")
+        .def(py::init<gr::nrsar::modulation>(), py::arg("mod") = gr::nrsar::modulation::QAM256)
+        .def("bits_per_symbol", py::overload_cast<>(&constellation::bits_per_symbol, py::const_))
+        .def("points", &constellation::points, "Points indexed by b(0) b(1) ... (b(0) = MSB)")
+        .def("demap",
+             [](const constellation& c, const std::vector<gr_complex>& x) {
+                 std::vector<std::uint16_t> idx(x.size());
+                 c.demap(x.data(), x.size(), idx.data());
+                 return idx;
+             },
+             py::arg("symbols"),
+             "Hard decisions: index of the nearest point for every symbol");
 
-
-        ;
-
-
-
-
+    m.def("low_papr_sequence",
+          &gr::nrsar::kernel::low_papr_sequence,
+          py::arg("length"),
+          py::arg("u") = 0,
+          py::arg("v") = 0,
+          py::arg("alpha") = 0.0,
+          "Zadoff-Chu based low-PAPR sequence (TS 38.211 5.2.2) used as SRS pilot");
 }
-
-
-
-
-
-
-
-

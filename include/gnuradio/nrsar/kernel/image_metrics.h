@@ -1,0 +1,197 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#ifndef INCLUDED_NRSAR_KERNEL_IMAGE_METRICS_H
+#define INCLUDED_NRSAR_KERNEL_IMAGE_METRICS_H
+
+#include <gnuradio/fft/fft.h>
+#include <gnuradio/gr_complex.h>
+#include <gnuradio/nrsar/api.h>
+#include <volk/volk_alloc.hh>
+#include <complex>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <utility>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+
+/*
+ * Image quality metrics of a reference point target (SPEC section 8, paper section IV).
+ *
+ * Images are `lines x bins` complex arrays stored line after line (row-major): one
+ * azimuth line of `bins` range bins, then the next line, as the focuser streams them.
+ */
+
+//! What the metrics need to know besides the pixels.
+struct NRSAR_API metrics_config {
+    double nm_factor = 1.0;           //!< N M of the NMSE (subcarriers x symbols sent)
+    double range_res_bins = 1.0;      //!< range resolution cell in range bins (> 0)
+    double azimuth_res_lines = 1.0;   //!< azimuth resolution cell in lines (> 0)
+    double sidelobe_window_cells = 20.0; //!< ISLR/PSLR window half-width in cells; 0: whole cut
+    double search_cells = 4.0;        //!< peak search half-width around the expected position
+};
+
+//! Impulse response figures of one 1-D cut through the peak (band-limited interpolation).
+struct NRSAR_API cut_metrics {
+    bool valid = false;
+    unsigned upsample = 1;    //!< interpolation factor used
+    double peak_pos = 0.0;    //!< sub-sample peak position [samples of the cut]
+    double peak_power = 0.0;  //!< interpolated |.|^2 at the peak
+    double irw = 0.0;         //!< -3 dB (half-power) width [samples]; NaN if not found
+    double mainlobe_energy = 0.0; //!< sum of |.|^2 between the first nulls (interpolated grid)
+    double sidelobe_energy = 0.0; //!< window energy outside the main lobe
+    double islr_db = 0.0;     //!< eq. (50) on the cut: sidelobe / mainlobe energy
+    double pslr_db = 0.0;     //!< highest sidelobe over the peak
+};
+
+//! Everything compute() measures on one aperture.
+struct NRSAR_API metrics_result {
+    std::complex<double> c_hat{ 0.0, 0.0 }; //!< <ref, img> / <ref, ref>
+    double pel_db = 0.0;       //!< -20 log10 |c_hat|
+    double nmse = 0.0;         //!< N M mean|img / c_hat - ref|^2 / max|ref|^2 (linear)
+    double nmse_db = 0.0;
+    double peak_power = 0.0;   //!< |img|^2 at the interpolated 2-D peak
+    double noise_power = 0.0;  //!< mean |img - c_hat ref|^2 over the noise region
+    std::size_t noise_pixels = 0;
+    double snr_out_db = 0.0;   //!< peak_power / noise_power
+    double peak_line = 0.0;    //!< sub-pixel peak position (line index)
+    double peak_bin = 0.0;     //!< sub-pixel peak position (range bin index)
+    cut_metrics range;         //!< cut along range through the peak
+    cut_metrics azimuth;       //!< cut along azimuth through the peak
+    double islr_db = 0.0;      //!< both cuts pooled: (side_r + side_a) / (main_r + main_a)
+    double pslr_db = 0.0;      //!< the higher of the two cuts' PSLR
+};
+
+/*!
+ * \brief <ref, img> / <ref, ref> (SPEC section 8), accumulated in double per line.
+ * Returns 0 when ref is all zero.
+ */
+NRSAR_API std::complex<double>
+calibration_factor(const gr_complex* img, const gr_complex* ref, std::size_t lines, std::size_t bins);
+
+/*!
+ * \brief Dirichlet kernel of a band of `band` frequency bins, normalised to 1 at u = 0:
+ * sin(pi u / res) / (band sin(pi u / (band res))), u and res in samples (eq. (47), chi = 1).
+ * Its period is band * res samples; band -> infinity gives sinc(u / res).
+ */
+NRSAR_API double dirichlet(double u, double res, double band);
+
+/*!
+ * \brief Separable analytic PSF R(k, m) of eq. (47) with chi = 1, centred at (line0, bin0)
+ * (sub-pixel), with linear phase ramps (rad per line, rad per bin) from off-centre bands.
+ *
+ * Range: Dirichlet of range_band bins (the N subcarriers) with a resolution of range_res
+ * bins; azimuth: Dirichlet of azimuth_band Doppler bins with a resolution of
+ * azimuth_res lines. Writes lines x bins values into out.
+ */
+NRSAR_API void psf_model(gr_complex* out,
+                         std::size_t lines,
+                         std::size_t bins,
+                         double line0,
+                         double bin0,
+                         double azimuth_res,
+                         double azimuth_band,
+                         double range_res,
+                         double range_band,
+                         double phase_per_line = 0.0,
+                         double phase_per_bin = 0.0);
+
+/*!
+ * \brief Linear phase slopes (rad per line, rad per bin) of the image's main lobe around
+ * (peak_line, peak_bin): arg of sum img[x + 1] conj(img[x]) over neighbour pairs that both
+ * lie within 0.45 resolution cells of the peak. An off-centre band (a Doppler centroid, a
+ * subcarrier grid not centred on DC) shows up exactly as such a ramp.
+ */
+NRSAR_API std::pair<double, double> estimate_phase_ramps(const gr_complex* img,
+                                                         std::size_t lines,
+                                                         std::size_t bins,
+                                                         double peak_line,
+                                                         double peak_bin,
+                                                         double azimuth_res,
+                                                         double range_res);
+
+/*!
+ * \brief Pixel of largest |img|^2 within +-half_lines x +-half_bins (at least +-2) of
+ * (line, bin); the whole image when that box misses it. Returns (line, bin).
+ */
+NRSAR_API std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
+                                                        std::size_t lines,
+                                                        std::size_t bins,
+                                                        double line,
+                                                        double bin,
+                                                        double half_lines,
+                                                        double half_bins);
+
+//! Replaces non-finite samples by 0; returns how many there were.
+NRSAR_API std::size_t zero_nonfinite(gr_complex* data, std::size_t n);
+
+/*!
+ * \brief Point-target metrics of an image against its reference.
+ *
+ * Owns the FFTs of the cut interpolation (one per cut direction, re-planned only when a
+ * cut length changes) and its work buffers. Movable, not copyable.
+ */
+class NRSAR_API image_metrics
+{
+public:
+    image_metrics();
+    ~image_metrics();
+    image_metrics(image_metrics&&) noexcept;
+    image_metrics& operator=(image_metrics&&) noexcept;
+    image_metrics(const image_metrics&) = delete;
+    image_metrics& operator=(const image_metrics&) = delete;
+
+    /*!
+     * \brief All metrics of img (lines x bins) against ref (same shape).
+     *
+     * expected_line/expected_bin: where the target should be (peak search centre).
+     * bin_mask/line_mask (bins / lines entries, non-zero = in the region) select the
+     * target-free noise region as their outer product; nullptr = all bins / all lines.
+     * Non-finite metrics (no noise pixel, reference all zero, ...) come back as NaN.
+     */
+    metrics_result compute(const gr_complex* img,
+                           const gr_complex* ref,
+                           std::size_t lines,
+                           std::size_t bins,
+                           double expected_line,
+                           double expected_bin,
+                           const metrics_config& cfg,
+                           const std::uint8_t* bin_mask = nullptr,
+                           const std::uint8_t* line_mask = nullptr);
+
+    /*!
+     * \brief IRW, PSLR, ISLR and sub-sample peak of one cut of n samples (stride apart).
+     *
+     * The cut is interpolated by zero-padding its spectrum (exact for a periodic,
+     * band-limited cut) to at least 16 samples per resolution cell (res_samples samples
+     * per cell); the peak is searched within +-1 sample of `around`, refined by a parabola;
+     * the main lobe runs between the first minima either side; the -3 dB crossings are
+     * interpolated linearly in power. window_cells = 0 integrates the whole cut.
+     */
+    cut_metrics analyse_cut(const gr_complex* cut,
+                            std::size_t n,
+                            std::size_t stride,
+                            std::size_t around,
+                            double res_samples,
+                            double window_cells,
+                            int slot = 0);
+
+private:
+    struct upsampler;
+    std::unique_ptr<upsampler> d_up[2];
+    volk::vector<gr_complex> d_line;
+    volk::vector<float> d_power;
+};
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
+
+#endif /* INCLUDED_NRSAR_KERNEL_IMAGE_METRICS_H */

@@ -1,0 +1,97 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include "param_check.h"
+#include <gnuradio/nrsar/kernel/low_papr_sequence.h>
+#include <gnuradio/nrsar/kernel/nr_grid.h>
+#include <algorithm>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+
+namespace {
+int checked_mode(tx_mode mode)
+{
+    const int value = static_cast<int>(mode);
+    if (value < 0 || value > static_cast<int>(tx_mode::DATA_SRS))
+        throw_param("mode", value, "is not a known tx_mode (0..2)");
+    return value;
+}
+} // namespace
+
+nr_grid::nr_grid(const numerology& num, modulation mod, tx_mode mode, const srs_config& srs)
+    : d_num(num), d_mode(mode), d_srs(srs), d_const(mod)
+{
+    d_num.validate();
+    checked_mode(mode);
+    if (mode == tx_mode::DATA)
+        return;
+    d_srs.validate(d_num);
+    if (d_srs.comb_offset >= d_srs.num_subcarriers())
+        throw_param("srs comb_offset",
+                    d_srs.comb_offset,
+                    "must be below the band width num_rb * 12 = " +
+                        std::to_string(d_srs.num_subcarriers()));
+    for (unsigned k = d_srs.comb_offset; k < d_srs.num_subcarriers(); k += d_srs.comb)
+        d_srs_sc.push_back(d_srs.start_subcarrier + k);
+    d_srs_seq = low_papr_sequence(static_cast<unsigned>(d_srs_sc.size()));
+}
+
+bool nr_grid::is_srs_symbol(std::uint64_t m) const
+{
+    if (d_mode == tx_mode::DATA)
+        return false;
+    const std::uint64_t sps = d_num.symbols_per_slot;
+    return (m % sps) == d_srs.symbol_in_slot && ((m / sps) % d_srs.period_slots) == 0;
+}
+
+unsigned nr_grid::data_res(std::uint64_t m) const
+{
+    switch (d_mode) {
+    case tx_mode::DATA:
+        return d_num.num_subcarriers;
+    case tx_mode::SRS:
+        return 0;
+    case tx_mode::DATA_SRS:
+        break;
+    }
+    return is_srs_symbol(m) ? d_num.num_subcarriers - static_cast<unsigned>(d_srs_sc.size())
+                            : d_num.num_subcarriers;
+}
+
+std::size_t nr_grid::fill(std::uint64_t m,
+                          const std::uint8_t* bytes,
+                          std::size_t first_bit,
+                          gr_complex* out) const
+{
+    const unsigned n_sc = d_num.num_subcarriers;
+    const bool srs_here = is_srs_symbol(m);
+    if (d_mode == tx_mode::SRS) {
+        std::fill(out, out + n_sc, gr_complex(0.0f, 0.0f));
+        if (srs_here)
+            for (std::size_t i = 0; i < d_srs_sc.size(); i++)
+                out[d_srs_sc[i]] = d_srs_seq[i];
+        return first_bit;
+    }
+    if (!srs_here)
+        return d_const.map_packed(bytes, first_bit, n_sc, out);
+    // DATA_SRS symbol with pilots: data runs between the comb positions.
+    std::size_t bit = first_bit;
+    unsigned pos = 0;
+    for (std::size_t i = 0; i < d_srs_sc.size(); i++) {
+        const unsigned p = d_srs_sc[i];
+        bit = d_const.map_packed(bytes, bit, p - pos, out + pos);
+        out[p] = d_srs_seq[i];
+        pos = p + 1;
+    }
+    return d_const.map_packed(bytes, bit, n_sc - pos, out + pos);
+}
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr

@@ -1,0 +1,18 @@
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+#include "pydoc_macros.h"
+#define D(...) DOC(gr, nrsar, __VA_ARGS__)
+/*
+  This file contains placeholders for docstrings for the Python bindings.
+  Do not edit! These were automatically extracted during the binding process
+  and will be overwritten during the build process
+ */
+
+
+static const char* __doc_gr_nrsar_nmse_probe = R"doc(Point-target image metrics per focused aperture (SPEC section 8).)doc";
+
+
+static const char* __doc_gr_nrsar_nmse_probe_make = R"doc(nmse_probe(num, geo, scn, constellation, filter, snr_in_db, vlen, reference_input=False, lines_per_aperture=0, symbols_per_aperture=0, num_subcarriers=0, range_resolution_m=0, azimuth_resolution_m=0, noise_guard_cells=10, noise_box=[], sidelobe_window_cells=20))doc";

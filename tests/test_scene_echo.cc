@@ -1,0 +1,220 @@
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+// kernel::scene_echo against a direct double-precision evaluation of eqs. (7)-(8)
+// written here independently of the kernel.
+
+#include <gnuradio/nrsar/kernel/scene_echo.h>
+#include <gtest/gtest.h>
+#include <cmath>
+#include <complex>
+#include <random>
+#include <vector>
+
+using namespace gr::nrsar;
+using cd = std::complex<double>;
+
+namespace {
+
+// eq. (7) with (8) in float64: Y[n] = sum_q alpha_q S[n] exp(-j 4 pi (fc + n df) R_q / c).
+std::vector<cd> direct_echo(const numerology& num,
+                            const geometry& geo,
+                            const scene& scn,
+                            std::uint64_t m,
+                            const std::vector<gr_complex>& s)
+{
+    const double tsym = 1.0 / num.subcarrier_spacing_hz +
+                        num.cp_samples / (num.fft_size * num.subcarrier_spacing_hz);
+    const double yp = geo.track_start_m + geo.velocity_mps * static_cast<double>(m) * tsym;
+    const double c = 299792458.0;
+    std::vector<cd> y(num.num_subcarriers, cd(0.0, 0.0));
+    for (const auto& t : scn.targets) {
+        const double dy = yp - t.y_m;
+        const double R = std::sqrt(t.x_m * t.x_m + geo.height_m * geo.height_m + dy * dy);
+        const cd alpha = std::polar(std::sqrt(t.rcs), t.phase_rad);
+        for (unsigned n = 0; n < num.num_subcarriers; n++) {
+            const double f = geo.carrier_hz + n * num.subcarrier_spacing_hz;
+            y[n] += alpha * cd(s[n]) * std::polar(1.0, -4.0 * M_PI * f * R / c);
+        }
+    }
+    return y;
+}
+
+double rel_error_db(const std::vector<gr_complex>& got, const std::vector<cd>& ref)
+{
+    double err = 0.0, pow = 0.0;
+    for (size_t i = 0; i < ref.size(); i++) {
+        err += std::norm(cd(got[i]) - ref[i]);
+        pow += std::norm(ref[i]);
+    }
+    return 10.0 * std::log10(err / pow);
+}
+
+std::vector<gr_complex> random_qam(unsigned n, unsigned seed)
+{
+    std::mt19937 gen(seed);
+    std::uniform_int_distribution<int> level(0, 15);
+    std::vector<gr_complex> s(n);
+    for (auto& v : s) // 256-QAM levels, unit mean power
+        v = gr_complex((2 * level(gen) - 15) / std::sqrt(170.0f),
+                       (2 * level(gen) - 15) / std::sqrt(170.0f));
+    return s;
+}
+
+scene test_scene()
+{
+    scene scn = scene::preset("paper3");
+    scn.targets[1].rcs = 0.5;
+    scn.targets[1].phase_rad = 1.0;
+    scn.targets[2].rcs = 2.0;
+    scn.targets[2].phase_rad = -2.5;
+    return scn;
+}
+
+} // namespace
+
+class EchoAtSymbol : public ::testing::TestWithParam<std::uint64_t>
+{
+};
+
+TEST_P(EchoAtSymbol, MatchesDirectFloat64Below80dB)
+{
+    const auto num = numerology::preset("paper");
+    const auto geo = geometry::preset("paper");
+    const auto scn = test_scene();
+    kernel::scene_echo k(num, geo, scn);
+    const auto s = random_qam(num.num_subcarriers, 7);
+    std::vector<gr_complex> y(num.num_subcarriers), h(num.num_subcarriers);
+    const std::uint64_t m = GetParam();
+    k.echo(m, s.data(), y.data(), h.data());
+
+    const double err_y = rel_error_db(y, direct_echo(num, geo, scn, m, s));
+    const std::vector<gr_complex> ones(num.num_subcarriers, gr_complex(1.0f, 0.0f));
+    const double err_h = rel_error_db(h, direct_echo(num, geo, scn, m, ones));
+    RecordProperty("error_y_db", std::to_string(err_y));
+    std::printf("m = %llu: echo error %.1f dB, reference error %.1f dB\n",
+                static_cast<unsigned long long>(m), err_y, err_h);
+    EXPECT_LT(err_y, -80.0);
+    EXPECT_LT(err_h, -80.0);
+}
+
+// Start, end of the paper's 2 s aperture, and a long stream (no drift).
+INSTANTIATE_TEST_SUITE_P(Paper,
+                         EchoAtSymbol,
+                         ::testing::Values(0ull, 48000ull, 10000000ull));
+
+TEST(SceneEcho, ReferenceEqualsEchoOfOnes)
+{
+    const auto num = numerology::preset("small");
+    kernel::scene_echo k(num, geometry::preset("paper"), scene::preset("paper3"));
+    std::vector<gr_complex> ones(num.num_subcarriers, gr_complex(1.0f, 0.0f));
+    std::vector<gr_complex> y(num.num_subcarriers), h(num.num_subcarriers);
+    k.echo(123, ones.data(), y.data());
+    k.reference(123, h.data());
+    for (unsigned n = 0; n < num.num_subcarriers; n++)
+        EXPECT_EQ(y[n], h[n]) << n;
+}
+
+TEST(SceneEcho, ZeroRcsSceneIsSilent)
+{
+    const auto num = numerology::preset("tiny");
+    scene scn;
+    scn.targets = { point_target(300.0, 100.0, 0.0) };
+    kernel::scene_echo k(num, geometry::preset("paper"), scn);
+    std::vector<gr_complex> h(num.num_subcarriers, gr_complex(5.0f, 5.0f));
+    k.reference(0, h.data());
+    for (const auto& v : h)
+        EXPECT_EQ(v, gr_complex(0.0f, 0.0f));
+}
+
+TEST(SceneEcho, PlatformMovesWithSymbolIndex)
+{
+    const auto num = numerology::preset("paper");
+    const auto geo = geometry::preset("paper");
+    kernel::scene_echo k(num, geo, scene::preset("paper3"));
+    EXPECT_DOUBLE_EQ(k.platform_y(0), 0.0);
+    // 48000 symbols of 41.67 us at 50 m/s: 100 m.
+    EXPECT_NEAR(k.platform_y(48000), 100.0, 1e-9);
+}
+
+TEST(SceneEcho, RejectsInvalidScene)
+{
+    const auto num = numerology::preset("tiny");
+    kernel::scene_echo k(num, geometry::preset("paper"), scene::preset("paper3"));
+    scene bad;
+    EXPECT_THROW(k.set_scene(bad), std::invalid_argument);
+    bad.targets = { point_target(300.0, NAN) };
+    EXPECT_THROW(k.set_scene(bad), std::invalid_argument);
+    EXPECT_EQ(k.get_scene().targets.size(), 3u); // unchanged after a refused update
+}
+
+TEST(SceneEcho, GenericPathMatchesDirectFloat64)
+{
+    const auto num = numerology::preset("paper");
+    const auto geo = geometry::preset("paper");
+    const auto scn = test_scene();
+    kernel::scene_echo k(num, geo, scn);
+    k.set_simd(false);
+    EXPECT_STREQ(k.implementation(), "generic");
+    const auto s = random_qam(num.num_subcarriers, 8);
+    std::vector<gr_complex> y(num.num_subcarriers);
+    k.echo(48000, s.data(), y.data());
+    EXPECT_LT(rel_error_db(y, direct_echo(num, geo, scn, 48000, s)), -80.0);
+}
+
+TEST(SceneEcho, ManyTargetsAccumulateAcrossChunks)
+{
+    // 9 targets: three passes of at most 4 targets over every block.
+    const auto num = numerology::preset("small");
+    const auto geo = geometry::preset("paper");
+    scene scn;
+    for (int i = 0; i < 9; i++)
+        scn.targets.push_back(point_target(240.0 + 10.0 * i, 90.0 + 5.0 * i, 0.5 + 0.1 * i, 0.3 * i));
+    kernel::scene_echo k(num, geo, scn);
+    const auto s = random_qam(num.num_subcarriers, 9);
+    std::vector<gr_complex> y(num.num_subcarriers);
+    k.echo(777, s.data(), y.data());
+    EXPECT_LT(rel_error_db(y, direct_echo(num, geo, scn, 777, s)), -80.0);
+}
+
+TEST(SceneEcho, FusedNoiseIsTheGeneratorsStream)
+{
+    // echo(..., noise, sigma) adds exactly noise.generate(m, sigma) (both paths; N = 3333
+    // leaves a partial group at the end).
+    const auto num = numerology::preset("paper");
+    const auto s = random_qam(num.num_subcarriers, 10);
+    for (bool simd : { true, false }) {
+        kernel::scene_echo k(num, geometry::preset("paper"), test_scene());
+        k.set_simd(simd);
+        kernel::gaussian_noise g(77, simd);
+        std::vector<gr_complex> fused(num.num_subcarriers), separate(num.num_subcarriers);
+        k.echo(4321, s.data(), fused.data(), nullptr, &g, 0.3f);
+        k.echo(4321, s.data(), separate.data());
+        g.add(4321, 0.3f, separate.data(), separate.size());
+        for (unsigned n = 0; n < num.num_subcarriers; n++)
+            ASSERT_EQ(fused[n], separate[n]) << "simd " << simd << " n " << n;
+    }
+}
+
+TEST(SceneEcho, NonFiniteInputCountsAsZero)
+{
+    const auto num = numerology::preset("small");
+    const auto geo = geometry::preset("paper");
+    const auto scn = test_scene();
+    for (bool simd : { true, false }) {
+        kernel::scene_echo k(num, geo, scn);
+        k.set_simd(simd);
+        auto s = random_qam(num.num_subcarriers, 11);
+        s[3] = gr_complex(NAN, 0.0f);
+        s[100] = gr_complex(0.0f, INFINITY);
+        s[511] = gr_complex(-INFINITY, NAN);
+        std::vector<gr_complex> y(num.num_subcarriers);
+        EXPECT_EQ(k.echo(5, s.data(), y.data()), 3u);
+        s[3] = s[100] = s[511] = gr_complex(0.0f, 0.0f);
+        EXPECT_LT(rel_error_db(y, direct_echo(num, geo, scn, 5, s)), -80.0);
+        EXPECT_EQ(k.echo(5, s.data(), y.data()), 0u);
+    }
+}
