@@ -80,7 +80,6 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
     d_cfg.validate();
     check_first_range(first_range_m);
     configure(d_num.symbol_s() * d_cfg.symbols_per_pulse, first_range_m, d_ctor_range_bin);
-    d_next_y = d_geo.track_start_m;
     // The output is a different domain (azimuth lines); the block places its own tags.
     set_tag_propagation_policy(TPP_DONT);
     set_relative_rate(1.0);
@@ -125,22 +124,39 @@ void rd_focuser_impl::configure(double T, double first_range, double range_bin)
                        d_scene_hi_hz,
                        prf);
 
+    // A target at zero-Doppler line t0 has energy on the pulses t = t0 - E(f, R0) for f in
+    // the band, E = f / (Ka(R0) T) = f lambda R0 / (2 v^2 T) lines. So the pulses of one
+    // aperture focus about E(band centre) lines later: the output window of aperture i is
+    // shifted by s = E(f_c, R_mid) lines (in the paper geometry the scene lies ahead of the
+    // track, s = 1.4 s), so that an aperture's image holds what its own pulses focus to.
+    const double v = d_geo.velocity_mps;
+    const double r_min = first_range;
+    const double r_max = first_range + (d_K - 1) * range_bin;
+    auto lines = [&](double f, double r) {
+        return f * d_geo.wavelength_m() * r / (2.0 * v * v) / T;
+    };
+    const double e_hi = std::max(lines(d_scene_hi_hz, r_min), lines(d_scene_hi_hz, r_max));
+    const double e_lo = std::min(lines(d_scene_lo_hz, r_min), lines(d_scene_lo_hz, r_max));
+    if (std::abs(e_hi) > 1e9 || std::abs(e_lo) > 1e9)
+        throw_param("azimuth extent of the scene band (lines)",
+                    std::max(std::abs(e_hi), std::abs(e_lo)),
+                    "must be below 1e9");
+    const double s = std::round(
+        lines(0.5 * (d_scene_lo_hz + d_scene_hi_hz), 0.5 * (r_min + r_max)));
+    d_line_shift = static_cast<long long>(std::clamp(s, std::floor(e_lo), std::ceil(e_hi)));
     if (d_cfg.overlap_lines < 0) {
-        // A target at zero-Doppler time t0 has energy at t = t0 - f / Ka(R) for f in the
-        // band; Ka = 2 v^2 / (lambda R) is smallest at the farthest bin. 2 % and 2 lines of
-        // slack cover the hyperbolic range history and the RCMC kernel.
-        const double v = d_geo.velocity_mps;
-        const double r_max = first_range + (d_K - 1) * range_bin;
-        const double lines_per_hz = d_geo.wavelength_m() * r_max / (2.0 * v * v) / T;
-        const double before = std::max(0.0, d_scene_hi_hz) * lines_per_hz * 1.02 + 2.0;
-        const double after = std::max(0.0, -d_scene_lo_hz) * lines_per_hz * 1.02 + 2.0;
-        if (before > 1e9 || after > 1e9)
-            throw_param("overlap_lines (automatic)", std::max(before, after), "must be below 1e9");
-        d_before = static_cast<unsigned>(std::ceil(before));
-        d_after = static_cast<unsigned>(std::ceil(after));
+        // Overlap-save: history for the energy that reaches the first output line from up to
+        // e_hi lines earlier, look-ahead for the last one; 2 % and 2 lines of slack cover the
+        // hyperbolic range history and the RCMC kernel.
+        d_before = static_cast<unsigned>(
+            std::ceil(std::max(0.0, e_hi - d_line_shift) * 1.02 + 2.0));
+        d_after = static_cast<unsigned>(
+            std::ceil(std::max(0.0, d_line_shift - e_lo) * 1.02 + 2.0));
     } else {
         d_before = d_after = static_cast<unsigned>(d_cfg.overlap_lines);
     }
+    if (d_lines_in == 0 && d_apertures == 0)
+        d_next_y = d_geo.track_start_m + d_line_shift * v * T;
     d_kernel.reset(); // rebuilt lazily for the new block
 }
 
@@ -158,6 +174,9 @@ void rd_focuser_impl::ensure_kernel()
     blk.range_bin_m = d_range_bin;
     blk.band_lo_hz = d_scene_lo_hz;
     blk.band_hi_hz = d_scene_hi_hz;
+    // Without overlap the aperture is focused circularly and rotated by the shift; with
+    // overlap the block's input framing carries it.
+    blk.line_shift = (d_before + d_after == 0) ? d_line_shift : 0;
     blk.range_centre_cycles = std::isnan(d_cfg.range_centre_cycles)
                                   ? std::remainder((d_num.num_subcarriers - 1.0) *
                                                        d_num.subcarrier_spacing_hz *
@@ -197,7 +216,11 @@ void rd_focuser_impl::ensure_kernel()
                         sizeof(gr_complex) * (keep_hist + keep_look));
         d_fill = d_before + keep_look;
     } else {
-        d_fill = d_before; // lines before the stream start are zero
+        // The first block starts at input line o = shift - before (overlap) or 0 (circular):
+        // lines before the stream start are zero, pulses before o are skipped.
+        const long long o = (d_before + d_after == 0) ? 0 : d_line_shift - d_before;
+        d_fill = static_cast<unsigned>(std::max(0ll, -o));
+        d_skip = static_cast<std::uint64_t>(std::max(0ll, o));
     }
     d_block.swap(fresh);
     d_layout_before = d_before;
@@ -266,6 +289,15 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
 
 void rd_focuser_impl::ingest(const gr_complex* lines, unsigned n)
 {
+    if (d_skip > 0) { // pulses whose energy focuses before the first output line
+        const unsigned drop = static_cast<unsigned>(std::min<std::uint64_t>(d_skip, n));
+        d_skip -= drop;
+        d_lines_in += drop;
+        lines += static_cast<size_t>(drop) * d_K;
+        n -= drop;
+        if (n == 0)
+            return;
+    }
     // Straight into the range-major block: the transpose happens while the lines are hot.
     const unsigned P = d_layout_lines;
     kernel::transpose(lines, d_K, &d_block[d_fill], P, n, d_K);
@@ -419,10 +451,9 @@ int rd_focuser_impl::general_work(int noutput_items,
             if (d_fill == d_before + d_M + d_after)
                 process_block();
         } else if (upstream_done && !d_flush_done) {
-            // End of stream: emit the apertures the received lines can still reach
-            // (a line's energy focuses up to `before` lines later), zero padded.
-            if (d_aperture_start < d_lines_in + (d_before > 0 ? d_before : 0) &&
-                d_lines_in > 0) {
+            // End of stream: emit, zero padded, every aperture whose own pulses
+            // [iM, iM + M) were (partly) received.
+            if (d_aperture_start < d_lines_in) {
                 process_block();
             } else {
                 d_flush_done = true;
@@ -457,6 +488,7 @@ bool rd_focuser_impl::stop()
 
 unsigned rd_focuser_impl::lines_per_aperture() const { return d_M; }
 unsigned rd_focuser_impl::overlap_before() const { return d_before; }
+long long rd_focuser_impl::line_shift() const { return d_line_shift; }
 unsigned rd_focuser_impl::overlap_after() const { return d_after; }
 unsigned rd_focuser_impl::fft_size() const
 {

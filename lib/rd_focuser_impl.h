@@ -36,6 +36,8 @@ private:
     unsigned d_M;
     unsigned d_before;
     unsigned d_after;
+    long long d_line_shift = 0; // output window offset from the aperture's pulses [lines]
+    std::uint64_t d_skip = 0;   // pulses still to drop before the first block
     std::unique_ptr<kernel::rd_focuser> d_kernel; // built lazily (it owns the FFT plans)
 
     // Pending changes from tags (applied at the next aperture boundary).
@@ -93,6 +95,7 @@ public:
     unsigned lines_per_aperture() const override;
     unsigned overlap_before() const override;
     unsigned overlap_after() const override;
+    long long line_shift() const override;
     unsigned fft_size() const override;
     double pulse_interval_s() const override;
     double first_range_m() const override;

@@ -288,6 +288,13 @@ void rd_focuser::build_filter()
             // Compression, eq. (47), in double precision (SPEC 3); with RCMC, also the
             // remodulation exp(+j 2 pi fc (k + Delta k)) of the demodulated profile.
             double phase = compression_phase(k, f);
+            // Output rotation y(m + s) <-> Y(p) exp(+j 2 pi p s / N), exact in integers.
+            if (d_blk.line_shift != 0) {
+                const long long n = d_nfft;
+                const long long ps = ((static_cast<long long>(d_band_bins[b]) *
+                                       (d_blk.line_shift % n)) % n + n) % n;
+                phase += 2.0 * M_PI * static_cast<double>(ps) / d_nfft;
+            }
             if (d_rcmc_applied)
                 phase += 2.0 * M_PI * fc * (k + static_cast<double>(d_shift[b * K + k]));
             d_filter[b * K + k] = gr_complex(static_cast<float>(scale * std::cos(phase)),

@@ -146,6 +146,14 @@ def run_block(data, num=NUM, geo=None, scn=None, cfg=None, tags=(), first_range=
     return blk, img, snk.tags()
 
 
+def first_line_y(tags):
+    """Along-track position [m] of output line 0, from the first azimuth_axis tag."""
+    for t in tags:
+        if pmt.symbol_to_string(t.key) == nrsar.tag_keys.azimuth_axis and t.offset == 0:
+            return pmt.to_double(pmt.tuple_ref(t.value, 0))
+    raise AssertionError("no azimuth_axis tag on line 0")
+
+
 def tag_map(tags):
     out = {}
     for t in tags:
@@ -180,7 +188,8 @@ class qa_rd_focuser(gr_unittest.TestCase):
     # -- position, scaling, RCMC ------------------------------------------------------
     def test_001_position_off_grid_and_off_centre_band(self):
         # Target ahead of the track (like the paper: band [8, 41] Hz, not centred at 0),
-        # off the range grid; its zero-Doppler line 560 lies in the second aperture.
+        # off the range grid; it focuses 80 lines after the last pulse (zero-Doppler line
+        # 560 of the pulses), inside the aperture's window shifted by line_shift().
         m = 480
         x = math.sqrt((R_FIRST + 30.37 * RHO) ** 2 - H * H)
         y = 70.13
@@ -189,11 +198,14 @@ class qa_rd_focuser(gr_unittest.TestCase):
         scn = nrsar.make_scene([(x, y)])
         blk, img, tags = run_block(data, geo=geo, scn=scn, cfg=self.cfg())
         self.assertGreater(blk.band_lo_hz(), 0.0)  # band not centred at 0
-        self.assertEqual(img.shape[0] % m, 0)
+        self.assertEqual(img.shape[0], m)  # the pulses of one aperture: one aperture out
+        self.assertGreater(blk.line_shift(), 100)
+        y0 = first_line_y(tags)
+        self.assertAlmostEqual(y0, blk.line_shift() * V * T)
         i, k = np.unravel_index(np.argmax(np.abs(img)), img.shape)
         az, _, _, _ = cut_metrics(img[:, k])
         rg, _, _, _ = cut_metrics(img[i, :])
-        true_line = y / (V * T)
+        true_line = (y - y0) / (V * T)
         true_bin = (math.hypot(x, H) - R_FIRST) / RHO
         res_az = V / abs(doppler(x, y, 0) - doppler(x, y, V * m * T)) / (V * T)  # lines
         res_rg = NFFT / N_SUB  # bins
@@ -207,7 +219,7 @@ class qa_rd_focuser(gr_unittest.TestCase):
         geo = geometry(m * T)
         scn = nrsar.make_scene([(800.0, y)])
         data = echo([(800.0, y, 1.0)], m)
-        blk, img, _ = run_block(data, geo=geo, scn=scn, cfg=self.cfg(overlap_lines=0))
+        blk, img, tags = run_block(data, geo=geo, scn=scn, cfg=self.cfg(overlap_lines=0))
         self.assertTrue(blk.rcmc_applied())
         mig = 1000.0 * (1 / math.sqrt(1 - (LAM * doppler(800, y, 0) / (2 * V)) ** 2) - 1) / RHO
         self.assertGreater(mig, 3.0)
@@ -217,7 +229,7 @@ class qa_rd_focuser(gr_unittest.TestCase):
         self.assertAlmostEqual(20 * math.log10(peak / pred), 0.0, delta=0.5)
         i, k = np.unravel_index(np.argmax(np.abs(img)), img.shape)
         self.assertEqual(k, 30)
-        self.assertLess(abs(i - y / (V * T)), 1.0)
+        self.assertLess(abs(i - (y - first_line_y(tags)) / (V * T)), 1.0)
         # Without RCMC the migrated energy is lost from the target's range bin.
         _, img2, _ = run_block(data, geo=geo, scn=scn, cfg=self.cfg(overlap_lines=0, rcmc=False))
         self.assertLess(20 * math.log10(np.abs(img2).max() / peak), -1.0)
@@ -301,9 +313,11 @@ class qa_rd_focuser(gr_unittest.TestCase):
         tm = tag_map(out_tags)
         self.assertEqual([o for o, _ in tm[nrsar.tag_keys.aperture]], [0, m])
         self.assertEqual([pmt.to_uint64(v) for _, v in tm[nrsar.tag_keys.aperture]], [0, 1])
+        y0 = first_line_y(out_tags)
+        self.assertAlmostEqual(y0, blk.line_shift() * V * t_tag)
         for idx, (off, val) in enumerate(tm[nrsar.tag_keys.azimuth_axis]):
             self.assertEqual(off, idx * m)
-            self.assertAlmostEqual(pmt.to_double(pmt.tuple_ref(val, 0)), idx * m * V * t_tag)
+            self.assertAlmostEqual(pmt.to_double(pmt.tuple_ref(val, 0)), y0 + idx * m * V * t_tag)
             self.assertAlmostEqual(pmt.to_double(pmt.tuple_ref(val, 1)), V * t_tag)
             self.assertEqual(pmt.to_uint64(pmt.tuple_ref(val, 2)), m)
         for off, val in tm[nrsar.tag_keys.range_axis]:
@@ -312,30 +326,35 @@ class qa_rd_focuser(gr_unittest.TestCase):
             self.assertEqual(pmt.to_uint64(pmt.tuple_ref(val, 2)), K)
         i, k = np.unravel_index(np.argmax(np.abs(img)), img.shape)
         self.assertEqual(k, 33)  # 1000 m on the tagged axis
-        self.assertLess(abs(i - y / (V * t_tag)), 1.0)
+        self.assertLess(abs(i - (y - y0) / (V * t_tag)), 1.0)
 
     def test_007_streaming_two_and_a_half_apertures(self):
         # Targets illuminated over the whole strip; one straddles the first aperture
-        # boundary (line 399.6) and one sits in the half aperture the flush emits.
+        # boundary and one sits in the half aperture the flush emits (lines relative to
+        # the first output line, y0 = line_shift() v T).
         m = 400
         n_lines = 1000
         strip = V * T * n_lines
-        ys = [20.0, 399.6 * V * T, 800.2 * V * T]
+        geo = geometry(n_lines * T)  # the scene band over the whole strip
+        ys_probe = [20.0, 62.5, 100.0]
+        probe = nrsar.rd_focuser(NUM, geo, nrsar.make_scene([(800.0, y) for y in ys_probe]), K,
+                                 R_FIRST, RHO, self.cfg(lines_per_aperture=m))
+        y0 = probe.line_shift() * V * T
+        ys = [y0 + 30.0 * V * T, y0 + 399.6 * V * T, y0 + 900.2 * V * T]
         targets = [(800.0, y, 1.0) for y in ys]
         data = echo(targets, n_lines)
-        geo = geometry(n_lines * T)  # the scene band over the whole strip
-        scn = nrsar.make_scene([(800.0, y) for y in ys])
+        scn = nrsar.make_scene([(800.0, y) for y in ys_probe])
         blk, img, out_tags = run_block(data, geo=geo, scn=scn,
                                        cfg=self.cfg(lines_per_aperture=m))
+        self.assertAlmostEqual(first_line_y(out_tags), y0)
         self.assertGreater(blk.overlap_before(), 0)
-        self.assertEqual(img.shape[0] % m, 0)
-        self.assertGreaterEqual(img.shape[0], n_lines)
+        self.assertEqual(img.shape[0], 3 * m)  # apertures whose pulses arrived
         tm = tag_map(out_tags)
         self.assertEqual([o for o, _ in tm[nrsar.tag_keys.aperture]],
                          list(range(0, img.shape[0], m)))
         col = img[:, 30]
         for y in ys:
-            line = y / (V * T)
+            line = (y - y0) / (V * T)
             lo = int(line) - 20
             seg = np.abs(col[lo:lo + 41])
             got = lo + int(np.argmax(seg))
@@ -359,7 +378,10 @@ class qa_rd_focuser(gr_unittest.TestCase):
         self.assertEqual(img.shape[0], 3 * m)
         axes = [(off, pmt.to_double(pmt.tuple_ref(v, 0)), pmt.to_double(pmt.tuple_ref(v, 1)))
                 for off, v in tag_map(out_tags)[nrsar.tag_keys.azimuth_axis]]
-        expected = [(0, 0.0, V * T), (m, m * V * T, V * T), (2 * m, 2 * m * V * T, V * t2)]
+        base = axes[0][1]
+        expected = [(0, base, V * T), (m, base + m * V * T, V * T),
+                    (2 * m, base + 2 * m * V * T, V * t2)]
+        self.assertEqual(len(axes), 3)
         for (off, y0, dy), (eoff, ey0, edy) in zip(axes, expected):
             self.assertEqual(off, eoff)
             self.assertAlmostEqual(y0, ey0, places=9)

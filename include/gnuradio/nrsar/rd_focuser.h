@@ -29,19 +29,22 @@ namespace nrsar {
  *
  * Output: the focused image, one vector of K range bins per azimuth line, line spacing v T,
  * one aperture of M lines after another. Output line j is the image at along-track position
- * geo.track_start_m + j v T: a point target at (x, y) peaks on line (y - track_start) / (v T)
- * at its closest-approach slant-range bin. The first line of every aperture carries
+ * y0 + j v T, y0 = geo.track_start_m + s v T, where s = line_shift() is where the pulses of
+ * an aperture focus on average (the band centre over Ka: the paper scene lies ahead of the
+ * track, s = 1.43 s of pulses). A point target at (x, y) peaks on line (y - y0) / (v T) at its
+ * closest-approach slant-range bin. The first line of every aperture carries
  * tags::aperture_key() (uint64 index), tags::azimuth_axis_key() (tuple: along-track position
  * of the line [m], v T [m], M) and tags::range_axis_key() (first bin [m], spacing [m], K).
  *
- * Streaming: every aperture is focused from a processing block of before + M + after input
- * lines (overlap-save): before/after cover the azimuth extent of a target's energy in the
- * processed Doppler band, so consecutive apertures join into one continuous image. With
- * overlap 0 every aperture is focused alone and circularly (the paper's whole-block case:
- * targets whose zero-Doppler line lies outside the aperture wrap around). Memory: about
+ * Streaming: aperture i (image lines [i M + s, i M + s + M)) is focused from a processing
+ * block of before + M + after input pulses (overlap-save): before/after cover the azimuth
+ * extent of a target's energy in the scene band around the shift s, so consecutive apertures
+ * join into one continuous image. With overlap 0 every aperture's M pulses are focused alone
+ * and circularly, the output rotated by s (the paper's whole-block case; a target focusing
+ * outside the window wraps around). Memory: about
  * (before + 2 M + after + B) K complex samples, B the processed Doppler bins (ESTIMATE adds
  * K x FFT size). When the input ends, the apertures that the
- * received pulses can still reach are flushed with zero padding (no hang, nothing lost).
+ * received pulses belong to are flushed with zero padding (no hang).
  * Non-finite input samples are zeroed, counted, logged once and reported with a
  * tags::nonfinite_key() tag on the next aperture's first line.
  */
@@ -74,6 +77,12 @@ public:
     //! History lines before / look-ahead lines after each aperture in its processing block.
     virtual unsigned overlap_before() const = 0;
     virtual unsigned overlap_after() const = 0;
+    /*!
+     * Offset s of the output window from the aperture's pulses [lines]: aperture i holds image
+     * lines [i M + s, i M + s + M), s = f_c / (Ka T) at the band centre f_c and mid range,
+     * where the energy of its own pulses focuses.
+     */
+    virtual long long line_shift() const = 0;
     //! Azimuth FFT size of the processing block.
     virtual unsigned fft_size() const = 0;
     virtual double pulse_interval_s() const = 0;

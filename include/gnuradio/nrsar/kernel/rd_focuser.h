@@ -34,6 +34,8 @@ struct NRSAR_API rd_block {
     double band_hi_hz = 0.0;       //!< and ESTIMATE (which uses it as a fallback only)
     //! Centre of the range spectrum [cycles/bin] (see focuser_config::range_centre_cycles).
     double range_centre_cycles = 0.0;
+    //! Circular shift of the output [lines]: out line j is image line j + line_shift.
+    long long line_shift = 0;
 
     void validate() const;
 };
