@@ -145,13 +145,12 @@ void rd_focuser_impl::configure(double T, double first_range, double range_bin)
         lines(0.5 * (d_scene_lo_hz + d_scene_hi_hz), 0.5 * (r_min + r_max)));
     d_line_shift = static_cast<long long>(std::clamp(s, std::floor(e_lo), std::ceil(e_hi)));
     if (d_cfg.overlap_lines < 0) {
-        // Overlap-save: history for the energy that reaches the first output line from up to
-        // e_hi lines earlier, look-ahead for the last one; 2 % and 2 lines of slack cover the
-        // hyperbolic range history and the RCMC kernel.
-        d_before = static_cast<unsigned>(
-            std::ceil(std::max(0.0, e_hi - d_line_shift) * 1.02 + 2.0));
-        d_after = static_cast<unsigned>(
-            std::ceil(std::max(0.0, d_line_shift - e_lo) * 1.02 + 2.0));
+        // Overlap-save: image line t0 needs the pulses [t0 - e_hi, t0 - e_lo], so the block
+        // of the window [iM + s, iM + s + M) starts `before` = e_hi pulses ahead of it and
+        // ends `after` = -e_lo pulses past its end (each at least 0); 2 % and 2 lines of slack
+        // cover the hyperbolic range history and the RCMC kernel.
+        d_before = static_cast<unsigned>(std::ceil(std::max(0.0, e_hi) * 1.02 + 2.0));
+        d_after = static_cast<unsigned>(std::ceil(std::max(0.0, -e_lo) * 1.02 + 2.0));
     } else {
         d_before = d_after = static_cast<unsigned>(d_cfg.overlap_lines);
     }
@@ -274,7 +273,11 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
         return;
     }
     if (d_lines_in == 0) {
-        configure(T, r0, rho); // nothing buffered yet: applies from the first line
+        // Nothing buffered yet: applies from the first line, with a fresh block framing.
+        configure(T, r0, rho);
+        d_block.clear();
+        d_fill = 0;
+        d_skip = 0;
         d_pending = false;
     } else {
         d_pending = true;

@@ -328,6 +328,31 @@ class qa_rd_focuser(gr_unittest.TestCase):
         self.assertEqual(k, 33)  # 1000 m on the tagged axis
         self.assertLess(abs(i - (y - y0) / (V * t_tag)), 1.0)
 
+    def test_006b_tags_at_start_with_overlap_and_shift(self):
+        # Off-centre band (target ahead of the track), automatic overlap, the pulse interval
+        # from a tag on item 0: the framing follows the tagged interval.
+        m = 300
+        t_tag = 2.0e-3
+        x = math.sqrt((R_FIRST + 30.0 * RHO) ** 2 - H * H)
+        y = 45.0
+        data = echo([(x, y, 1.0)], m, t_pulse=t_tag)
+        geo = geometry(m * t_tag)
+        scn = nrsar.make_scene([(x, y)])
+        tags = [gr.tag_utils.python_to_tag((0, pmt.intern(nrsar.tag_keys.pulse_interval),
+                                            pmt.from_double(t_tag)))]
+        blk, img, out_tags = run_block(data, geo=geo, scn=scn, cfg=self.cfg(), tags=tags)
+        self.assertGreater(blk.line_shift(), 50)
+        self.assertGreater(blk.overlap_before(), 0)
+        self.assertEqual(img.shape[0], m)
+        y0 = first_line_y(out_tags)
+        self.assertAlmostEqual(y0, blk.line_shift() * V * t_tag)
+        i, k = np.unravel_index(np.argmax(np.abs(img)), img.shape)
+        self.assertEqual(k, 30)
+        self.assertLess(abs(i - (y - y0) / (V * t_tag)), 1.0)
+        pred = math.sqrt(N_SUB) * math.sqrt(
+            m * abs(doppler(x, y, 0) - doppler(x, y, V * m * t_tag)) * t_tag)
+        self.assertAlmostEqual(20 * math.log10(np.abs(img).max() / pred), 0.0, delta=0.5)
+
     def test_007_streaming_two_and_a_half_apertures(self):
         # Targets illuminated over the whole strip; one straddles the first aperture
         # boundary and one sits in the half aperture the flush emits (lines relative to
