@@ -239,6 +239,54 @@ TEST(rd_focuser, range_major_input_gives_the_same_image)
                  std::invalid_argument);
 }
 
+TEST(rd_focuser, line_shift_rotates_the_output)
+{
+    scenario s;
+    s.M = 400;
+    s.y = 10.0;
+    const auto in = echo(s);
+    focuser_config cfg;
+    cfg.fast_fft_size = false; // N = M: the rotation is exactly circular over the block
+    rd_block b0 = block_of(s);
+    rd_block b1 = b0;
+    b1.line_shift = 137;
+    rd_focuser f0(cfg, b0), f1(cfg, b1);
+    std::vector<gr_complex> a(in.size()), b(in.size());
+    f0.focus(in.data(), a.data());
+    f1.focus(in.data(), b.data());
+    double err = 0.0, ref = 0.0;
+    for (unsigned m = 0; m < s.M; ++m)
+        for (unsigned k = 0; k < s.K; ++k) {
+            const gr_complex x = a[((m + 137) % s.M) * s.K + k];
+            err += std::norm(b[m * s.K + k] - x);
+            ref += std::norm(x);
+        }
+    EXPECT_LT(10 * std::log10(err / ref), -100.0);
+}
+
+TEST(rd_focuser, estimated_band_covers_the_target)
+{
+    scenario s;
+    s.M = 400;
+    s.y = 10.0;
+    const auto in = echo(s);
+    focuser_config cfg;
+    cfg.band = doppler_band::ESTIMATE;
+    rd_block b = block_of(s);
+    rd_focuser f(cfg, b);
+    std::vector<gr_complex> img(in.size());
+    f.focus(in.data(), img.data());
+    auto fd = [&](double yp) {
+        const double dy = s.y - yp;
+        return 2 * s.v * dy / (s.lambda * std::sqrt(s.x * s.x + s.h * s.h + dy * dy));
+    };
+    const double lo = fd(s.v * (s.M - 1) * s.T), hi = fd(0.0);
+    EXPECT_LE(f.band_lo_hz(), lo);
+    EXPECT_GE(f.band_hi_hz(), hi);
+    // Conservative: the -20 dB edges of a truncated chirp spectrum, plus the margin.
+    EXPECT_LT(f.band_hi_hz() - f.band_lo_hz(), 2.0 * (hi - lo));
+}
+
 TEST(rd_focuser, transpose_matches_direct_loop)
 {
     const unsigned rows = 77, cols = 45;

@@ -251,6 +251,18 @@ class qa_rd_focuser(gr_unittest.TestCase):
                                ("ISLR az", islr_a, -9.68), ("ISLR rg", islr_r, -9.68)]:
             self.assertLess(abs(got / ref - 1.0), 0.05, f"{name}: {got:.3f} vs {ref}")
 
+    def test_003b_rcmc_skipped_below_threshold(self):
+        # Band +-45 Hz at R0 = 1000 m: at most about 0.6 bins of migration.
+        m, y, geo, scn, data = self.centred_case()
+        blk, img, _ = run_block(data, geo=geo, scn=scn, cfg=self.cfg(overlap_lines=0))
+        self.assertTrue(blk.rcmc_applied())
+        self.assertLess(blk.max_migration_bins(), 1.0)
+        blk2, img2, _ = run_block(data, geo=geo, scn=scn,
+                                  cfg=self.cfg(overlap_lines=0, rcmc_skip_below_bins=1.0))
+        self.assertFalse(blk2.rcmc_applied())
+        self.assertAlmostEqual(20 * math.log10(np.abs(img2).max() / np.abs(img).max()), 0.0,
+                               delta=0.3)
+
     # -- band restriction ------------------------------------------------------------
     def test_004_scene_band_same_peak_less_noise(self):
         m, y, geo, scn, data = self.centred_case()
