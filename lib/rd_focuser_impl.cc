@@ -241,7 +241,9 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
         T = t;
     } else if (pmt::eq(tag.key, tags::range_axis_key())) {
         const pmt::pmt_t& v = tag.value;
-        if (!pmt::is_tuple(v) || pmt::length(v) < 3) {
+        if (!pmt::is_tuple(v) || pmt::length(v) < 3 || !pmt::is_number(pmt::tuple_ref(v, 0)) ||
+            !pmt::is_number(pmt::tuple_ref(v, 1)) ||
+            !(pmt::is_integer(pmt::tuple_ref(v, 2)) || pmt::is_uint64(pmt::tuple_ref(v, 2)))) {
             d_logger->warn("ignoring malformed range_axis tag {}", pmt::write_string(v));
             return;
         }

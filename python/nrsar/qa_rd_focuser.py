@@ -365,6 +365,28 @@ class qa_rd_focuser(gr_unittest.TestCase):
             m * abs(doppler(x, y, 0) - doppler(x, y, V * m * t_tag)) * t_tag)
         self.assertAlmostEqual(20 * math.log10(np.abs(img).max() / pred), 0.0, delta=0.5)
 
+    def test_006c_bad_axis_tags_are_ignored(self):
+        # A range_axis tuple for another K, a malformed one and a negative pulse interval:
+        # warnings, the constructor's axis stays, nothing crashes.
+        m = 100
+        geo = geometry(m * T)
+        scn = nrsar.make_scene([(800.0, 6.0)])
+        data = echo([(800.0, 6.0, 1.0)], m)
+        key_r = pmt.intern(nrsar.tag_keys.range_axis)
+        tags = [gr.tag_utils.python_to_tag((0, key_r, pmt.make_tuple(
+                    pmt.from_double(1.0), pmt.from_double(2.0), pmt.from_uint64(K + 1)))),
+                gr.tag_utils.python_to_tag((0, key_r, pmt.make_tuple(
+                    pmt.intern("x"), pmt.from_double(2.0), pmt.from_uint64(K)))),
+                gr.tag_utils.python_to_tag((0, pmt.intern(nrsar.tag_keys.pulse_interval),
+                                            pmt.from_double(-1.0)))]
+        blk, img, out_tags = run_block(data, geo=geo, scn=scn, cfg=self.cfg(overlap_lines=0),
+                                       tags=tags)
+        self.assertEqual(img.shape[0], m)
+        self.assertAlmostEqual(blk.first_range_m(), R_FIRST)
+        self.assertAlmostEqual(blk.pulse_interval_s(), T)
+        val = tag_map(out_tags)[nrsar.tag_keys.range_axis][0][1]
+        self.assertAlmostEqual(pmt.to_double(pmt.tuple_ref(val, 0)), R_FIRST)
+
     def test_007_streaming_two_and_a_half_apertures(self):
         # Targets illuminated over the whole strip; one straddles the first aperture
         # boundary and one sits in the half aperture the flush emits (lines relative to
