@@ -1,0 +1,62 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+// Focused lines per second of kernel::rd_focuser against K (range bins) and M (lines per
+// block), scene band (a 10 % band, RCMC on) versus the full PRF band.
+
+#include <benchmark/benchmark.h>
+#include <gnuradio/nrsar/kernel/rd_focuser.h>
+#include <random>
+#include <vector>
+
+using gr::nrsar::doppler_band;
+using gr::nrsar::focuser_config;
+using gr::nrsar::kernel::rd_block;
+using gr::nrsar::kernel::rd_focuser;
+
+static void run(benchmark::State& state, doppler_band band, bool rcmc)
+{
+    const unsigned K = static_cast<unsigned>(state.range(0));
+    const unsigned M = static_cast<unsigned>(state.range(1));
+    rd_block b;
+    b.num_range_bins = K;
+    b.num_lines = M;
+    b.pulse_interval_s = 1.0 / 2400.0; // presummed paper rate
+    b.velocity_mps = 50.0;
+    b.wavelength_m = 0.0857;
+    b.first_range_m = 1000.0;
+    b.range_bin_m = 1.5;
+    b.band_lo_hz = -20.0;
+    b.band_hi_hz = 220.0; // 10 % of the PRF
+    b.range_centre_cycles = 0.4;
+    focuser_config cfg;
+    cfg.band = band;
+    cfg.rcmc = rcmc;
+    cfg.rcmc_skip_below_bins = 0.0;
+    rd_focuser f(cfg, b);
+    std::mt19937 rng(1);
+    std::normal_distribution<float> g;
+    std::vector<gr_complex> in(static_cast<size_t>(K) * M), out(in.size());
+    for (auto& x : in)
+        x = gr_complex(g(rng), g(rng));
+    for (auto _ : state) {
+        f.focus(in.data(), out.data());
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.SetItemsProcessed(state.iterations() * M);
+    state.counters["band_bins"] = f.band_bins();
+    state.counters["fft_size"] = f.fft_size();
+}
+
+static void BM_scene_band(benchmark::State& s) { run(s, doppler_band::SCENE, true); }
+static void BM_full_band(benchmark::State& s) { run(s, doppler_band::FULL, true); }
+static void BM_scene_band_no_rcmc(benchmark::State& s) { run(s, doppler_band::SCENE, false); }
+
+#define SIZES Args({ 128, 2400 })->Args({ 64, 4800 })->Args({ 256, 4800 })->Args({ 512, 4800 })->Args({ 256, 1024 })->Args({ 256, 16384 })
+BENCHMARK(BM_scene_band)->SIZES->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_full_band)->SIZES->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_scene_band_no_rcmc)->SIZES->Unit(benchmark::kMillisecond);
