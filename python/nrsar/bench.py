@@ -92,6 +92,8 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true",
                         help="short runs (smoke test; ratios are noisier)")
     args = parser.parse_args(argv)
+    from .sim import quiet_gnuradio_logs
+    quiet_gnuradio_logs()
     if os.environ.get("VOLK_GENERIC"):
         print("nrsar-bench: VOLK_GENERIC is set: VOLK's generic kernels would be measured",
               file=sys.stderr)

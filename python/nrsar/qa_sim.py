@@ -32,20 +32,25 @@ class qa_sim(gr_unittest.TestCase):
     def setUp(self):
         self.out = tempfile.mkdtemp(prefix="qa_sim_")
 
-    def test_single_target_lands_at_its_slant_range(self):
-        args = parse(["--preset", "small", "--aperture-s", "0.05", "--target", "300,100",
+    def test_single_target_focuses_at_its_position(self):
+        args = parse(["--preset", "small", "--aperture-s", "0.4", "--target", "300,10",
                       "--snr-db", "10", "--filter", "wf", "--out", self.out])
         result = sim.run(args)
         image = np.load(result["image_npy"])
         self.assertEqual(image.dtype, np.complex64)
-        self.assertEqual(image.shape, (result["symbols"], result["range_bins"]))
-        self.assertEqual(result["symbols"], round(0.05 / (1 / 30e3 + 128 / (512 * 30e3))))
+        self.assertEqual(image.shape, (result["azimuth_lines"], result["range_bins"]))
+        self.assertEqual(result["symbols"], round(0.4 / (1 / 30e3 + 128 / (512 * 30e3))))
         # Range axis: bins of c / (2 Nfft Delta f) (SPEC 5).
         first, step = result["range_axis_m"]
         self.assertAlmostEqual(step, 299792458.0 / (2 * result["range_fft_size"] * 30e3), 9)
-        # Slant range of the target during the aperture, eq. (8), y_p from 0 to 2.5 m.
-        r_mid = math.sqrt(300.0**2 + 1000.0**2 + (100.0 - 1.25)**2)
-        self.assertLess(abs(result["brightest_range_m"] - r_mid), 0.5 * step + 1e-9)
+        # The peak pixel, read through the axes the JSON gives, sits at the target's
+        # closest-approach slant range, eq. (8), and along-track position.
+        line, bin_ = np.unravel_index(np.argmax(np.abs(image)), image.shape)
+        az_first, az_step = result["azimuth_axis_m"]
+        self.assertLess(abs(first + bin_ * step - math.hypot(300.0, 1000.0)), step)
+        self.assertLess(abs(az_first + line * az_step - 10.0), 0.5)
+        # The probe agrees: error below a quarter of a resolution cell (0.25 * 9.8 m).
+        self.assertLess(result["peak_error_m"], 2.5)
         self.assertTrue(os.path.getsize(result["image_png"]) > 1000)
         self.assertEqual(result["nonfinite"], 0)
 
@@ -55,8 +60,10 @@ class qa_sim(gr_unittest.TestCase):
              "--snr-db", "0", "--json", "--out", self.out],
             capture_output=True, text=True, check=True)
         result = json.loads(proc.stdout.strip().splitlines()[-1])
-        for key in ("runtime_s", "symbols", "subcarriers", "image_npy", "image_png",
-                    "range_axis_m", "azimuth_axis_m"):
+        for key in ("nmse_db", "nmse_theory_db", "pel_db", "snr_out_db", "islr_db",
+                    "pslr_db", "irw_range_m", "irw_azimuth_m", "peak_error_m", "runtime_s",
+                    "symbols", "subcarriers", "image_npy", "image_png", "range_axis_m",
+                    "azimuth_axis_m"):
             self.assertIn(key, result)
         self.assertEqual(result["subcarriers"], 64)
         self.assertEqual(len(result["azimuth_axis_m"]), 2)

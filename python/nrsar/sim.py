@@ -5,11 +5,14 @@
 #
 """nrsar-sim: one headless run of the imaging chain as a GNU Radio flowgraph.
 
-    nr_isac_tx -> scene_echo -> tf_filter (reference: the transmit grid) -> range_ifft -> sink
+    nr_isac_tx -> scene_echo -> tf_filter -> range_ifft -> rd_focuser -> nmse_probe
+                      |  (reference echo: S = 1, no noise)       ^ reference image
+                      +-> range_ifft -> rd_focuser --------------+
 
-The range-compressed data (azimuth x range, complex64) is written as .npy and as a PNG in
-dB with axes in metres, and a JSON summary names the files and axes (SPEC section 9).
-The focuser, presummer and image metrics join this chain in later issues.
+The tf_filter's second input is the transmit grid (the UAV knows what it sent). The focused
+image (azimuth x range, complex64) is written as .npy and as a PNG in dB with axes in metres,
+the range-compressed data likewise; the JSON summary carries the image metrics of SPEC 8
+for the first target and names the files and axes (SPEC section 9).
 """
 
 import argparse
@@ -20,10 +23,12 @@ import time
 
 import numpy as np
 
+import pmt
 from gnuradio import blocks, fft, gr
 
 from . import params
-from .nrsar_python import nr_isac_tx, range_ifft, scene_echo, srs_config, tf_filter
+from .nrsar_python import (constellation, focuser_config, doppler_band, nmse_probe, nr_isac_tx,
+                           range_ifft, rd_focuser, scene_echo, srs_config, tag_keys, tf_filter)
 
 MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
 
@@ -56,8 +61,14 @@ def add_arguments(parser):
                              "one comb-4 symbol every 2 / 20 slots")
     parser.add_argument("--fft-size", default="fast",
                         help="range IFFT size: 'fast' (next fast size >= N), 'exact' (N) or a number")
+    parser.add_argument("--band", default="scene", choices=["scene", "estimate", "full"],
+                        help="azimuth processing band: the scene's Doppler band from the geometry, "
+                             "estimated from the data, or the full PRF")
+    parser.add_argument("--rcmc-taps", type=int, default=16,
+                        help="length of the windowed-sinc RCMC interpolator, eq. (41)")
     parser.add_argument("--range-margin-m", type=float, default=30.0,
-                        help="slant range kept on each side of the scene's swath [m]")
+                        help="slant range kept on each side of the scene's swath [m] "
+                             "(at least 16 range bins)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the data PRBS and the noise")
     parser.add_argument("--out", default="nrsar-out", help="output folder")
     parser.add_argument("--json", action="store_true", help="print one JSON object on stdout")
@@ -79,7 +90,10 @@ def fft_size_from_arg(arg, num_subcarriers):
 
 
 def build_chain(tb, num, geo, scn, args, symbols):
-    """Connects the chain into top block tb; returns its blocks by name."""
+    """Connects the imaging chain and its reference branch into top block tb.
+
+    Returns the blocks by name: the sinks hold the range-compressed data and the focused
+    image; the probe holds the metrics of the first target."""
     mode, period = MODES[args.mode]
     srs = srs_config()
     if period:
@@ -87,24 +101,64 @@ def build_chain(tb, num, geo, scn, args, symbols):
     if mode != "data" and srs.start_subcarrier + srs.num_subcarriers() > num.num_subcarriers:
         srs.start_subcarrier = (num.num_subcarriers - srs.num_subcarriers()) // 2
     n = num.num_subcarriers
-    tx = nr_isac_tx(num, params.make_modulation(args.modulation), params.make_tx_mode(mode),
-                    srs, args.seed)
+    modulation = params.make_modulation(args.modulation)
+    filter_type = params.make_filter(args.filter)
+    tx = nr_isac_tx(num, modulation, params.make_tx_mode(mode), srs, args.seed)
     head = blocks.head(gr.sizeof_gr_complex * n, symbols)
     echo = scene_echo(num, geo, scn, args.snr_db, args.seed + 1)
-    tff = tf_filter(n, params.make_filter(args.filter), args.snr_db, args.estimate_snr)
+    tff = tf_filter(n, filter_type, args.snr_db, args.estimate_snr)
+
     extent = params.compute_extent(geo, scn)
     nfft = fft_size_from_arg(args.fft_size, n)
-    rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, 0.0,
-                     max(0.0, extent.min_slant_range_m - args.range_margin_m),
-                     extent.max_slant_range_m + args.range_margin_m)
-    sink = blocks.vector_sink_c(rif.num_bins(), symbols)
+    # At least 16 bins each side, so the probe has target-free bins for SNR_out.
+    margin = max(args.range_margin_m, 16 * num.range_bin_m(nfft))
+    crop = (max(0.0, extent.min_slant_range_m - margin), extent.max_slant_range_m + margin)
+    cfg = focuser_config()
+    cfg.symbols_per_pulse = params.symbols_per_pulse(mode, num, srs)
+    cfg.band = {"scene": doppler_band.SCENE, "estimate": doppler_band.ESTIMATE,
+                "full": doppler_band.FULL}[args.band]
+    cfg.rcmc_taps = args.rcmc_taps
+    cfg.lines_per_aperture = symbols // cfg.symbols_per_pulse
+
+    def range_and_focus():
+        rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
+        foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                         rif.range_bin_m(), cfg)
+        tb.connect(rif, foc)
+        return rif, foc
+
+    rif, foc = range_and_focus()
+    rif_ref, foc_ref = range_and_focus()
+    k = rif.num_bins()
+    probe = nmse_probe(num, geo, scn, constellation(modulation).points(), filter_type,
+                       args.snr_db, k, reference_input=True,
+                       symbols_per_aperture=symbols)
+    range_sink = blocks.vector_sink_c(k, symbols)
+    image_sink = blocks.vector_sink_c(k, symbols)
     tb.connect(tx, head, echo, (tff, 0))
     tb.connect(head, (tff, 1))
-    tb.connect(tff, rif, sink)
-    return {"tx": tx, "echo": echo, "filter": tff, "range_ifft": rif, "sink": sink}
+    tb.connect(tff, rif)
+    tb.connect(rif, range_sink)
+    tb.connect((echo, 1), rif_ref)
+    tb.connect(foc, image_sink)
+    tb.connect(foc, (probe, 0))
+    tb.connect(foc_ref, (probe, 1))
+    return {"tx": tx, "echo": echo, "filter": tff, "range_ifft": rif, "focuser": foc,
+            "probe": probe, "range_sink": range_sink, "image_sink": image_sink}
 
 
-def write_png(path, image, range_axis, azimuth_axis, title):
+def azimuth_axis_of(sink, fallback):
+    """[first, step] of the focused image's azimuth axis from the focuser's tag."""
+    for tag in sink.tags():
+        if pmt.eq(tag.key, pmt.intern(tag_keys.azimuth_axis)):
+            return [pmt.to_double(pmt.tuple_ref(tag.value, 0)),
+                    pmt.to_double(pmt.tuple_ref(tag.value, 1))]
+    return fallback
+
+
+def write_png(path, image, range_axis, azimuth_axis, title, azimuth_limits=None,
+              floor_db=-40):
+    """Image in dB re its peak, slant range across, along-track position down."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -112,14 +166,16 @@ def write_png(path, image, range_axis, azimuth_axis, title):
     power_db = 20 * np.log10(np.abs(image) + 1e-30)
     power_db -= power_db.max()
     k, m = image.shape[1], image.shape[0]
-    extent = [range_axis[0], range_axis[0] + range_axis[1] * (k - 1),
-              azimuth_axis[0] + azimuth_axis[1] * (m - 1), azimuth_axis[0]]
+    extent = [range_axis[0] - range_axis[1] / 2, range_axis[0] + range_axis[1] * (k - 0.5),
+              azimuth_axis[0] + azimuth_axis[1] * (m - 0.5), azimuth_axis[0] - azimuth_axis[1] / 2]
     fig, ax = plt.subplots(figsize=(6, 5))
-    im = ax.imshow(power_db, aspect="auto", extent=extent, vmin=-40, vmax=0, cmap="viridis",
-                   interpolation="nearest")
+    im = ax.imshow(power_db, aspect="auto", extent=extent, vmin=floor_db, vmax=0,
+                   cmap="viridis", interpolation="nearest")
+    if azimuth_limits:
+        ax.set_ylim(max(azimuth_limits), min(azimuth_limits))
     ax.set_xlabel("slant range [m]")
-    ax.set_ylabel("platform along-track position [m]")
-    ax.set_title(title)
+    ax.set_ylabel("along-track position [m]")
+    ax.set_title(title, fontsize=10)
     fig.colorbar(im, ax=ax, label="power [dB re peak]")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -137,31 +193,33 @@ def run(args):
 
     tb = gr.top_block("nrsar-sim")
     chain = build_chain(tb, num, geo, scn, args, symbols)
-    sink, rif = chain["sink"], chain["range_ifft"]
     start = time.perf_counter()
     tb.run()
     runtime_s = time.perf_counter() - start
 
+    rif, probe = chain["range_ifft"], chain["probe"]
     k = rif.num_bins()
-    image = np.asarray(sink.data(), dtype=np.complex64).reshape(-1, k)
     range_axis = [rif.range_axis_first_m(), rif.range_bin_m()]
-    azimuth_axis = [geo.track_start_m, geo.velocity_mps * num.symbol_s()]
-
-    # Peak of the reference target in the range profile summed over slow time.
-    ref = scn.targets[0]
-    closest_m = ref.slant_range_m(geo, min(max(ref.y_m, geo.track_start_m),
-                                           geo.track_start_m + geo.velocity_mps * geo.aperture_s))
-    profile = np.sum(np.abs(image) ** 2, axis=0)
+    slow_time_axis = [geo.track_start_m, geo.velocity_mps * num.symbol_s()]
+    compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(-1, k)
+    image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
+    azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
 
     os.makedirs(args.out, exist_ok=True)
-    npy_path = os.path.join(args.out, "range_compressed.npy")
-    png_path = os.path.join(args.out, "range_compressed.png")
-    np.save(npy_path, image)
-    write_png(png_path, image, range_axis, azimuth_axis,
-              f"range-compressed, {args.filter.upper()}, SNR_in {args.snr_db:g} dB")
+    files = {}
+    ys = [t.y_m for t in scn.targets]
+    label = f"{args.filter.upper()}, {args.modulation}, SNR_in {args.snr_db:g} dB"
+    for name, data, axis, title, limits in (
+            ("range_compressed", compressed, slow_time_axis, "range-compressed", None),
+            ("image", image, azimuth_axis, "focused image", (min(ys) - 15, max(ys) + 15))):
+        files[name + "_npy"] = os.path.abspath(os.path.join(args.out, name + ".npy"))
+        files[name + "_png"] = os.path.abspath(os.path.join(args.out, name + ".png"))
+        np.save(files[name + "_npy"], data)
+        write_png(files[name + "_png"], data, range_axis, axis, f"{title}, {label}",
+                  azimuth_limits=limits)
 
-    return {
-        "stage": "range_compressed",
+    metrics = {key: float(value) for key, value in probe.metrics().items()}
+    result = {
         "preset": args.preset,
         "filter": args.filter,
         "modulation": args.modulation,
@@ -171,21 +229,34 @@ def run(args):
         "subcarriers": num.num_subcarriers,
         "range_bins": k,
         "range_fft_size": rif.fft_size(),
+        "azimuth_lines": image.shape[0],
         "runtime_s": runtime_s,
-        "res_per_s": symbols * num.num_subcarriers / runtime_s,
-        "image_npy": os.path.abspath(npy_path),
-        "image_png": os.path.abspath(png_path),
+        "image_npy": files["image_npy"],
+        "image_png": files["image_png"],
+        "range_compressed_npy": files["range_compressed_npy"],
+        "range_compressed_png": files["range_compressed_png"],
         "range_axis_m": range_axis,
         "azimuth_axis_m": azimuth_axis,
-        "reference_closest_range_m": closest_m,
-        "brightest_range_m": range_axis[0] + range_axis[1] * int(np.argmax(profile)),
+        "doppler_band_hz": [chain["focuser"].band_lo_hz(), chain["focuser"].band_hi_hz()],
+        "rcmc_applied": bool(chain["focuser"].rcmc_applied()),
         "nonfinite": chain["echo"].nonfinite_count() + chain["filter"].nonfinite_count(),
         "empty_res": chain["filter"].empty_re_count(),
         "warnings": list(warnings),
     }
+    for key in ("nmse_db", "nmse_theory_db", "pel_db", "snr_out_db", "islr_db", "pslr_db",
+                "irw_range_m", "irw_azimuth_m", "peak_error_m"):
+        result[key] = metrics.get(key, float("nan"))
+    return result
+
+
+def quiet_gnuradio_logs():
+    """Large vectors make GNU Radio's buffer allocator warn about alignment padding on
+    every connection; the apps keep errors only."""
+    gr.logging().set_default_level(gr.log_levels.err)
 
 
 def main(argv=None):
+    quiet_gnuradio_logs()
     parser = add_arguments(argparse.ArgumentParser(
         prog="nrsar-sim", description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter))
