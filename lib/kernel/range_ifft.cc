@@ -9,6 +9,7 @@
 #include <gnuradio/nrsar/kernel/range_ifft.h>
 #include <volk/volk.h>
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -40,7 +41,7 @@ range_ifft::range_ifft(unsigned n,
     d_fft = std::make_unique<gr::fft::fft_complex_rev>(int(d_fft_size), 1);
     // The padding is zero once and stays so: only the first n inputs are ever written
     // and FFTW's out-of-place c2c plans preserve their input.
-    std::memset(d_fft->get_inbuf(), 0, sizeof(gr_complex) * d_fft_size);
+    std::fill_n(d_fft->get_inbuf(), d_fft_size, gr_complex(0.0f, 0.0f));
     set_window(window, window_param);
 }
 
