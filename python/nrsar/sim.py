@@ -129,6 +129,11 @@ def build_chain(tb, num, geo, scn, args, symbols):
 
     rif, foc = range_and_focus()
     rif_ref, foc_ref = range_and_focus()
+    # The reference branch is the same chain fed with S = 1 and Z = 0 (SPEC 8): the
+    # reference echo, filtered against an all-ones grid, so the filter's scale (WF's
+    # 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's randomness.
+    ones = blocks.vector_source_c([1.0 + 0.0j] * n, True, n)
+    tff_ref = tf_filter(n, filter_type, args.snr_db, False)
     k = rif.num_bins()
     probe = nmse_probe(num, geo, scn, constellation(modulation).points(), filter_type,
                        args.snr_db, k, reference_input=True,
@@ -139,7 +144,9 @@ def build_chain(tb, num, geo, scn, args, symbols):
     tb.connect(head, (tff, 1))
     tb.connect(tff, rif)
     tb.connect(rif, range_sink)
-    tb.connect((echo, 1), rif_ref)
+    tb.connect((echo, 1), (tff_ref, 0))
+    tb.connect(ones, (tff_ref, 1))
+    tb.connect(tff_ref, rif_ref)
     tb.connect(foc, image_sink)
     tb.connect(foc, (probe, 0))
     tb.connect(foc_ref, (probe, 1))
