@@ -144,6 +144,8 @@ nmse_probe_impl::nmse_probe_impl(const numerology& num,
     num.validate();
     geo.validate();
     scn.validate();
+    if (!(scn.targets.front().rcs > 0.0))
+        throw_param("reference target rcs", scn.targets.front().rcs, "must be > 0");
     check_finite("snr_in_db", snr_in_db);
     // Validates the constellation (non-empty, finite, no zero point) with the theory itself.
     kernel::nmse_theory_db(d_constellation, d_filter, d_snr_in_db);
@@ -296,7 +298,11 @@ void nmse_probe_impl::finish_aperture(bool partial)
 
     const auto res = d_kernel.compute(d_img.data(), d_ref.data(), lines, bins, exp_line,
                                       exp_bin, cfg, bin_mask.data(), line_mask.data());
-    const double theory = kernel::nmse_theory_db(d_constellation, d_filter, d_snr_in_db);
+    // SPEC 8's theory is for one target. In a scene, every target's data-randomness
+    // pedestal (rcs_q Var(chi)) and the noise (SNR_in is defined against the total RCS)
+    // count against the reference target's peak: add 10 log10(total RCS / reference RCS).
+    const double theory = kernel::nmse_theory_db(d_constellation, d_filter, d_snr_in_db) +
+                          10.0 * std::log10(d_scene.total_rcs() / target.rcs);
 
     // Peak position: slant range -> ground range on the target's side of the track.
     const double r_pk = r0 + res.peak_bin * dr;
