@@ -6,7 +6,7 @@
  */
 
 #include "range_ifft_impl.h"
-#include "nonfinite_log.h"
+#include "nonfinite_reporter.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
@@ -128,12 +128,11 @@ int range_ifft_impl::work(int noutput_items,
         const gr_complex* x = d_guard.guard(in + i * n, n, bad);
         d_kernel.execute(x, out + i * k);
         if (bad > 0) {
-            d_nonfinite += bad;
             const std::uint64_t item = nitems_written(0) + i;
             add_item_tag(0,
                          item,
                          tags::nonfinite_key(),
-                         note_nonfinite(d_logger, d_warned_nonfinite, bad, item),
+                         d_nonfinite.note(d_logger, bad, item),
                          alias_pmt());
         }
     }

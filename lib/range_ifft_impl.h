@@ -11,6 +11,7 @@
 #include <gnuradio/nrsar/kernel/finite_guard.h>
 #include <gnuradio/nrsar/kernel/range_ifft.h>
 #include <gnuradio/nrsar/range_ifft.h>
+#include "nonfinite_reporter.h"
 
 namespace gr {
 namespace nrsar {
@@ -22,8 +23,7 @@ private:
     kernel::finite_guard d_guard;
     double d_bin_m;
     bool d_tag_pending = true;
-    bool d_warned_nonfinite = false;
-    std::uint64_t d_nonfinite = 0;
+    nonfinite_reporter d_nonfinite;
 
 public:
     range_ifft_impl(const numerology& num, kernel::range_ifft&& kern);
@@ -40,7 +40,7 @@ public:
     double range_bin_m() const override { return d_bin_m; }
     unsigned fft_size() const override { return d_kernel.fft_size(); }
     double coherent_gain() const override { return d_kernel.coherent_gain(); }
-    std::uint64_t nonfinite_count() const override { return d_nonfinite; }
+    std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
 
     int work(int noutput_items,
              gr_vector_const_void_star& input_items,

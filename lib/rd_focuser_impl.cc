@@ -331,15 +331,8 @@ void rd_focuser_impl::ingest(const gr_complex* lines, unsigned n)
         }
     }
     if (bad) {
-        d_nonfinite += bad;
+        d_nonfinite.note(d_logger, bad, d_lines_in);
         d_nonfinite_pending += bad;
-        if (!d_nonfinite_logged) {
-            d_logger->warn("zeroed {} non-finite input samples at line {} (logged once; see "
-                           "nonfinite_count() and the nonfinite tags)",
-                           bad,
-                           d_lines_in);
-            d_nonfinite_logged = true;
-        }
     }
     d_fill += n;
     d_lines_in += n;
@@ -401,6 +394,7 @@ int rd_focuser_impl::drain(gr_complex* out, int noutput, int produced)
             }
             d_out_tags_due = false;
             ++d_apertures;
+            d_nonfinite.rearm();
         }
         const unsigned n = std::min<unsigned>(d_out_len - d_out_pos, noutput - produced);
         std::memcpy(out + static_cast<size_t>(produced) * d_K,
@@ -518,7 +512,7 @@ double rd_focuser_impl::max_migration_bins() const
 }
 bool rd_focuser_impl::rcmc_applied() const { return d_kernel && d_kernel->rcmc_applied(); }
 std::uint64_t rd_focuser_impl::apertures() const { return d_apertures; }
-std::uint64_t rd_focuser_impl::nonfinite_count() const { return d_nonfinite; }
+std::uint64_t rd_focuser_impl::nonfinite_count() const { return d_nonfinite.count(); }
 
 } // namespace nrsar
 } // namespace gr

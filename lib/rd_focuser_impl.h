@@ -10,6 +10,7 @@
 
 #include <gnuradio/nrsar/kernel/rd_focuser.h>
 #include <gnuradio/nrsar/rd_focuser.h>
+#include "nonfinite_reporter.h"
 #include <volk/volk_alloc.hh>
 #include <memory>
 
@@ -63,9 +64,8 @@ private:
     double d_next_y = 0.0; // along-track position of the next aperture's first line
     bool d_flush_done = false;
 
-    std::uint64_t d_nonfinite = 0;
+    nonfinite_reporter d_nonfinite;
     std::uint64_t d_nonfinite_pending = 0;
-    bool d_nonfinite_logged = false;
 
     void configure(double T, double first_range, double range_bin);
     void ensure_kernel();

@@ -96,7 +96,7 @@ void scene_echo_impl::set_scene(const scene& scn)
 
 scene scene_echo_impl::get_scene() const { return d_echo.get_scene(); }
 
-std::uint64_t scene_echo_impl::nonfinite_count() const { return d_nonfinite; }
+std::uint64_t scene_echo_impl::nonfinite_count() const { return d_nonfinite.count(); }
 
 void scene_echo_impl::set_threads(unsigned threads)
 {
@@ -202,15 +202,10 @@ int scene_echo_impl::work(int noutput_items,
         const std::size_t bad = d_bad[i];
         if (!bad)
             continue;
-        d_nonfinite += bad;
-        if (!d_nonfinite_logged) {
-            d_logger->warn("{} non-finite input samples in symbol {} set to zero "
-                           "(logged once; see nonfinite_count() and the tags)",
-                           bad,
-                           m0 + i);
-            d_nonfinite_logged = true;
-        }
-        add_item_tag(0, nitems_written(0) + i, tags::nonfinite_key(), pmt::from_uint64(bad));
+        add_item_tag(0,
+                     nitems_written(0) + i,
+                     tags::nonfinite_key(),
+                     d_nonfinite.note(d_logger, bad, m0 + i));
     }
     return noutput_items;
 }

@@ -11,6 +11,7 @@
 #include <gnuradio/nrsar/kernel/gaussian_noise.h>
 #include <gnuradio/nrsar/kernel/scene_echo.h>
 #include <gnuradio/nrsar/scene_echo.h>
+#include "nonfinite_reporter.h"
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -30,8 +31,7 @@ private:
     double d_snr_db;
     double d_variance; //!< sigma^2, 0: no noise
     float d_sigma;     //!< noise standard deviation (E|Z|^2 = sigma^2), 0: no noise
-    std::uint64_t d_nonfinite = 0;
-    bool d_nonfinite_logged = false;
+    nonfinite_reporter d_nonfinite;
 
     std::vector<std::size_t> d_bad; //!< non-finite count per item of one work() call
 

@@ -6,7 +6,7 @@
  */
 
 #include "tf_filter_impl.h"
-#include "nonfinite_log.h"
+#include "nonfinite_reporter.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
@@ -56,7 +56,7 @@ double tf_filter_impl::snr_db() const { return d_kernel.snr_db(); }
 bool tf_filter_impl::estimate_snr() const { return d_kernel.estimate_snr(); }
 double tf_filter_impl::estimated_snr_db() const { return d_kernel.estimated_snr_db(); }
 std::uint64_t tf_filter_impl::empty_re_count() const { return d_kernel.empty_re_count(); }
-std::uint64_t tf_filter_impl::nonfinite_count() const { return d_kernel.nonfinite_count(); }
+std::uint64_t tf_filter_impl::nonfinite_count() const { return d_nonfinite.count(); }
 
 int tf_filter_impl::work(int noutput_items,
                          gr_vector_const_void_star& input_items,
@@ -76,7 +76,7 @@ int tf_filter_impl::work(int noutput_items,
             add_item_tag(0,
                          item,
                          tags::nonfinite_key(),
-                         note_nonfinite(d_logger, d_warned_nonfinite, bad, item),
+                         d_nonfinite.note(d_logger, bad, item),
                          alias_pmt());
         }
     }

@@ -10,6 +10,7 @@
 
 #include <gnuradio/nrsar/kernel/tf_filter.h>
 #include <gnuradio/nrsar/tf_filter.h>
+#include "nonfinite_reporter.h"
 
 namespace gr {
 namespace nrsar {
@@ -18,7 +19,7 @@ class tf_filter_impl : public tf_filter
 {
 private:
     kernel::tf_filter d_kernel;
-    bool d_warned_nonfinite = false;
+    nonfinite_reporter d_nonfinite;
 
 public:
     tf_filter_impl(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool estimate_snr);
