@@ -212,6 +212,14 @@ def run(args):
     image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
     azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
 
+    ref_y = scn.targets[0].y_m
+    last_y = azimuth_axis[0] + azimuth_axis[1] * (image.shape[0] - 1)
+    if not azimuth_axis[0] <= ref_y <= last_y:
+        warnings = list(warnings) + [
+            f"the reference target (y = {ref_y:g} m) is outside the focused image "
+            f"[{azimuth_axis[0]:.1f}, {last_y:.1f}] m: the scene spans more along-track than "
+            f"one aperture covers; lengthen --aperture-s or image fewer targets"]
+
     os.makedirs(args.out, exist_ok=True)
     files = {}
     ys = [t.y_m for t in scn.targets]
