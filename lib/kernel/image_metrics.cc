@@ -28,6 +28,7 @@ struct image_metrics::upsampler {
     unsigned factor = 0;
     std::unique_ptr<gr::fft::fft_complex_fwd> fwd;
     std::unique_ptr<gr::fft::fft_complex_rev> rev;
+    std::vector<double> power;
 
     void plan(std::size_t len, unsigned u)
     {
@@ -37,6 +38,39 @@ struct image_metrics::upsampler {
         factor = u;
         fwd = std::make_unique<gr::fft::fft_complex_fwd>(static_cast<int>(n));
         rev = std::make_unique<gr::fft::fft_complex_rev>(static_cast<int>(n * u));
+    }
+
+    // Bin of the spectrum the zeros go into. A cut's band need not be centred on 0 cycles:
+    // a range IFFT of subcarriers 0..N-1 puts a range cut's band at [0, N / nfft) cycles per
+    // bin, across Nyquist, and zeros inserted at Nyquist then split the band and add a false
+    // sidelobe (range PSLR -5.4 dB instead of -13.8 dB on a focused paper-geometry target,
+    // docs/blocks/nmse_probe.md). So the zeros go where the spectrum is weakest (power
+    // smoothed over ~n/16 bins), unless Nyquist is within 10 dB of that minimum: a band
+    // centred on 0, a full band or one whose edges merely leak keeps the usual Nyquist
+    // split exactly, so only a band that really holds Nyquist is moved.
+    std::size_t gap_bin(const gr_complex* X)
+    {
+        const long len = static_cast<long>(n);
+        const long h = std::max(1L, len / 32);
+        power.resize(n);
+        for (long k = 0; k < len; ++k)
+            power[k] = std::norm(std::complex<double>(X[k].real(), X[k].imag()));
+        auto at = [&](long k) { return power[((k % len) + len) % len]; };
+        double run = 0.0;
+        for (long j = -h; j <= h; ++j)
+            run += at(j);
+        double best = run, nyq = 0.0;
+        long g = 0;
+        for (long k = 0; k < len; ++k) {
+            if (k == len / 2)
+                nyq = run;
+            if (run < best) {
+                best = run;
+                g = k;
+            }
+            run += at(k + h + 1) - at(k - h);
+        }
+        return nyq <= 10.0 * best ? n / 2 : static_cast<std::size_t>(g);
     }
 
     // in: n samples (already gathered); out: n * factor interpolated samples.
@@ -49,16 +83,21 @@ struct image_metrics::upsampler {
         const std::size_t m = n * factor;
         std::fill(Y, Y + m, gr_complex(0.0f, 0.0f));
         const float scale = 1.0f / static_cast<float>(n); // gr::fft is unnormalised
-        const std::size_t npos = (n + 1) / 2;             // bins 0 .. npos-1 are >= 0 Hz
-        for (std::size_t k = 0; k < npos; ++k)
-            Y[k] = X[k] * scale;
-        for (std::size_t k = n / 2 + 1; k < n; ++k)
-            Y[m - (n - k)] = X[k] * scale;
-        if (n % 2 == 0 && factor > 1) { // split the Nyquist bin so the result stays exact
-            Y[n / 2] = X[n / 2] * (0.5f * scale);
-            Y[m - n / 2] = X[n / 2] * (0.5f * scale);
-        } else if (n % 2 == 0) {
-            Y[n / 2] = X[n / 2] * scale;
+        // Band centre c0 opposite the gap; bin k sits at c0 + d, d in [-n/2, n/2).
+        const std::size_t c0 = (gap_bin(X) + n / 2) % n;
+        const std::size_t half = n / 2;
+        for (std::size_t k = 0; k < n; ++k) {
+            const long d = static_cast<long>((k + n - c0 + half) % n) - static_cast<long>(half);
+            const std::size_t idx =
+                static_cast<std::size_t>((static_cast<long>(c0) + d + static_cast<long>(m)) %
+                                         static_cast<long>(m));
+            if (n % 2 == 0 && d == -static_cast<long>(half)) {
+                // the gap bin of an even length is split so the result stays exact
+                Y[idx] += X[k] * (0.5f * scale);
+                Y[(c0 + half) % m] += X[k] * (0.5f * scale);
+            } else {
+                Y[idx] = X[k] * scale;
+            }
         }
         rev->execute();
         return rev->get_outbuf();
