@@ -317,13 +317,14 @@ def fig5(out, quick, workdir, seeds):
     fig, ax = plt.subplots(figsize=(7, 5))
     colours = {"rf": "C0", "mf": "C1", "wf": "C2"}
     fine = np.linspace(min(snrs), max(snrs), 121)
-    for mod, filt in cases:
+    for case, (mod, filt) in enumerate(cases):
+        shift = 0.4 * (case - (len(cases) - 1) / 2)  # markers side by side, not on top
         mean = np.array([summ[(mod, filt, float(s))][0] for s in snrs])
         lo = np.array([summ[(mod, filt, float(s))][1] for s in snrs])
         hi = np.array([summ[(mod, filt, float(s))][2] for s in snrs])
         c = colours[filt] if mod == "qam256" else "C3"
         name = f"{filt.upper()} 256-QAM" if mod == "qam256" else "8-PSK (WF = MF = RF)"
-        ax.errorbar(snrs, mean, yerr=[mean - lo, hi - mean], fmt="o", color=c, ms=4,
+        ax.errorbar(np.array(snrs) + shift, mean, yerr=[mean - lo, hi - mean], fmt="o", color=c, ms=4,
                     capsize=2, label=f"{name}, measured")
         ax.plot(fine, [theory.nmse_theory_db(mod, filt, s) for s in fine], "-", color=c,
                 lw=1, alpha=0.7, label=f"{name}, theory")
