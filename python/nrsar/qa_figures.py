@@ -1,0 +1,96 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""nrsar-figures --quick: every figure's PNG and CSV exist and the CSVs are sane."""
+
+import csv
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+from gnuradio import gr_unittest
+from gnuradio.nrsar import theory
+
+APP = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "apps",
+                   "nrsar-figures")
+TARGET = (300.0, 100.0)
+H = 1000.0
+
+
+def read(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+class qa_figures(gr_unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.out = tempfile.mkdtemp(prefix="qa_figures_")
+        cls.proc = subprocess.run([sys.executable, APP, "--quick", "--seeds", "2",
+                                   "--out", cls.out], capture_output=True, text=True,
+                                  env=dict(os.environ))
+
+    def test_001_runs_and_writes_every_file(self):
+        self.assertEqual(self.proc.returncode, 0, self.proc.stderr[-2000:])
+        self.assertIn("fig5", self.proc.stderr)  # progress on stderr
+        for name in ("fig3", "fig4", "fig5"):
+            for ext in ("png", "csv"):
+                path = os.path.join(self.out, f"{name}.{ext}")
+                self.assertTrue(os.path.getsize(path) > 100, path)
+
+    def test_002_fig4_peaks_at_target_one(self):
+        rows = read(os.path.join(self.out, "fig4.csv"))
+        self.assertEqual({r["filter"] for r in rows}, {"rf", "mf", "wf"})
+        self.assertEqual({float(r["snr_db"]) for r in rows}, {-20.0, 5.0, 20.0})
+        best = {}
+        for r in rows:
+            key = (r["snr_db"], r["filter"], r["cut"])
+            p = float(r["power_db"])
+            self.assertLessEqual(p, 1e-6)  # normalised to the cut's peak
+            if key not in best or p > best[key][1]:
+                best[key] = (float(r["position_m"]), p)
+        self.assertEqual(len(best), 18)
+        # quick preset: N = 512 (range cell 9.8 m), 0.2 s aperture (azimuth cell ~2.3 m)
+        for (snr, filt, cut), (pos, _) in best.items():
+            true = math.hypot(TARGET[0], H) if cut == "range" else TARGET[1]
+            cell = 9.8 if cut == "range" else 2.3
+            self.assertLess(abs(pos - true), cell, (snr, filt, cut, pos))
+
+    def test_003_fig5_wf_is_best_and_theory_matches(self):
+        rows = read(os.path.join(self.out, "fig5.csv"))
+        mean = {}
+        for r in rows:
+            key = (r["modulation"], r["filter"], float(r["snr_db"]))
+            mean.setdefault(key, []).append(float(r["nmse_db"]))
+            # the probe's theory value is SPEC 8's formula (independent numpy version)
+            self.assertAlmostEqual(float(r["nmse_theory_db"]),
+                                   theory.nmse_theory_db(r["modulation"], r["filter"],
+                                                         float(r["snr_db"])), delta=0.01)
+        mean = {k: sum(v) / len(v) for k, v in mean.items()}
+        snrs = sorted({k[2] for k in mean})
+        self.assertGreaterEqual(len(snrs), 3)
+        for s in snrs:
+            wf, mf, rf = (mean[("qam256", f, s)] for f in ("wf", "mf", "rf"))
+            self.assertLessEqual(wf, mf + 0.5, s)
+            self.assertLessEqual(wf, rf + 0.5, s)
+            self.assertIn(("psk8", "wf", s), mean)
+        # NMSE falls with SNR_in for WF
+        self.assertLess(mean[("qam256", "wf", snrs[-1])], mean[("qam256", "wf", snrs[0])] - 20)
+
+    def test_004_fig3_focused_peak_near_a_target(self):
+        rows = {r["stage"]: r for r in read(os.path.join(self.out, "fig3.csv"))}
+        self.assertEqual(set(rows) >= {"range_compressed", "azimuth_fft", "rcmc", "focused"},
+                         True)
+        ranges = [math.hypot(x, H) for x in (300.0, 250.0)]
+        r = float(rows["focused"]["peak_range_m"])
+        self.assertLess(min(abs(r - x) for x in ranges), 9.8)
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_figures)
