@@ -259,6 +259,18 @@ void nmse_probe_impl::finish_aperture(bool partial)
     cfg.range_res_bins = rho_r / std::abs(dr);
     cfg.azimuth_res_lines = rho_a / std::abs(dy);
     cfg.sidelobe_window_cells = d_window_cells;
+    // Other targets on a cut through the reference (within 2 cells across it) bound that
+    // cut's sidelobe window at half their distance: their main lobes are not sidelobes.
+    for (std::size_t q = 1; q < d_scene.targets.size(); ++q) {
+        const auto& t = d_scene.targets[q];
+        const double d_range = std::abs(closest_range(d_geo, t) - R0) / rho_r;
+        const double d_azimuth = std::abs(t.y_m - target.y_m) / rho_a;
+        if (d_azimuth < 2.0 && d_range >= 2.0)
+            cfg.range_window_limit_cells = std::min(cfg.range_window_limit_cells, d_range / 2);
+        if (d_range < 2.0 && d_azimuth >= 2.0)
+            cfg.azimuth_window_limit_cells =
+                std::min(cfg.azimuth_window_limit_cells, d_azimuth / 2);
+    }
     const double exp_bin = (R0 - r0) / dr;
     const double exp_line = (target.y_m - y0) / dy;
 

@@ -216,6 +216,39 @@ TEST(ImageMetrics, SidelobeWindowCutsTheFarSidelobes)
     EXPECT_NEAR(r.range.islr_db, 10 * std::log10(side / main), 0.1);
 }
 
+TEST(ImageMetrics, NeighbourTargetIsNotASidelobe)
+{
+    // Two equal sincs 12 range cells apart on the same line (2 bins per cell): unbounded,
+    // the neighbour's main lobe is the "peak sidelobe" (0 dB); bounded at half the
+    // distance, the range cut shows the reference's own sidelobes (with the neighbour's
+    // tail added): the largest |D(u) + D(u - 24)|^2 for 2 <= |u| <= 12 bins, evaluated here
+    // on a fine grid.
+    const int lines = 64, bins = 256, band = bins / 2;
+    auto img = psf_image(lines, bins, 30, 100.3, lines / 4, band);
+    const auto other = psf_image(lines, bins, 30, 124.3, lines / 4, band);
+    for (std::size_t i = 0; i < img.size(); ++i)
+        img[i] += other[i];
+    kernel::image_metrics im;
+    kernel::metrics_config cfg;
+    cfg.range_res_bins = 2.0;
+    cfg.azimuth_res_lines = 4.0;
+    cfg.sidelobe_window_cells = 20.0;
+    const auto unbounded = im.compute(img.data(), img.data(), lines, bins, 30, 100.3, cfg);
+    EXPECT_NEAR(unbounded.range.pslr_db, 0.0, 0.5);
+    cfg.range_window_limit_cells = 6.0;
+    const auto bounded = im.compute(img.data(), img.data(), lines, bins, 30, 100.3, cfg);
+    const auto cut = [&](double u) {
+        return dirichlet_sum(u, band, bins) + dirichlet_sum(u - 24.0, band, bins);
+    };
+    double side = 0.0;
+    for (double u = -12.0; u <= 12.0; u += 1e-3)
+        if (std::abs(u) >= 2.0)
+            side = std::max(side, std::norm(cut(u)));
+    EXPECT_NEAR(bounded.range.pslr_db, 10 * std::log10(side / std::norm(cut(0.0))), 0.1);
+    EXPECT_LT(bounded.range.pslr_db, -11.0);
+    EXPECT_NEAR(bounded.azimuth.pslr_db, unbounded.azimuth.pslr_db, 1e-9);
+}
+
 TEST(ImageMetrics, SnrOutInTargetFreeRegion)
 {
     const int lines = 128, bins = 128;

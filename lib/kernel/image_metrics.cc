@@ -435,10 +435,15 @@ metrics_result image_metrics::compute(const gr_complex* img,
     const double pmax = std::norm(img[ml * bins + kb]);
 
     // Cuts through the peak pixel (SPEC section 8: ISLR, PSLR, IRW from 1-D cuts).
+    const auto window = [&cfg](double limit) {
+        return cfg.sidelobe_window_cells > 0.0 ? std::min(cfg.sidelobe_window_cells, limit)
+               : std::isfinite(limit)          ? limit
+                                               : 0.0;
+    };
     res.range = analyse_cut(img + ml * bins, bins, 1, kb, cfg.range_res_bins,
-                            cfg.sidelobe_window_cells, 0);
+                            window(cfg.range_window_limit_cells), 0);
     res.azimuth = analyse_cut(img + kb, lines, bins, ml, cfg.azimuth_res_lines,
-                              cfg.sidelobe_window_cells, 1);
+                              window(cfg.azimuth_window_limit_cells), 1);
     res.peak_bin = res.range.peak_power > 0.0 ? res.range.peak_pos : static_cast<double>(kb);
     res.peak_line = res.azimuth.peak_power > 0.0 ? res.azimuth.peak_pos : static_cast<double>(ml);
     // A separable PSF peaks at p_r p_a / p_pixel: each cut misses the peak by the other

@@ -14,6 +14,7 @@
 #include <volk/volk_alloc.hh>
 #include <complex>
 #include <cstddef>
+#include <limits>
 #include <cstdint>
 #include <memory>
 #include <utility>
@@ -35,6 +36,10 @@ struct NRSAR_API metrics_config {
     double range_res_bins = 1.0;      //!< range resolution cell in range bins (> 0)
     double azimuth_res_lines = 1.0;   //!< azimuth resolution cell in lines (> 0)
     double sidelobe_window_cells = 20.0; //!< ISLR/PSLR window half-width in cells; 0: whole cut
+    //! Upper bounds on that half-width per cut, e.g. half the distance to another target
+    //! on the cut, so its main lobe is not taken for a sidelobe (infinity: no bound).
+    double range_window_limit_cells = std::numeric_limits<double>::infinity();
+    double azimuth_window_limit_cells = std::numeric_limits<double>::infinity();
     double search_cells = 4.0;        //!< peak search half-width around the expected position
 };
 
