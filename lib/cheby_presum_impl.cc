@@ -66,7 +66,10 @@ cheby_presum_impl::cheby_presum_impl(kernel::cheby_presum&& k)
 
 void cheby_presum_impl::forecast(int noutput_items, gr_vector_int& ninput_items_required)
 {
-    ninput_items_required[0] = noutput_items * static_cast<int>(d_kernel.decim());
+    // Exactly the pulses that complete noutput_items more outputs (the first output
+    // also needs the filter's look-ahead), so the stream end never strands a group.
+    ninput_items_required[0] = static_cast<int>(
+        d_kernel.pulses_needed(static_cast<std::uint64_t>(noutput_items)));
 }
 
 int cheby_presum_impl::general_work(int noutput_items,

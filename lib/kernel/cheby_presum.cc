@@ -207,12 +207,28 @@ void cheby_presum::design()
     const double nyq = 0.5 / d_t_in;
     // Parks-McClellan (gr::filter::pm_remez, band edges in units of Nyquist): the
     // equiripple ("Chebyshev") low-pass of [P-2.2.1], L = 4 D taps by default.
-    const std::vector<double> bands = { 0.0, d_fp / nyq, d_fs / nyq, 1.0 };
     const std::vector<double> ampl = { 1.0, 1.0, 0.0, 0.0 };
     const std::vector<double> weight = { 1.0, d_cfg.stopband_weight };
     try {
-        d_proto =
-            gr::filter::pm_remez(static_cast<int>(d_l) - 1, bands, ampl, weight, "bandpass", 32);
+        // A passband much narrower than 1 / (L T) holds no ripple extremal and the Remez
+        // exchange fails ("insufficient extremals"): widen it, up to 0.8 fs, until it works.
+        for (;;) {
+            try {
+                const std::vector<double> bands = { 0.0, d_fp / nyq, d_fs / nyq, 1.0 };
+                d_proto = gr::filter::pm_remez(
+                    static_cast<int>(d_l) - 1, bands, ampl, weight, "bandpass", 32);
+                break;
+            } catch (const std::exception&) {
+                if (d_fp >= 0.8 * d_fs)
+                    throw;
+                const double wider = std::min(2.0 * d_fp, 0.8 * d_fs);
+                std::ostringstream w;
+                w << "passband widened from " << d_fp << " Hz to " << wider
+                  << " Hz for the Remez exchange (" << d_l << " taps)";
+                d_warnings.push_back(w.str());
+                d_fp = wider;
+            }
+        }
     } catch (const std::exception& e) {
         // Very long filters (D in the hundreds) defeat the Remez exchange: fall back to a
         // Kaiser-windowed sinc (beta 8) cut at the middle of the transition band.
@@ -341,6 +357,14 @@ void cheby_presum::set_pulse_interval(double seconds)
 bool cheby_presum::next_push_completes() const
 {
     return d_pushed >= d_b && (d_pushed - d_b) % d_cfg.decim == 0;
+}
+
+std::uint64_t cheby_presum::pulses_needed(std::uint64_t n) const
+{
+    if (n == 0)
+        return 0;
+    const std::uint64_t last = (d_out + n - 1) * d_cfg.decim + d_b; // pulse completing it
+    return last + 1 > d_pushed ? last + 1 - d_pushed : 0;
 }
 
 bool cheby_presum::push(const gr_complex* in, gr_complex* out)

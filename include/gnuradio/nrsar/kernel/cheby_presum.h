@@ -93,6 +93,8 @@ public:
     bool push(const gr_complex* in, gr_complex* out);
     //! True when the next push() will write an output pulse.
     bool next_push_completes() const;
+    //! Input pulses still needed to complete n more output pulses.
+    std::uint64_t pulses_needed(std::uint64_t n) const;
 
     void set_range_axis(double first_range_m, double range_bin_m);
     void set_pulse_interval(double seconds);
