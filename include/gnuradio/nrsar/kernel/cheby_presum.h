@@ -68,6 +68,10 @@ struct NRSAR_API presum_config {
 class NRSAR_API cheby_presum
 {
 public:
+    //! Pulses between exact evaluations of the demodulation phases (1..64, chosen so
+    //! that the linear phase interpolation errs by at most 1e-4 rad).
+    unsigned phase_segment() const { return d_seg; }
+
     cheby_presum(const numerology& num,
                  const geometry& geo,
                  const scene& scn,
@@ -137,6 +141,7 @@ public:
 private:
     double ref_range(unsigned element, double t) const; // eq. (P-25)
     void phase_row(double t, bool conj, gr_complex* row) const;
+    void start_segment(double t);
     void design();
 
     numerology d_num;
@@ -156,6 +161,12 @@ private:
     volk::vector<gr_complex> d_ring; // L pulses x K
     std::vector<double> d_ring_t;    // slow time of each slot
     volk::vector<gr_complex> d_row;  // scratch phase row
+    // Demodulation rows by recurrence in slow time: exact (double) every
+    // phase_segment pulses, z <- z w in between (w from the exact phase difference).
+    volk::vector<gr_complex> d_z, d_w;
+    unsigned d_seg_left = 0;
+    unsigned d_seg = 1;
+    void update_segment();
     std::vector<double> d_r0sq;      // per element squared closest slant range (RANGE)
     std::uint64_t d_pushed = 0, d_out = 0;
     double d_t_next = 0.0;
