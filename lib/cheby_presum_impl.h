@@ -40,6 +40,7 @@ public:
     std::vector<gr_complex> taps() const override { return d_kernel.taps(); }
     std::vector<double> prototype() const override { return d_kernel.prototype(); }
     double passband_hz() const override { return d_kernel.passband_hz(); }
+    bool equiripple() const override { return d_kernel.equiripple(); }
     double stopband_hz() const override { return d_kernel.stopband_hz(); }
     double passband_ripple_db() const override { return d_kernel.passband_ripple_db(); }
     double stopband_atten_db() const override { return d_kernel.stopband_atten_db(); }

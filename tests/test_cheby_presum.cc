@@ -144,6 +144,7 @@ TEST(cheby_presum, design_meets_dtft)
     kernel::cheby_presum k(num, geo, scn, K, first_m, bin_m, config(presum_method::CHEBY, d));
     const auto& h = k.prototype();
     ASSERT_EQ(h.size(), 4 * d);
+    EXPECT_TRUE(k.equiripple());
     double sum = 0.0;
     for (std::size_t i = 0; i < h.size(); ++i) {
         sum += h[i];

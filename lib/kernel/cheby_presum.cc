@@ -15,6 +15,7 @@
 #include <cstring>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace gr {
 namespace nrsar {
@@ -212,32 +213,31 @@ void cheby_presum::design()
     // equiripple ("Chebyshev") low-pass of [P-2.2.1], L = 4 D taps by default.
     const std::vector<double> ampl = { 1.0, 1.0, 0.0, 0.0 };
     const std::vector<double> weight = { 1.0, d_cfg.stopband_weight };
+    // gr::filter::pm_remez (3.10.5) corrupts the heap (abort / segfault) when the
+    // passband is below about 0.02 / (L T), and fails cleanly up to about 0.05 / (L T):
+    // never ask for less than 0.1 / (L T) (the filter's main lobe is 1 / (L T) anyway).
+    const double fp_min = std::min(0.1 / (d_l * d_t_in), 0.8 * d_fs);
+    if (d_fp < fp_min) // silently: the passband is a lower bound of the band to keep
+        d_fp = fp_min;
+    // pm_remez (3.10.5) overruns its extremal arrays on some inputs (heap corruption,
+    // later abort / segfault), which a caught exception does not undo: it is only
+    // called where a sweep in a fresh process found it reliable (even L in [4, 128],
+    // fs >= 1 / (L T), fp <= fs / 2); elsewhere a Kaiser-windowed sinc is used.
+    const double x_fp = d_fp * d_l * d_t_in, x_fs = d_fs * d_l * d_t_in;
+    const bool safe = d_l % 2 == 0 && d_l >= 4 && d_l <= 128 && x_fs >= 1.0 && x_fp <= 0.5 * x_fs;
     try {
-        // A passband much narrower than 1 / (L T) holds no ripple extremal and the Remez
-        // exchange fails ("insufficient extremals"): widen it, up to 0.8 fs, until it works.
-        for (;;) {
-            try {
-                const std::vector<double> bands = { 0.0, d_fp / nyq, d_fs / nyq, 1.0 };
-                d_proto = gr::filter::pm_remez(
-                    static_cast<int>(d_l) - 1, bands, ampl, weight, "bandpass", 32);
-                break;
-            } catch (const std::exception&) {
-                if (d_fp >= 0.8 * d_fs)
-                    throw;
-                const double wider = std::min(2.0 * d_fp, 0.8 * d_fs);
-                std::ostringstream w;
-                w << "passband widened from " << d_fp << " Hz to " << wider
-                  << " Hz for the Remez exchange (" << d_l << " taps)";
-                d_warnings.push_back(w.str());
-                d_fp = wider;
-            }
-        }
+        if (!safe)
+            throw std::runtime_error("outside the range where pm_remez is reliable");
+        const std::vector<double> bands = { 0.0, d_fp / nyq, d_fs / nyq, 1.0 };
+        d_proto = gr::filter::pm_remez(
+            static_cast<int>(d_l) - 1, bands, ampl, weight, "bandpass", 32);
+        d_equiripple = true;
     } catch (const std::exception& e) {
         // Very long filters (D in the hundreds) defeat the Remez exchange: fall back to a
         // Kaiser-windowed sinc (beta 8) cut at the middle of the transition band.
         std::ostringstream w;
-        w << "pm_remez failed for " << d_l << " taps (" << e.what()
-          << "): Kaiser-windowed sinc used instead";
+        w << "Parks-McClellan not used for " << d_l << " taps, fp " << d_fp << " Hz, fs "
+          << d_fs << " Hz (" << e.what() << "): Kaiser-windowed sinc (beta 8) instead";
         d_warnings.push_back(w.str());
         d_proto.assign(d_l, 0.0);
         const double fc = 0.5 * (d_fp + d_fs) * d_t_in; // cycles per pulse

@@ -135,6 +135,7 @@ class qa_cheby_presum(gr_unittest.TestCase):
         blk = nrsar.cheby_presum(PAPER, geo, scn, nrsar.CHEBY, d, nrsar.RANGE, 256, 1000.0, 1.5)
         h = np.array(blk.prototype())
         self.assertEqual(len(h), 4 * d)
+        self.assertTrue(blk.equiripple())
         prf = PAPER.prf_hz()
         nf = 1 << 17
         hf = np.abs(np.fft.fft(h, nf))[: nf // 2 + 1]

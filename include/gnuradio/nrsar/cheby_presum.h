@@ -92,6 +92,8 @@ public:
     //! Real low-pass prototype (DC gain D).
     virtual std::vector<double> prototype() const = 0;
     virtual double passband_hz() const = 0;
+    //! True: Parks-McClellan prototype; false: Kaiser-windowed sinc (see warnings()).
+    virtual bool equiripple() const = 0;
     virtual double stopband_hz() const = 0;
     virtual double passband_ripple_db() const = 0;
     virtual double stopband_atten_db() const = 0;

@@ -78,6 +78,9 @@ void bind_cheby_presum(py::module& m)
         .def("taps", &cheby_presum::taps, "Applied taps, oldest pulse first.")
         .def("prototype", &cheby_presum::prototype, "Real low-pass prototype, DC gain D.")
         .def("passband_hz", &cheby_presum::passband_hz)
+        .def("equiripple",
+             &cheby_presum::equiripple,
+             "True: Parks-McClellan prototype; false: Kaiser-windowed sinc fallback.")
         .def("stopband_hz", &cheby_presum::stopband_hz)
         .def("passband_ripple_db", &cheby_presum::passband_ripple_db)
         .def("stopband_atten_db", &cheby_presum::stopband_atten_db)

@@ -117,6 +117,8 @@ public:
     //! Real low-pass prototype (CHEBY, FILTER_DROP; DC gain D).
     const std::vector<double>& prototype() const { return d_proto; }
     double passband_hz() const { return d_fp; }
+    //! True when the prototype is the Parks-McClellan design (false: Kaiser fallback).
+    bool equiripple() const { return d_equiripple; }
     double stopband_hz() const { return d_fs; }
     //! Measured on a dense grid: peak-to-peak passband ripple [dB], stopband attenuation
     //! re the DC gain [dB] (prototype).
@@ -154,6 +156,7 @@ private:
     double d_centre = 0.0;
     double d_fp = 0.0, d_fs = 0.0, d_fdc = 0.0;
     double d_ripple_db = 0.0, d_atten_db = 0.0;
+    bool d_equiripple = false;
     double d_yc = 0.0, d_rc0 = 0.0; // scene centre along track, its closest slant range
     std::vector<double> d_proto;
     std::vector<gr_complex> d_taps;
