@@ -66,10 +66,12 @@ cheby_presum_impl::cheby_presum_impl(kernel::cheby_presum&& k)
 
 void cheby_presum_impl::forecast(int noutput_items, gr_vector_int& ninput_items_required)
 {
-    // Exactly the pulses that complete noutput_items more outputs (the first output
-    // also needs the filter's look-ahead), so the stream end never strands a group.
-    ninput_items_required[0] = static_cast<int>(
-        d_kernel.pulses_needed(static_cast<std::uint64_t>(noutput_items)));
+    // The kernel keeps its own window of L pulses, so any input is progress: asking for
+    // the pulses that complete an output (up to L / 2 + 1 for the first) would stall on
+    // large vectors, whose buffers hold only a few items ("requesting more input data
+    // than we can provide").
+    (void)noutput_items;
+    ninput_items_required[0] = 1;
 }
 
 int cheby_presum_impl::general_work(int noutput_items,

@@ -104,7 +104,9 @@ def single_pulse(d, preset, seconds, snr_db, seed=1):
                      "theory_boxcar_db": 0.0 if name == "none" else 10 * math.log10(d),
                      "noise_gain_sum_h2": 1.0 if name == "none" else
                      float(np.sum(np.abs(np.array(blks[name].taps())) ** 2))})
-        profiles[name] = x[len(x) // 2]
+        # divided by the DC gain (D; 1 for none and drop): equal signal, lower floor
+        gain = 1.0 if name in ("none", "drop") else float(d)
+        profiles[name] = x[len(x) // 2] / gain
     axis = rif.range_axis_first_m() + rif.range_bin_m() * np.arange(k)
     info = {"passband_hz": blks["cheby"].passband_hz(), "stopband_hz": blks["cheby"].stopband_hz(),
             "ripple_db": blks["cheby"].passband_ripple_db(),
@@ -196,7 +198,7 @@ def main(argv=None):
                 label=f"{name}" + ("" if name == "none" else f" D={d}"))
     ax.set_xlabel("slant range [m]")
     ax.set_ylabel("|pulse| [dB]")
-    ax.set_title(f"one range-compressed pulse per method (SNR_in -20 dB, {a.preset})", fontsize=9)
+    ax.set_title(f"one output pulse per method / DC gain (SNR_in -20 dB, {a.preset})", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "presum_range_profiles.png"), dpi=90)

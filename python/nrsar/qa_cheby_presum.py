@@ -290,6 +290,17 @@ class qa_cheby_presum(gr_unittest.TestCase):
         blk = nrsar.cheby_presum(PAPER, geo, scn, nrsar.CHEBY, 10, nrsar.RANGE, 8, 1000.0, 1.5)
         self.assertEqual(blk.warnings(), [])
 
+    def test_008_large_vectors_do_not_stall(self):
+        """4096-sample pulses (buffers of a few items): every output whose window is
+        complete comes out, D at a time."""
+        geo = nrsar.make_geometry("paper")
+        scn = nrsar.make_scene("paper3")
+        d, pulses, k = 10, 95, 4096
+        blk = nrsar.cheby_presum(PAPER, geo, scn, nrsar.CHEBY, d, nrsar.RANGE, k, 0.0, 1.5)
+        data = np.ones((pulses, k), np.complex64)
+        out, _ = run_presum(data, blk)
+        self.assertEqual(len(out), (pulses - 1 - blk.lookahead()) // d + 1)
+
     # invalid parameters: one test per rule
     def bad(self, text, **kw):
         args = dict(num=PAPER, geo=nrsar.make_geometry("paper"), scn=nrsar.make_scene("paper3"),
