@@ -367,7 +367,8 @@ void cheby_presum::update_segment()
     // (4 pi f / c) v^2 T^2 / R0 (d^2 R / dt^2 = v^2 R0^2 / R^3 <= v^2 / R0).
     double r0 = d_rc0;
     if (d_cfg.domain == presum_domain::RANGE)
-        r0 = std::max(1.0, std::min(std::abs(d_first_m), std::abs(d_first_m + (d_k - 1.0) * d_bin_m)));
+        // ground echoes have R0 >= H: bins nearer than H hold no scatterer
+        r0 = std::max({ 1.0, d_geo.height_m, std::min(std::abs(d_first_m), std::abs(d_first_m + (d_k - 1.0) * d_bin_m)) });
     const double fmax = phase_frequency_hz(d_cfg.domain == presum_domain::TF ? d_k - 1 : 0);
     const double vt = d_geo.velocity_mps * d_t_in;
     const double curv = 2.0 * two_pi * fmax / speed_of_light * vt * vt / r0;

@@ -27,25 +27,11 @@ except ImportError:
     sys.path.append(os.path.join(dirname, "bindings"))
     from gnuradio import nrsar
 
-C = 299792458.0
-FC = 3.5e9
-LAM = C / FC
-V = 50.0
-H = 600.0
-N_SUB = 32      # subcarriers
-NFFT = 64       # range IFFT size (resolution cell = 2 bins)
-RHO = 1.5       # range bin [m]
-K = 64
-R_FIRST = 955.0
+# The tiny geometry and the exact range-compressed echo of qa_rd_focuser (same folder).
+from qa_rd_focuser import C, FC, H, K, NFFT, NUM, N_SUB, R_FIRST, RHO, V
+from qa_rd_focuser import echo as rc_echo
+
 SPP = 488       # symbols per pulse: PRF about 3.2 kHz
-
-
-def numerology():
-    return nrsar.make_numerology("tiny", subcarrier_spacing_hz=C / (2 * NFFT * RHO),
-                                 num_subcarriers=N_SUB, fft_size=NFFT, cp_samples=0)
-
-
-NUM = numerology()
 T = NUM.symbol_s() * SPP
 PAPER = nrsar.make_numerology("paper")
 
@@ -56,19 +42,8 @@ def geometry(aperture_s):
 
 
 def echo(targets, n_lines):
-    """Exact range-compressed echo (eqs. 8, 29) as in qa_rd_focuser."""
-    m = np.arange(n_lines)
-    yp = V * m * T
-    k = np.arange(K)
-    n = np.arange(N_SUB)
-    out = np.zeros((n_lines, K), complex)
-    for x, y, a in targets:
-        r = np.sqrt(x * x + H * H + (yp - y) ** 2)
-        kq = (r - R_FIRST) / RHO
-        prof = np.exp(2j * np.pi * (k[None, :, None] - kq[:, None, None]) * n[None, None, :]
-                      / NFFT).sum(-1) / np.sqrt(N_SUB)
-        out += a * prof * np.exp(-4j * np.pi * np.mod(r / LAM, 1.0))[:, None]
-    return out
+    """Exact range-compressed echo (eqs. 8, 29) at this file's pulse interval."""
+    return rc_echo(targets, n_lines, t_pulse=T)
 
 
 def run_presum(data, blk, tags=()):
