@@ -276,6 +276,27 @@ class qa_cheby_presum(gr_unittest.TestCase):
         out, _ = run_presum(data, blk)
         self.assertEqual(len(out), (pulses - 1 - blk.lookahead()) // d + 1)
 
+    def test_009_nrsar_sim_presum_option(self):
+        """nrsar-sim --presum cheby --decim 10: the focuser gets M / 10 lines at PRF / 10,
+        the JSON names presum and decim, SNR_out stays with the full-rate chain while
+        --presum drop loses about 10 log10(10) dB."""
+        import argparse
+        import tempfile
+        from gnuradio.nrsar import sim
+        res = {}
+        with tempfile.TemporaryDirectory() as out:
+            for p in ("none", "cheby", "drop"):
+                args = sim.add_arguments(argparse.ArgumentParser()).parse_args(
+                    ["--preset", "small", "--aperture-s", "0.5", "--scene", "300,12.5",
+                     "--presum", p, "--decim", "10", "--out", out])
+                res[p] = sim.run(args)
+        self.assertEqual((res["none"]["presum"], res["none"]["decim"]), ("none", 1))
+        self.assertEqual((res["cheby"]["presum"], res["cheby"]["decim"]), ("cheby", 10))
+        self.assertEqual(res["cheby"]["azimuth_lines"] * 10, res["none"]["azimuth_lines"])
+        self.assertLess(abs(res["cheby"]["snr_out_db"] - res["none"]["snr_out_db"]), 0.5)
+        self.assertAlmostEqual(res["none"]["snr_out_db"] - res["drop"]["snr_out_db"], 10.0,
+                               delta=1.5)
+
     # invalid parameters: one test per rule
     def bad(self, text, **kw):
         args = dict(num=PAPER, geo=nrsar.make_geometry("paper"), scn=nrsar.make_scene("paper3"),
