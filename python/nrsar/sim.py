@@ -29,6 +29,7 @@ from gnuradio import blocks, fft, gr
 from . import params
 from .nrsar_python import (constellation, focuser_config, doppler_band, nmse_probe, nr_isac_tx,
                            range_ifft, rd_focuser, scene_echo, srs_config, tag_keys, tf_filter)
+from .nrsar_python import cheby_presum, presum_domain, presum_method
 
 MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
 
@@ -69,10 +70,23 @@ def add_arguments(parser):
     parser.add_argument("--range-margin-m", type=float, default=30.0,
                         help="slant range kept on each side of the scene's swath [m] "
                              "(at least 16 range bins)")
+    parser.add_argument("--presum", default="none", choices=sorted(PRESUM),
+                        help="azimuth presummer after the range IFFT (cheby_presum), both branches")
+    parser.add_argument("--decim", type=int, default=10,
+                        help="presumming factor D (pulses per output pulse; with --presum)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the data PRBS and the noise")
     parser.add_argument("--out", default="nrsar-out", help="output folder")
     parser.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     return parser
+
+
+# cheby_presum: --presum choices
+PRESUM = {"none": None, "drop": presum_method.DROP, "boxcar": presum_method.BOXCAR,
+          "cheby": presum_method.CHEBY, "filter_drop": presum_method.FILTER_DROP}
+
+
+def presum_factor(args):
+    return 1 if PRESUM[getattr(args, "presum", "none")] is None else args.decim
 
 
 def make_scene_from_args(args):
@@ -119,12 +133,26 @@ def build_chain(tb, num, geo, scn, args, symbols):
                 "full": doppler_band.FULL}[args.band]
     cfg.rcmc_taps = args.rcmc_taps
     cfg.lines_per_aperture = symbols // cfg.symbols_per_pulse
+    # cheby_presum: the focuser sees pulses D times further apart (the presummer also
+    # tags the new pulse interval on its first output).
+    decim = presum_factor(args)
+    spp = cfg.symbols_per_pulse
+    cfg.symbols_per_pulse = spp * decim
+    cfg.lines_per_aperture = symbols // cfg.symbols_per_pulse
+    presummers = []
 
     def range_and_focus():
         rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
         foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                          rif.range_bin_m(), cfg)
-        tb.connect(rif, foc)
+        if decim == 1:
+            tb.connect(rif, foc)
+        else:
+            pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.RANGE,
+                               rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
+                               symbols_per_pulse=spp)
+            presummers.append(pre)
+            tb.connect(rif, pre, foc)
         return rif, foc
 
     rif, foc = range_and_focus()
@@ -151,7 +179,8 @@ def build_chain(tb, num, geo, scn, args, symbols):
     tb.connect(foc, (probe, 0))
     tb.connect(foc_ref, (probe, 1))
     return {"tx": tx, "echo": echo, "filter": tff, "range_ifft": rif, "focuser": foc,
-            "probe": probe, "range_sink": range_sink, "image_sink": image_sink}
+            "probe": probe, "range_sink": range_sink, "image_sink": image_sink,
+            "presum": presummers[0] if presummers else None}
 
 
 def azimuth_axis_of(sink, fallback):
@@ -257,7 +286,11 @@ def run(args):
         "nonfinite": chain["echo"].nonfinite_count() + chain["filter"].nonfinite_count(),
         "empty_res": chain["filter"].empty_re_count(),
         "warnings": list(warnings),
+        "presum": args.presum,
+        "decim": presum_factor(args),
     }
+    if chain["presum"] is not None:
+        result["warnings"] += list(chain["presum"].warnings())
     for key in ("nmse_db", "nmse_theory_db", "pel_db", "snr_out_db", "islr_db", "pslr_db",
                 "irw_range_m", "irw_azimuth_m", "peak_error_m"):
         result[key] = metrics.get(key, float("nan"))

@@ -27,6 +27,7 @@ namespace py = pybind11;
     void bind_range_ifft(py::module& m);
     void bind_rd_focuser(py::module& m);
     void bind_nmse_probe(py::module& m);
+    void bind_cheby_presum(py::module& m);
 // ) END BINDING_FUNCTION_PROTOTYPES
 
 
@@ -65,5 +66,6 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_range_ifft(m);
     bind_rd_focuser(m);
     bind_nmse_probe(m);
+    bind_cheby_presum(m);
     // ) END BINDING_FUNCTION_CALLS
 }

@@ -1,0 +1,182 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#ifndef INCLUDED_NRSAR_KERNEL_CHEBY_PRESUM_H
+#define INCLUDED_NRSAR_KERNEL_CHEBY_PRESUM_H
+
+#include <gnuradio/gr_complex.h>
+#include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/params.h>
+#include <volk/volk_alloc.hh>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace gr {
+namespace nrsar {
+
+//! Azimuth presumming methods ([P-2.2], SPEC section 6).
+enum class presum_method {
+    CHEBY,      //!< phase compensation (eqs. P-25..27) + equiripple low-pass + coherent sum (P-29)
+    DROP,       //!< keep 1 of D pulses (the first paper's shortcut)
+    BOXCAR,     //!< plain sum of D consecutive pulses, no compensation
+    FILTER_DROP //!< complex band-pass at the scene's Doppler centroid, keep 1 of D
+};
+
+//! What one element of the input vector is.
+enum class presum_domain {
+    RANGE, //!< range bin k at slant range first + k * spacing (after range_ifft)
+    TF     //!< subcarrier n at fc + n Delta f (after tf_filter, before range_ifft)
+};
+
+namespace kernel {
+
+/*!
+ * \brief Options of the azimuth presummer (plain values).
+ */
+struct NRSAR_API presum_config {
+    presum_method method = presum_method::CHEBY;
+    presum_domain domain = presum_domain::RANGE;
+    unsigned decim = 10;           //!< D >= 1
+    unsigned num_taps = 0;         //!< FIR length L for CHEBY / FILTER_DROP; 0: 4 D
+    double passband_hz = -1.0;     //!< passband half-width [Hz]; < 0: from the scene
+    double stopband_hz = -1.0;     //!< stopband edge [Hz]; < 0: PRF_in / (2 D)
+    double stopband_weight = 10.0; //!< Parks-McClellan weight of the stopband (passband 1)
+    unsigned symbols_per_pulse = 1; //!< input pulse interval in OFDM symbols
+    bool enforce_qpe_bound = true;  //!< refuse D above the eq. (P-36) bound
+};
+
+/*!
+ * \brief Azimuth presummer: D input pulses (K complex each) -> one output pulse.
+ *
+ * Streaming: push() one pulse at a time; when it completes an output group it writes
+ * the output pulse. Output g is centred on input pulse g D + centre_offset() (0 or 0.5
+ * pulse); it needs the input pulses up to g D + lookahead(); pulses before the stream
+ * start count as zero.
+ *
+ * CHEBY: every input pulse is demodulated by the phase history of a reference scatterer
+ * per element (range domain: closest-approach slant range of the bin at the scene's
+ * along-track centre; TF domain: the scene centre at the subcarrier's frequency), the
+ * L-tap equiripple low-pass (DC gain D) is applied and the result re-modulated with the
+ * reference phase at the output time: out = sum_j h_j s_j C(j), C = exp(+j 4 pi f dR / c)
+ * (eqs. P-25..P-29).
+ */
+class NRSAR_API cheby_presum
+{
+public:
+    //! Pulses between exact evaluations of the demodulation phases (1..64, chosen so
+    //! that the linear phase interpolation errs by at most 1e-4 rad).
+    unsigned phase_segment() const { return d_seg; }
+
+    cheby_presum(const numerology& num,
+                 const geometry& geo,
+                 const scene& scn,
+                 unsigned num_bins,
+                 double first_range_m,
+                 double range_bin_m,
+                 const presum_config& cfg);
+    cheby_presum(const cheby_presum&) = delete;
+    cheby_presum& operator=(const cheby_presum&) = delete;
+    cheby_presum(cheby_presum&&) = default;
+    cheby_presum& operator=(cheby_presum&&) = default;
+
+    //! Largest D of eq. (P-36): PRF / (2 v) sqrt(lambda R0 / 2), R0 the nearest target.
+    static unsigned max_decim(const numerology& num,
+                              const geometry& geo,
+                              const scene& scn,
+                              unsigned symbols_per_pulse = 1);
+
+    /*!
+     * Feeds one input pulse (num_bins() samples). Returns true when it completed an
+     * output pulse, which is then written to out (num_bins() samples).
+     */
+    bool push(const gr_complex* in, gr_complex* out);
+    //! True when the next push() will write an output pulse.
+    bool next_push_completes() const;
+    //! Input pulses still needed to complete n more output pulses.
+    std::uint64_t pulses_needed(std::uint64_t n) const;
+
+    void set_range_axis(double first_range_m, double range_bin_m);
+    void set_pulse_interval(double seconds);
+
+    unsigned num_bins() const { return d_k; }
+    double first_range_m() const { return d_first_m; }
+    double range_bin_m() const { return d_bin_m; }
+    unsigned decim() const { return d_cfg.decim; }
+    presum_method method() const { return d_cfg.method; }
+    presum_domain domain() const { return d_cfg.domain; }
+    unsigned num_taps() const { return d_l; }
+    unsigned lookahead() const { return d_b; }
+    double centre_offset() const { return d_centre; }
+    //! Taps applied to the window's pulses, first = oldest (DC gain D; 1 for DROP).
+    const std::vector<gr_complex>& taps() const { return d_taps; }
+    //! Real low-pass prototype (CHEBY, FILTER_DROP; DC gain D).
+    const std::vector<double>& prototype() const { return d_proto; }
+    double passband_hz() const { return d_fp; }
+    //! True when the prototype is the Parks-McClellan design (false: Kaiser fallback).
+    bool equiripple() const { return d_equiripple; }
+    double stopband_hz() const { return d_fs; }
+    //! Measured on a dense grid: peak-to-peak passband ripple [dB], stopband attenuation
+    //! re the DC gain [dB] (prototype).
+    double passband_ripple_db() const { return d_ripple_db; }
+    double stopband_atten_db() const { return d_atten_db; }
+    double doppler_centroid_hz() const { return d_fdc; }
+    //! Frequency of the carrier phase of element 0 (range domain: band centre).
+    double phase_frequency_hz(unsigned element) const;
+    double pulse_interval_s() const { return d_t_in; }
+    double output_pulse_interval_s() const { return d_t_in * d_cfg.decim; }
+    const std::vector<std::string>& warnings() const { return d_warnings; }
+    std::uint64_t pulses_in() const { return d_pushed; }
+    std::uint64_t pulses_out() const { return d_out; }
+
+    /*!
+     * Compensation phase of eq. (P-27) [rad] for element \p element: the reference pulse
+     * at slow time t_ref_s, the compensated pulse offset_pulses pulse intervals later:
+     * 4 pi f (R(t_ref + offset T) - R(t_ref)) / c (double precision).
+     */
+    double compensation_phase(unsigned element, double t_ref_s, double offset_pulses) const;
+
+private:
+    double ref_range(unsigned element, double t) const; // eq. (P-25)
+    void phase_row(double t, bool conj, gr_complex* row) const;
+    void start_segment(double t);
+    void design();
+
+    numerology d_num;
+    geometry d_geo;
+    presum_config d_cfg;
+    unsigned d_k;
+    double d_first_m, d_bin_m;
+    double d_t_in;
+    unsigned d_l = 1, d_a = 0, d_b = 0; // window: pulses gD - a .. gD + b
+    double d_centre = 0.0;
+    double d_fp = 0.0, d_fs = 0.0, d_fdc = 0.0;
+    double d_ripple_db = 0.0, d_atten_db = 0.0;
+    bool d_equiripple = false;
+    double d_yc = 0.0, d_rc0 = 0.0; // scene centre along track, its closest slant range
+    std::vector<double> d_proto;
+    std::vector<gr_complex> d_taps;
+    std::vector<std::string> d_warnings;
+    volk::vector<gr_complex> d_ring; // L pulses x K
+    std::vector<double> d_ring_t;    // slow time of each slot
+    volk::vector<gr_complex> d_row;  // scratch phase row
+    // Demodulation rows by recurrence in slow time: exact (double) every
+    // phase_segment pulses, z <- z w in between (w from the exact phase difference).
+    volk::vector<gr_complex> d_z, d_w;
+    unsigned d_seg_left = 0;
+    unsigned d_seg = 1;
+    void update_segment();
+    std::vector<double> d_r0sq;      // per element squared closest slant range (RANGE)
+    std::uint64_t d_pushed = 0, d_out = 0;
+    double d_t_next = 0.0;
+};
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
+
+#endif /* INCLUDED_NRSAR_KERNEL_CHEBY_PRESUM_H */

@@ -1,0 +1,98 @@
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+/***********************************************************************************/
+/* Hand-written bindings: the hash 0 below turns GNU Radio's header-hash check off. */
+/* BINDTOOL_GEN_AUTOMATIC(0)                                                       */
+/* BINDTOOL_USE_PYGCCXML(0)                                                        */
+/* BINDTOOL_HEADER_FILE(cheby_presum.h)                                            */
+/* BINDTOOL_HEADER_FILE_HASH(0)                                                    */
+/***********************************************************************************/
+
+#include <pybind11/complex.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+namespace py = pybind11;
+
+#include <gnuradio/nrsar/cheby_presum.h>
+// pydoc.h is automatically generated in the build directory
+#include <cheby_presum_pydoc.h>
+
+void bind_cheby_presum(py::module& m)
+{
+    using gr::nrsar::presum_domain;
+    using gr::nrsar::presum_method;
+    using cheby_presum = gr::nrsar::cheby_presum;
+
+    py::enum_<presum_method>(m, "presum_method", "Azimuth presumming method [P-2.2]")
+        .value("CHEBY", presum_method::CHEBY)
+        .value("DROP", presum_method::DROP)
+        .value("BOXCAR", presum_method::BOXCAR)
+        .value("FILTER_DROP", presum_method::FILTER_DROP)
+        .export_values();
+    py::enum_<presum_domain>(m, "presum_domain", "What one input vector element is")
+        .value("RANGE", presum_domain::RANGE)
+        .value("TF", presum_domain::TF)
+        .export_values();
+
+    py::class_<cheby_presum, gr::block, gr::basic_block, std::shared_ptr<cheby_presum>>(
+        m, "cheby_presum", D(cheby_presum))
+
+        .def(py::init(&cheby_presum::make),
+             py::arg("num"),
+             py::arg("geo"),
+             py::arg("scn"),
+             py::arg("method") = presum_method::CHEBY,
+             py::arg("decim") = 10,
+             py::arg("domain") = presum_domain::RANGE,
+             py::arg("num_bins") = 256,
+             py::arg("first_range_m") = 0.0,
+             py::arg("range_bin_m") = 1.0,
+             py::arg("num_taps") = 0,
+             py::arg("passband_hz") = -1.0,
+             py::arg("stopband_hz") = -1.0,
+             py::arg("stopband_weight") = 10.0,
+             py::arg("symbols_per_pulse") = 1,
+             py::arg("enforce_qpe_bound") = true,
+             D(cheby_presum, make))
+        .def_static("max_decim",
+                    &cheby_presum::max_decim,
+                    py::arg("num"),
+                    py::arg("geo"),
+                    py::arg("scn"),
+                    py::arg("symbols_per_pulse") = 1,
+                    "Largest D of eq. (P-36): PRF / (2 v) sqrt(lambda R0 / 2).")
+        .def("decim", &cheby_presum::decim)
+        .def("method", &cheby_presum::method)
+        .def("domain", &cheby_presum::domain)
+        .def("num_bins", &cheby_presum::num_bins)
+        .def("num_taps", &cheby_presum::num_taps)
+        .def("lookahead", &cheby_presum::lookahead, "Pulses after g D that output g needs.")
+        .def("centre_offset",
+             &cheby_presum::centre_offset,
+             "Output g is centred on input pulse g D + centre_offset().")
+        .def("taps", &cheby_presum::taps, "Applied taps, oldest pulse first.")
+        .def("prototype", &cheby_presum::prototype, "Real low-pass prototype, DC gain D.")
+        .def("passband_hz", &cheby_presum::passband_hz)
+        .def("equiripple",
+             &cheby_presum::equiripple,
+             "True: Parks-McClellan prototype; false: Kaiser-windowed sinc fallback.")
+        .def("stopband_hz", &cheby_presum::stopband_hz)
+        .def("passband_ripple_db", &cheby_presum::passband_ripple_db)
+        .def("stopband_atten_db", &cheby_presum::stopband_atten_db)
+        .def("doppler_centroid_hz", &cheby_presum::doppler_centroid_hz)
+        .def("phase_frequency_hz", &cheby_presum::phase_frequency_hz, py::arg("element"))
+        .def("output_pulse_interval_s", &cheby_presum::output_pulse_interval_s)
+        .def("compensation_phase",
+             &cheby_presum::compensation_phase,
+             py::arg("element"),
+             py::arg("t_ref_s"),
+             py::arg("offset"),
+             "eq. (P-27) phase [rad]: 4 pi f (R(t_ref + offset T) - R(t_ref)) / c.")
+        .def("warnings", &cheby_presum::warnings)
+        .def("nonfinite_count", &cheby_presum::nonfinite_count);
+}
