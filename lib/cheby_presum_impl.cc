@@ -6,7 +6,7 @@
  */
 
 #include "cheby_presum_impl.h"
-#include "nonfinite_log.h"
+#include "nonfinite_reporter.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
 #include <algorithm>
@@ -128,9 +128,8 @@ int cheby_presum_impl::general_work(int noutput_items,
         std::size_t bad = 0;
         const gr_complex* x = d_guard.guard(in + static_cast<std::size_t>(consumed) * k, k, bad);
         if (bad) {
-            d_nonfinite += bad;
             d_pending_bad[group] += bad;
-            note_nonfinite(d_logger, d_warned_nonfinite, bad, p);
+            d_nonfinite.note(d_logger, bad, p);
         }
         if (d_kernel.push(x, out + static_cast<std::size_t>(produced) * k)) {
             const std::uint64_t g = d_kernel.pulses_out() - 1;

@@ -9,6 +9,7 @@
 #define INCLUDED_NRSAR_CHEBY_PRESUM_IMPL_H
 
 #include <gnuradio/nrsar/cheby_presum.h>
+#include "nonfinite_reporter.h"
 #include <gnuradio/nrsar/kernel/cheby_presum.h>
 #include <gnuradio/nrsar/kernel/finite_guard.h>
 #include <map>
@@ -24,8 +25,7 @@ private:
     std::map<std::uint64_t, std::vector<gr::tag_t>> d_pending; // output group -> tags
     std::map<std::uint64_t, std::uint64_t> d_pending_bad;      // output group -> zeroed
     bool d_first = true;
-    bool d_warned_nonfinite = false;
-    std::uint64_t d_nonfinite = 0;
+    nonfinite_reporter d_nonfinite;
 
 public:
     cheby_presum_impl(kernel::cheby_presum&& k);
@@ -58,7 +58,7 @@ public:
         return d_kernel.compensation_phase(element, t_ref_s, offset);
     }
     std::vector<std::string> warnings() const override { return d_kernel.warnings(); }
-    std::uint64_t nonfinite_count() const override { return d_nonfinite; }
+    std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
 
     void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
     int general_work(int noutput_items,
