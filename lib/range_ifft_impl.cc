@@ -80,7 +80,7 @@ range_ifft::sptr range_ifft::make(const numerology& num,
         num, make_kernel(num, fft_size, window, window_param, r_min_m, r_max_m));
 }
 
-unsigned range_ifft::fast_fft_size(unsigned n) { return kernel::range_ifft::fast_fft_size(n); }
+unsigned range_ifft::fast_fft_size(unsigned n) { return kernel::fast_fft_size(n); }
 
 range_ifft_impl::range_ifft_impl(const numerology& num, kernel::range_ifft&& kern)
     : gr::sync_block("range_ifft",

@@ -184,7 +184,7 @@ void rd_focuser_impl::ensure_kernel()
                                   : d_cfg.range_centre_cycles;
     // Aperture buffer, output queue and the band matrix (at most the FFT size); ESTIMATE
     // also keeps every spectrum.
-    const double fft = kernel::rd_focuser::next_fast_size(blk.num_lines);
+    const double fft = kernel::fast_fft_size(blk.num_lines);
     const double gib = 8.0 * d_K *
                        (blk.num_lines + d_M +
                         fft * (d_cfg.band == doppler_band::ESTIMATE ? 2.0 : 1.0)) /
@@ -492,7 +492,7 @@ unsigned rd_focuser_impl::overlap_after() const { return d_after; }
 unsigned rd_focuser_impl::fft_size() const
 {
     const unsigned P = d_before + d_M + d_after;
-    return d_cfg.fast_fft_size ? kernel::rd_focuser::next_fast_size(P) : P;
+    return d_cfg.fast_fft_size ? kernel::fast_fft_size(P) : P;
 }
 double rd_focuser_impl::pulse_interval_s() const { return d_T; }
 double rd_focuser_impl::first_range_m() const { return d_first_range; }

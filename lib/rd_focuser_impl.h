@@ -8,6 +8,7 @@
 #ifndef INCLUDED_NRSAR_RD_FOCUSER_IMPL_H
 #define INCLUDED_NRSAR_RD_FOCUSER_IMPL_H
 
+#include <gnuradio/nrsar/kernel/fft_size.h>
 #include <gnuradio/nrsar/kernel/rd_focuser.h>
 #include <gnuradio/nrsar/rd_focuser.h>
 #include "nonfinite_reporter.h"

@@ -126,17 +126,18 @@ TEST(RangeIfft, FastFftSizeIsSmallestSevenSmooth)
                 m /= p;
         return m == 1;
     };
-    EXPECT_EQ(kernel::range_ifft::fast_fft_size(3333), 3360u); // 2^5 3 5 7
-    EXPECT_EQ(kernel::range_ifft::fast_fft_size(4096), 4096u);
-    EXPECT_EQ(kernel::range_ifft::fast_fft_size(1), 1u);
+    EXPECT_EQ(kernel::fast_fft_size(3333), 3360u); // 2^5 3 5 7
+    EXPECT_EQ(kernel::fast_fft_size(4096), 4096u);
+    EXPECT_EQ(kernel::fast_fft_size(1), 1u);
+    EXPECT_EQ(kernel::fast_fft_size(48000), 48000u); // the paper's aperture: 2^7 3 5^3
     for (unsigned n = 2; n < 3000; n += 37) {
-        const unsigned f = kernel::range_ifft::fast_fft_size(n);
+        const unsigned f = kernel::fast_fft_size(n);
         EXPECT_TRUE(smooth(f));
         EXPECT_GE(f, n);
         for (unsigned m = n; m < f; m++)
             EXPECT_FALSE(smooth(m)) << m;
     }
-    EXPECT_EQ(kernel::range_ifft::pow2_fft_size(3333), 4096u);
+    EXPECT_EQ(kernel::pow2_fft_size(3333), 4096u);
 }
 
 TEST(RangeIfft, CropBinsCeilFloor)

@@ -299,10 +299,3 @@ TEST(rd_focuser, transpose_matches_direct_loop)
             ASSERT_EQ(dst[c * (rows + 5) + r], src[r * cols + c]);
 }
 
-TEST(rd_focuser, next_fast_size)
-{
-    EXPECT_EQ(rd_focuser::next_fast_size(1000), 1000u);
-    EXPECT_EQ(rd_focuser::next_fast_size(1001), 1008u);
-    EXPECT_EQ(rd_focuser::next_fast_size(3333), 3360u);
-    EXPECT_EQ(rd_focuser::next_fast_size(48000), 48000u);
-}

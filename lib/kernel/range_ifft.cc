@@ -95,28 +95,6 @@ void range_ifft::execute(const gr_complex* in, gr_complex* out)
     std::memcpy(out, d_fft->get_outbuf() + d_first, sizeof(gr_complex) * d_count);
 }
 
-unsigned range_ifft::fast_fft_size(unsigned n)
-{
-    if (n <= 1)
-        return 1;
-    for (unsigned long m = n;; m++) {
-        unsigned long r = m;
-        for (unsigned p : { 2u, 3u, 5u, 7u })
-            while (r % p == 0)
-                r /= p;
-        if (r == 1)
-            return unsigned(m);
-    }
-}
-
-unsigned range_ifft::pow2_fft_size(unsigned n)
-{
-    unsigned m = 1;
-    while (m < n)
-        m <<= 1;
-    return m;
-}
-
 bin_range range_ifft::crop_bins(double bin_m, unsigned fft_size, double r_min_m, double r_max_m)
 {
     constexpr double tol = 1e-9;

@@ -6,6 +6,7 @@
  */
 
 #include "../param_check.h"
+#include <gnuradio/nrsar/kernel/fft_size.h>
 #include <gnuradio/nrsar/kernel/rd_focuser.h>
 #include <volk/volk.h>
 #include <algorithm>
@@ -84,18 +85,6 @@ void transpose(const gr_complex* src,
     }
 }
 
-unsigned rd_focuser::next_fast_size(unsigned n)
-{
-    for (unsigned m = std::max(n, 1u);; ++m) {
-        unsigned r = m;
-        for (unsigned p : { 2u, 3u, 5u, 7u })
-            while (r % p == 0)
-                r /= p;
-        if (r == 1)
-            return m;
-    }
-}
-
 rd_focuser::rd_focuser(const focuser_config& cfg, const rd_block& blk)
     : d_cfg(cfg),
       d_blk(blk),
@@ -109,7 +98,7 @@ rd_focuser::rd_focuser(const focuser_config& cfg, const rd_block& blk)
 {
     d_cfg.validate();
     d_blk.validate();
-    d_nfft = cfg.fast_fft_size ? next_fast_size(blk.num_lines) : blk.num_lines;
+    d_nfft = cfg.fast_fft_size ? fast_fft_size(blk.num_lines) : blk.num_lines;
     const unsigned K = blk.num_range_bins;
     d_fwd = std::make_unique<gr::fft::fft_complex_fwd>(d_nfft, 1);
     d_rev = std::make_unique<gr::fft::fft_complex_rev>(d_nfft, 1);

@@ -59,7 +59,7 @@ public:
                      double r_min_m = 0.0,
                      double r_max_m = 0.0);
 
-    //! Smallest 2^a 3^b 5^c 7^d >= n (see kernel::range_ifft::fast_fft_size for why).
+    //! Smallest 2^a 3^b 5^c 7^d >= n (see kernel::fast_fft_size for why).
     static unsigned fast_fft_size(unsigned n);
 
     //! Changes the window at run time (re-tags the range axis on the next item).

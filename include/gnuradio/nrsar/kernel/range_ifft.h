@@ -12,6 +12,7 @@
 #include <gnuradio/fft/window.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/fft_size.h>
 #include <volk/volk_alloc.hh>
 #include <memory>
 
@@ -70,20 +71,6 @@ public:
     double coherent_gain() const { return d_coherent_gain; }
     //! The window (without the 1/sqrt(N) scale), length n().
     std::vector<float> window_taps() const;
-
-    /*!
-     * \brief Smallest 7-smooth size >= n (n = 2^a 3^b 5^c 7^d).
-     *
-     * Why 7-smooth rather than the next power of two: FFTW has hard-coded codelets for
-     * the radices 2, 3, 5, 7, so every such size runs at about the n log n speed of a
-     * power of two; SPEC 5's 3333 = 3 * 11 * 101 is slow (14.9 k vs 40.4 k FFT/s at 4096)
-     * because of the prime 101, not because it is not a power of two. The 7-smooth size
-     * is never larger than the next power of two and usually much closer (3333 -> 3360
-     * = 2^5 3 5 7, 0.8 % padding, vs 4096, 23 %), so it loses less to padding.
-     */
-    static unsigned fast_fft_size(unsigned n);
-    //! Next power of two >= n.
-    static unsigned pow2_fft_size(unsigned n);
 
     /*!
      * \brief Bins whose ranges k * bin_m lie in [r_min_m, r_max_m] (r_max_m <= 0: up to

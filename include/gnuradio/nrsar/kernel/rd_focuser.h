@@ -119,9 +119,6 @@ public:
     //! Azimuth compression phase at range bin k and Doppler f [rad] (double precision).
     double compression_phase(unsigned k, double f_hz) const;
 
-    //! Smallest 7-smooth number (2^a 3^b 5^c 7^d) >= n: sizes FFTW runs at full speed.
-    static unsigned next_fast_size(unsigned n);
-
 private:
     focuser_config d_cfg;
     rd_block d_blk;
