@@ -3,7 +3,7 @@
 #
 # SPDX-License-Identifier: GPL-3.0-or-later
 #
-"""nrsar-figures: figures 3-5 of the first paper from the gr-nrsar chain (nrsar-sim runs).
+"""nrsar-figures: the papers' figures from the gr-nrsar chain (nrsar-sim runs).
 
   fig3  the processing stages for the three paper targets, WF, SNR_in -20 dB, paper preset:
         (a) range-compressed data, (b) range-Doppler domain after the azimuth FFT,
@@ -13,6 +13,9 @@
   fig4  range and azimuth cuts through target 1 for RF / MF / WF at SNR_in -20, 5, 20 dB.
   fig5  NMSE vs SNR_in for RF / MF / WF with 256-QAM and the 8-PSK baseline, several seeds,
         next to NMSE_theory of SPEC 8.
+  presum  the second paper's figure 6 and 8 analogues (range profiles and azimuth cuts per
+        presumming method), the quadratic-phase bound of eq. (P-36) checked past it, and
+        the chain's run time against D (presum_study.py).
 
 Each figure is one PNG and one CSV in --out; progress goes to stderr.
 """
@@ -27,13 +30,13 @@ import time
 
 import numpy as np
 
-from . import params, sim, theory
+from . import params, presum_study, sim, theory
 
 LIGHT_SPEED = 299792458.0
 TARGET1 = "300,100"
 PAPER_SNRS = (-20.0, 5.0, 20.0)
 FILTERS = ("rf", "mf", "wf")
-FIGURES = ("fig3", "fig4", "fig5")
+FIGURES = ("fig3", "fig4", "fig5", "presum")
 
 
 def log(text):
@@ -349,6 +352,12 @@ def fig5(out, quick, workdir, seeds):
     return {"fig5_offset_min_db": min(off), "fig5_offset_max_db": max(off)}
 
 
+def presum(out, quick, workdir):
+    """The presummer study writes its own PNGs and CSVs (presum_*) into out."""
+    presum_study.main(["--out", out] + (["--quick"] if quick else []))
+    return {}
+
+
 def main(argv=None):
     sim.quiet_gnuradio_logs()
     parser = argparse.ArgumentParser(prog="nrsar-figures", description=__doc__,
@@ -370,7 +379,7 @@ def main(argv=None):
     summary = {}
     with tempfile.TemporaryDirectory(prefix="nrsar-figures-") as work:
         for name in only:
-            func = {"fig3": fig3, "fig4": fig4, "fig5": fig5}[name]
+            func = {"fig3": fig3, "fig4": fig4, "fig5": fig5, "presum": presum}[name]
             extra = (args.seeds,) if name == "fig5" else ()
             try:
                 summary.update(func(args.out, args.quick, work, *extra))

@@ -44,6 +44,18 @@ class qa_figures(gr_unittest.TestCase):
                 path = os.path.join(self.out, f"{name}.{ext}")
                 self.assertTrue(os.path.getsize(path) > 100, path)
 
+    def test_005_presum_single_pulse_gains(self):
+        # Boxcar sums D pulses of equal signal and independent noise: 10 log10 D (eq. P-10);
+        # keep-1-of-D gains nothing.
+        rows = {r["method"]: r for r in read(os.path.join(self.out, "presum_single_pulse.csv"))}
+        d = float(rows["boxcar"]["D"])
+        self.assertAlmostEqual(float(rows["boxcar"]["gain_db"]), 10 * math.log10(d), delta=0.5)
+        self.assertAlmostEqual(float(rows["drop"]["gain_db"]), 0.0, delta=0.5)
+        self.assertGreaterEqual(float(rows["cheby"]["gain_db"]),
+                                float(rows["boxcar"]["gain_db"]) - 0.5)
+        for name in ("presum_range_profiles", "presum_azimuth_cuts", "presum_runtime"):
+            self.assertTrue(os.path.getsize(os.path.join(self.out, name + ".png")) > 100, name)
+
     def test_002_fig4_peaks_at_target_one(self):
         rows = read(os.path.join(self.out, "fig4.csv"))
         self.assertEqual({r["filter"] for r in rows}, {"rf", "mf", "wf"})
