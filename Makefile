@@ -15,7 +15,7 @@ DEB_PACKAGES := build-essential cmake ccache pkg-config git \
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(PREFIX) \
 	-DPython_EXECUTABLE=$(PYTHON) -DPYTHON_EXECUTABLE=$(PYTHON) -DENABLE_DOXYGEN=OFF
 
-.PHONY: all deps configure build test install demo bench clean
+.PHONY: all deps configure build test test-sanitize install demo bench clean
 
 all: build
 
@@ -42,6 +42,21 @@ build: configure
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
+# The GoogleTest kernel tests under AddressSanitizer + UndefinedBehaviorSanitizer, in their own
+# Debug build directory (no Python, no benchmarks): any report stops the test (halt_on_error).
+SAN_BUILD  ?= build-sanitize
+SAN_FLAGS  := -fsanitize=address,undefined -fno-omit-frame-pointer
+SAN_ENV    := ASAN_OPTIONS=halt_on_error=1:abort_on_error=0:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitize/lsan.supp:print_suppressions=0
+
+test-sanitize: deps
+	cmake -S . -B $(SAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
+		-DENABLE_PYTHON=OFF -DENABLE_BENCHMARKS=OFF -DENABLE_DOXYGEN=OFF \
+		-DPython_EXECUTABLE=$(PYTHON) -DPYTHON_EXECUTABLE=$(PYTHON)
+	$(SAN_ENV) cmake --build $(SAN_BUILD) -j$(JOBS)
+	cd $(SAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j$(JOBS)
+
 install: build
 	cmake --install $(BUILD)
 	ldconfig
@@ -63,4 +78,4 @@ bench: install
 	$(PREFIX)/bin/nrsar-bench --out docs/bench
 
 clean:
-	rm -rf $(BUILD) $(DEMO_OUT)
+	rm -rf $(BUILD) $(SAN_BUILD) $(DEMO_OUT)

@@ -31,6 +31,11 @@ tf_filter_impl::tf_filter_impl(unsigned vlen,
                      gr::io_signature::make(1, 1, sizeof(gr_complex) * vlen)),
       d_kernel(vlen, type, snr_db, estimate_snr)
 {
+    // Both inputs usually descend from the same transmitter and carry the same tags (the
+    // echo's and the reference grid's): the default ALL_TO_ALL would put each tag twice on
+    // the output. The output is the echo filtered, so work() copies the tags of input 0
+    // (ONE_TO_ONE needs as many outputs as inputs).
+    set_tag_propagation_policy(TPP_CUSTOM);
 }
 
 void tf_filter_impl::set_filter_type(gr::nrsar::filter_type type)
@@ -67,6 +72,12 @@ int tf_filter_impl::work(int noutput_items,
     const auto s = static_cast<const gr_complex*>(input_items[1]);
     auto out = static_cast<gr_complex*>(output_items[0]);
     const std::size_t vlen = d_kernel.vlen();
+
+    // 1:1 rate: a tag keeps its offset.
+    d_tags.clear();
+    get_tags_in_range(d_tags, 0, nitems_read(0), nitems_read(0) + noutput_items);
+    for (const auto& tag : d_tags)
+        add_item_tag(0, tag);
 
     for (int i = 0; i < noutput_items; i++) {
         const std::size_t bad =

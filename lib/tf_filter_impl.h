@@ -20,6 +20,7 @@ class tf_filter_impl : public tf_filter
 private:
     kernel::tf_filter d_kernel;
     nonfinite_reporter d_nonfinite;
+    std::vector<gr::tag_t> d_tags; // tags of input 0 in the current work() call
 
 public:
     tf_filter_impl(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool estimate_snr);

@@ -28,7 +28,9 @@ namespace nrsar {
  * REs the reference leaves empty (|s|^2 = 0, e.g. outside the SRS comb) give 0 for all
  * three filters and are counted (empty_re_count). Non-finite input samples are replaced
  * by 0, counted (nonfinite_count), logged once and reported by a tags::nonfinite_key()
- * tag (uint64 count) on the output item they affected. Input tags propagate.
+ * tag (uint64 count) on the output item they affected. The tags of input 0 (the echo)
+ * propagate; those of input 1 (the transmitted grid, usually the same tags) do not, so
+ * none is doubled.
  *
  * With estimate_snr, WF uses a method-of-moments estimate of SNR_in from the echo and
  * the known symbols over a sliding window of 2^24 (16.8 M) REs (see

@@ -1,0 +1,334 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""Every constructor/setter parameter rule of the blocks and shared types: one test per row
+of docs/robustness.md. Each row breaks one rule of an otherwise valid call and checks that
+Python gets a ValueError whose message names the parameter (and its limit).
+
+`qa_param_rules.py --markdown` prints the table of docs/robustness.md with the messages the
+module really gives, so the document cannot drift from the code."""
+
+import math
+import sys
+
+from gnuradio import fft, gr, gr_unittest
+from gnuradio import blocks
+from gnuradio import nrsar
+from gnuradio.nrsar import (cheby_presum, focuser_config, make_filter, make_geometry,
+                            make_modulation, make_numerology, make_scene, make_srs,
+                            make_tx_mode, nmse_probe, nr_isac_tx, range_ifft, rd_focuser,
+                            scene_echo, tf_filter)
+
+NAN, INF = float("nan"), float("inf")
+WIN = fft.window.WIN_RECTANGULAR
+
+
+def num(**kw):
+    n = nrsar.numerology.preset("tiny")
+    for key, value in kw.items():
+        setattr(n, key, value)
+    return n
+
+
+def geo(**kw):
+    g = nrsar.geometry.preset("short")
+    for key, value in kw.items():
+        setattr(g, key, value)
+    return g
+
+
+def scn(*targets):
+    return nrsar.scene([nrsar.point_target(*t) for t in targets]) if targets \
+        else nrsar.scene.preset("paper3")
+
+
+def srs(**kw):
+    s = nrsar.srs_config()
+    s.start_subcarrier, s.num_rb = 0, 2
+    for key, value in kw.items():
+        setattr(s, key, value)
+    return s
+
+
+def cfg(**kw):
+    c = focuser_config()
+    for key, value in kw.items():
+        setattr(c, key, value)
+    return c
+
+
+def points():
+    return nrsar.constellation(make_modulation("qpsk")).points()
+
+
+def tx(**kw):
+    a = dict(num=num(), mod=make_modulation("qpsk"), mode=make_tx_mode("data"), srs=srs(),
+             seed=0)
+    a.update(kw)
+    return nr_isac_tx(a["num"], a["mod"], a["mode"], a["srs"], a["seed"])
+
+
+def echo(n=None, g=None, s=None, snr_db=20.0):
+    return scene_echo(n or num(), g or geo(), s or scn(), snr_db, 1)
+
+
+def rif(n=None, fft_size=0, window=WIN, window_param=-1.0, r_min=0.0, r_max=0.0):
+    return range_ifft(n or num(), fft_size, window, window_param, r_min, r_max)
+
+
+def foc(n=None, g=None, s=None, k=16, first=900.0, rho=0.0, c=None):
+    return rd_focuser(n or num(), g or geo(), s or scn(), k, first, rho, c or cfg())
+
+
+def probe(**kw):
+    a = dict(num=num(), geo=geo(), scn=scn(), constellation=points(),
+             filter=make_filter("wf"), snr_in_db=10.0, vlen=16)
+    a.update(kw)
+    return nmse_probe(**a)
+
+
+def presum(**kw):
+    a = dict(num=nrsar.numerology.preset("paper"), geo=nrsar.geometry.preset("paper"),
+             scn=scn(), method=nrsar.presum_method.CHEBY, decim=10,
+             domain=nrsar.presum_domain.RANGE, num_bins=64, first_range_m=1000.0,
+             range_bin_m=1.0)
+    a.update(kw)
+    return cheby_presum(**a)
+
+
+def connect_mismatch():
+    tb = gr.top_block()
+    tb.connect(tx(), tf_filter(32))
+
+
+# (subject, rule, call, fragment that the message must contain)
+RULES = [
+    # shared types
+    ("numerology", "subcarrier spacing zero", lambda: num(subcarrier_spacing_hz=0.0).validate(),
+     "subcarrier_spacing_hz = 0"),
+    ("numerology", "subcarrier spacing NaN", lambda: num(subcarrier_spacing_hz=NAN).validate(),
+     "subcarrier_spacing_hz = nan"),
+    ("numerology", "subcarrier spacing inf", lambda: num(subcarrier_spacing_hz=INF).validate(),
+     "subcarrier_spacing_hz = inf"),
+    ("numerology", "no subcarriers", lambda: num(num_subcarriers=0).validate(),
+     "num_subcarriers = 0"),
+    ("numerology", "FFT smaller than N", lambda: num(fft_size=32).validate(),
+     "fft_size = 32 must be at least num_subcarriers = 64"),
+    ("numerology", "zero symbols per slot", lambda: num(symbols_per_slot=0).validate(),
+     "symbols_per_slot = 0"),
+    ("numerology", "zero slots per frame", lambda: num(slots_per_frame=0).validate(),
+     "slots_per_frame = 0"),
+    ("numerology", "unknown preset", lambda: make_numerology("huge"), "huge"),
+    ("numerology", "unknown field override", lambda: make_numerology("tiny", nfft=64),
+     "no field 'nfft'"),
+    ("geometry", "carrier zero", lambda: geo(carrier_hz=0.0).validate(), "carrier_hz = 0"),
+    ("geometry", "negative velocity", lambda: geo(velocity_mps=-1.0).validate(),
+     "velocity_mps = -1"),
+    ("geometry", "height NaN", lambda: geo(height_m=NAN).validate(), "height_m = nan"),
+    ("geometry", "track start inf", lambda: geo(track_start_m=INF).validate(),
+     "track_start_m = inf"),
+    ("geometry", "zero aperture", lambda: geo(aperture_s=0.0).validate(), "aperture_s = 0"),
+    ("geometry", "unknown preset", lambda: make_geometry("long"), "long"),
+    ("scene", "empty scene", lambda: nrsar.scene([]).validate(), "scene has no targets"),
+    ("scene", "target x NaN", lambda: scn((NAN, 0.0)).validate(), "target 0 x_m = nan"),
+    ("scene", "target y inf", lambda: scn((300.0, INF)).validate(), "target 0 y_m = inf"),
+    ("scene", "target phase NaN", lambda: scn((300.0, 0.0, 1.0, NAN)).validate(),
+     "target 0 phase_rad = nan"),
+    ("scene", "negative RCS", lambda: scn((300.0, 0.0), (250.0, 0.0, -1.0)).validate(),
+     "target 1 rcs = -1"),
+    ("scene", "target text not X,Y[,RCS]", lambda: make_scene("300"), "must be X,Y or X,Y,RCS"),
+    ("scene", "target text not a number", lambda: make_scene("300,abc"), "not a number"),
+    ("scene", "unknown preset", lambda: nrsar.scene.preset("paper9"), "paper9"),
+    ("srs_config", "comb offset >= comb", lambda: srs(comb_offset=4).validate(num()),
+     "srs comb_offset = 4 must be below comb = 4"),
+    ("srs_config", "zero comb", lambda: srs(comb=0).validate(num()), "srs comb = 0"),
+    ("srs_config", "zero resource blocks", lambda: srs(num_rb=0).validate(num()),
+     "srs num_rb = 0"),
+    ("srs_config", "zero period", lambda: srs(period_slots=0).validate(num()),
+     "srs period_slots = 0"),
+    ("srs_config", "symbol beyond the slot", lambda: srs(symbol_in_slot=14).validate(num()),
+     "srs symbol_in_slot = 14"),
+    ("srs_config", "band beyond the grid", lambda: srs(start_subcarrier=60).validate(num()),
+     "does not fit the 64 subcarriers"),
+    ("make_srs", "unknown field", lambda: make_srs(combs=2), "no field 'combs'"),
+    ("modulation", "unknown modulation", lambda: make_modulation("qam1024"),
+     "modulation 'qam1024' is unknown"),
+    ("tx_mode", "unknown mode", lambda: make_tx_mode("srs40"), "tx mode 'srs40' is unknown"),
+    ("filter_type", "unknown filter", lambda: make_filter("zf"), "filter 'zf' is unknown"),
+    ("check_scenario", "CP too short for the farthest target",
+     lambda: nrsar.check_scenario(num(cp_samples=4), geo(), scn()), "cyclic prefix too short"),
+    ("check_scenario", "target outside the swath (beyond c / (2 Delta f))",
+     lambda: nrsar.check_scenario(num(cp_samples=80), geo(), scn((5500.0, 0.0))),
+     "beyond the unambiguous range"),
+    ("check_scenario", "normalised Doppler eta >= 0.1",
+     lambda: nrsar.check_scenario(num(), geo(velocity_mps=900.0, carrier_hz=30e9), scn()),
+     "normalised Doppler eta"),
+    ("check_scenario", "zero symbols per pulse",
+     lambda: nrsar.check_scenario(num(), geo(), scn(), 0), "symbols_per_pulse = 0"),
+    ("graph", "vlen mismatch between connected blocks", connect_mismatch, "itemsize mismatch"),
+    # nr_isac_tx
+    ("nr_isac_tx", "seed above 31 bits", lambda: tx(seed=2**31), "seed = 2147483648"),
+    ("nr_isac_tx", "invalid numerology", lambda: tx(num=num(fft_size=8)), "fft_size = 8"),
+    ("nr_isac_tx", "SRS band beyond the grid",
+     lambda: tx(mode=make_tx_mode("srs"), srs=srs(start_subcarrier=60)), "does not fit"),
+    ("nr_isac_tx", "SRS comb offset >= comb",
+     lambda: tx(mode=make_tx_mode("srs"), srs=srs(comb_offset=7)), "srs comb_offset = 7"),
+    # scene_echo
+    ("scene_echo", "SNR NaN", lambda: echo(snr_db=NAN), "snr_db = nan"),
+    ("scene_echo", "SNR -inf", lambda: echo(snr_db=-INF), "snr_db = -inf"),
+    ("scene_echo", "set_snr_db NaN", lambda: echo().set_snr_db(NAN), "snr_db = nan"),
+    ("scene_echo", "empty scene", lambda: echo(s=nrsar.scene([])), "scene has no targets"),
+    ("scene_echo", "set_scene with an empty scene", lambda: echo().set_scene(nrsar.scene([])),
+     "scene has no targets"),
+    ("scene_echo", "CP too short", lambda: echo(n=num(cp_samples=4)), "cyclic prefix too short"),
+    ("scene_echo", "target outside the swath",
+     lambda: echo(n=num(cp_samples=80), s=scn((5500.0, 0.0))), "beyond the unambiguous range"),
+    ("scene_echo", "threads 0", lambda: echo().set_threads(0), "threads = 0"),
+    ("scene_echo", "threads 3", lambda: echo().set_threads(3), "threads = 3"),
+    # tf_filter
+    ("tf_filter", "vlen 0", lambda: tf_filter(0), "vlen = 0"),
+    ("tf_filter", "SNR NaN", lambda: tf_filter(64, make_filter("wf"), NAN), "snr_db = nan"),
+    ("tf_filter", "SNR below -100 dB", lambda: tf_filter(64, make_filter("wf"), -200.0),
+     "snr_db = -200"),
+    ("tf_filter", "set_snr_db inf", lambda: tf_filter(64).set_snr_db(INF), "snr_db = inf"),
+    # range_ifft
+    ("range_ifft", "FFT size below N", lambda: rif(fft_size=32), "fft_size = 32"),
+    ("range_ifft", "window parameter NaN", lambda: rif(window_param=NAN), "window_param = nan"),
+    ("range_ifft", "set_window parameter inf",
+     lambda: rif().set_window(WIN, INF), "window_param = inf"),
+    ("range_ifft", "negative r_min", lambda: rif(r_min=-1.0), "r_min_m = -1"),
+    ("range_ifft", "r_min beyond the unambiguous range", lambda: rif(r_min=6000.0),
+     "r_min_m = 6000"),
+    ("range_ifft", "r_max NaN", lambda: rif(r_max=NAN), "r_max_m = nan"),
+    ("range_ifft", "r_max below r_min", lambda: rif(r_min=1000.0, r_max=900.0),
+     "must be at least r_min_m"),
+    ("range_ifft", "r_max beyond the unambiguous range", lambda: rif(r_max=6000.0),
+     "r_max_m = 6000"),
+    ("range_ifft", "crop without a bin", lambda: rif(r_min=1000.0, r_max=1001.0),
+     "leaves no range bin"),
+    ("range_ifft", "invalid numerology", lambda: rif(n=num(num_subcarriers=0)),
+     "num_subcarriers = 0"),
+    # rd_focuser
+    ("rd_focuser", "no range bins", lambda: foc(k=0), "num_range_bins = 0"),
+    ("rd_focuser", "negative first range", lambda: foc(first=-5.0), "first_range_m = -5"),
+    ("rd_focuser", "first range NaN", lambda: foc(first=NAN), "first_range_m = nan"),
+    ("rd_focuser", "negative range bin", lambda: foc(rho=-1.0), "range_bin_m = -1"),
+    ("rd_focuser", "zero symbols per pulse", lambda: foc(c=cfg(symbols_per_pulse=0)),
+     "symbols_per_pulse = 0"),
+    ("rd_focuser", "overlap below -1", lambda: foc(c=cfg(overlap_lines=-2)),
+     "overlap_lines = -2"),
+    ("rd_focuser", "band margin NaN", lambda: foc(c=cfg(band_margin_hz=NAN)),
+     "band_margin_hz = nan"),
+    ("rd_focuser", "estimate threshold outside [1, 60] dB",
+     lambda: foc(c=cfg(estimate_threshold_db=0.5)), "estimate_threshold_db = 0.5"),
+    ("rd_focuser", "odd RCMC taps", lambda: foc(c=cfg(rcmc_taps=7)), "rcmc_taps = 7"),
+    ("rd_focuser", "RCMC skip threshold outside [0, 1]",
+     lambda: foc(c=cfg(rcmc_skip_below_bins=2.0)), "rcmc_skip_below_bins = 2"),
+    ("rd_focuser", "range centre outside [-1, 1] cycles",
+     lambda: foc(c=cfg(range_centre_cycles=1.5)), "range_centre_cycles = 1.5"),
+    ("rd_focuser", "aperture shorter than 2 lines", lambda: foc(g=geo(aperture_s=1e-5)),
+     "lines_per_aperture"),
+    ("rd_focuser", "lines per aperture 1", lambda: foc(c=cfg(lines_per_aperture=1)),
+     "lines_per_aperture = 1"),
+    ("rd_focuser", "empty scene", lambda: foc(s=nrsar.scene([])), "scene has no targets"),
+    ("rd_focuser", "invalid geometry", lambda: foc(g=geo(velocity_mps=0.0)), "velocity_mps = 0"),
+    # nmse_probe
+    ("nmse_probe", "vlen below 4", lambda: probe(vlen=3), "vlen = 3"),
+    ("nmse_probe", "reference target RCS 0",
+     lambda: probe(scn=scn((300.0, 0.0, 0.0), (250.0, 0.0))), "reference target rcs = 0"),
+    ("nmse_probe", "SNR NaN", lambda: probe(snr_in_db=NAN), "snr_in_db = nan"),
+    ("nmse_probe", "set_snr_in_db inf", lambda: probe().set_snr_in_db(INF), "snr_in_db = inf"),
+    ("nmse_probe", "empty constellation", lambda: probe(constellation=[]),
+     "constellation size"),
+    ("nmse_probe", "constellation point 0", lambda: probe(constellation=[0j, 1 + 0j]),
+     "constellation point"),
+    ("nmse_probe", "negative range resolution", lambda: probe(range_resolution_m=-1.0),
+     "range_resolution_m = -1"),
+    ("nmse_probe", "azimuth resolution NaN", lambda: probe(azimuth_resolution_m=NAN),
+     "azimuth_resolution_m = nan"),
+    ("nmse_probe", "negative noise guard", lambda: probe(noise_guard_cells=-1.0),
+     "noise_guard_cells = -1"),
+    ("nmse_probe", "sidelobe window in (0, 2)", lambda: probe(sidelobe_window_cells=1.0),
+     "sidelobe_window_cells = 1"),
+    ("nmse_probe", "noise box of 3 values", lambda: probe(noise_box=[0.0, 1.0, 2.0]),
+     "noise_box size = 3"),
+    ("nmse_probe", "noise box NaN", lambda: probe(noise_box=[0.0, NAN, 0.0, 1.0]),
+     "noise_box value = nan"),
+    ("nmse_probe", "noise box r_max <= r_min", lambda: probe(noise_box=[5.0, 5.0, 0.0, 1.0]),
+     "noise_box r_max = 5"),
+    ("nmse_probe", "noise box y_max <= y_min", lambda: probe(noise_box=[0.0, 1.0, 3.0, 2.0]),
+     "noise_box y_max = 2"),
+    ("nmse_probe", "one aperture above 2^28 pixels",
+     lambda: probe(vlen=2**16, lines_per_aperture=2**13), "lines_per_aperture * vlen"),
+    ("nmse_probe", "empty scene", lambda: probe(scn=nrsar.scene([])), "scene has no targets"),
+    # cheby_presum
+    ("cheby_presum", "D = 0", lambda: presum(decim=0), "decim = 0"),
+    ("cheby_presum", "D beyond the eq. (P-36) bound", lambda: presum(decim=100000),
+     "decim = 100000"),
+    ("cheby_presum", "no range bins", lambda: presum(num_bins=0), "num_bins = 0"),
+    ("cheby_presum", "negative first range", lambda: presum(first_range_m=-1.0),
+     "first_range_m = -1"),
+    ("cheby_presum", "range bin 0", lambda: presum(range_bin_m=0.0), "range_bin_m = 0"),
+    ("cheby_presum", "zero symbols per pulse", lambda: presum(symbols_per_pulse=0),
+     "symbols_per_pulse = 0"),
+    ("cheby_presum", "one tap", lambda: presum(num_taps=1), "num_taps = 1"),
+    ("cheby_presum", "stopband weight 0", lambda: presum(stopband_weight=0.0),
+     "stopband_weight = 0"),
+    ("cheby_presum", "passband NaN", lambda: presum(passband_hz=NAN), "passband_hz = nan"),
+    ("cheby_presum", "stopband above PRF / 2", lambda: presum(stopband_hz=1e6),
+     "stopband_hz"),
+]
+
+
+def slug(subject, rule):
+    text = f"{subject}_{rule}".lower()
+    return "".join(c if c.isalnum() else "_" for c in text).strip("_").replace("__", "_")
+
+
+def message_of(call):
+    try:
+        call()
+    except Exception as e:  # noqa: BLE001 (the table reports what the user really gets)
+        return type(e).__name__, str(e)
+    return None, None
+
+
+class qa_param_rules(gr_unittest.TestCase):
+    pass
+
+
+def _make_test(call, fragment):
+    def test(self):
+        with self.assertRaises(ValueError) as ctx:
+            call()
+        self.assertIn(fragment, str(ctx.exception))
+    return test
+
+
+for _i, (_subject, _rule, _call, _fragment) in enumerate(RULES):
+    setattr(qa_param_rules, f"test_{_i:03d}_{slug(_subject, _rule)}",
+            _make_test(_call, _fragment))
+
+
+def markdown():
+    """The rows of docs/robustness.md's parameter table."""
+    lines = ["| # | subject | rule broken | what the user gets | test |",
+             "|---|---|---|---|---|"]
+    for i, (subject, rule, call, _) in enumerate(RULES):
+        kind, text = message_of(call)
+        got = f"`{kind}`: {text}" if kind else "(no error)"
+        got = got.replace("|", "\\|").replace("\n", " ")
+        name = f"test_{i:03d}_{slug(subject, rule)}"
+        lines.append(f"| {i} | {subject} | {rule} | {got} | qa_param_rules.py::{name} |")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    if "--markdown" in sys.argv:
+        gr.logger("nrsar").set_level("off") if hasattr(gr, "logger") else None
+        print(markdown())
+    else:
+        gr_unittest.run(qa_param_rules)
