@@ -322,16 +322,19 @@ void rd_focuser_impl::ingest(const gr_complex* lines, unsigned n)
     for (float p : part)
         acc += p;
     std::uint64_t bad = 0;
+    size_t first_bad = 0;
     if (acc != 0.0f) { // NaN (or a NaN sum): find and zero the offenders
         for (size_t j = 0; j < count; ++j) {
             if (!(std::isfinite(lines[j].real()) && std::isfinite(lines[j].imag()))) {
                 d_block[(j % d_K) * P + d_fill + j / d_K] = gr_complex(0.0f, 0.0f);
-                ++bad;
+                if (bad++ == 0)
+                    first_bad = j;
             }
         }
     }
     if (bad) {
-        d_nonfinite.note(d_logger, bad, d_lines_in);
+        // The log names the input line of the first bad sample, not the chunk's first line.
+        d_nonfinite.note(d_logger, bad, d_lines_in + first_bad / d_K);
         d_nonfinite_pending += bad;
     }
     d_fill += n;
