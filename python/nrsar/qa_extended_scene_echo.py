@@ -252,7 +252,7 @@ class qa_scene_files(gr_unittest.TestCase):
 
     def example_dir(self):
         for d in (os.path.join(HERE, "..", "..", "examples", "scenes"),
-                  os.path.join(HERE, "..", "..", "..", "examples", "scenes")):
+                  os.path.join(HERE, "..", "..", "..", "..", "examples", "scenes")):
             if os.path.isdir(d):
                 return d
         self.skipTest("examples/scenes not found")
@@ -313,6 +313,21 @@ class qa_scene_files(gr_unittest.TestCase):
         geo = sf.geometry or nrsar.make_geometry("paper")
         blk = nrsar.extended_scene_echo(num, geo, sf.points, sf.maps, sf.beam or nrsar.antenna_beam())
         self.assertGreater(blk.num_scatterers(), 1000)
+
+    def test_sim_accepts_scene_file(self):
+        import argparse
+        from gnuradio.nrsar import sim
+        d = self.example_dir()
+        args = sim.add_arguments(argparse.ArgumentParser()).parse_args(
+            ["--scene", os.path.join(d, "ship_and_sea.yaml"), "--preset", "small",
+             "--aperture-s", "0.25", "--snr-db", "30", "--out", self.dir])
+        res = sim.run(args)
+        img = np.load(res["image_npy"])
+        self.assertTrue(np.all(np.isfinite(img)))
+        # the map and the reference target are in the image: energy well above the empty rim
+        p = np.abs(img) ** 2
+        self.assertGreater(p.max(), 1e3 * np.median(p))
+        self.assertEqual(res["nonfinite"], 0)
 
 
 if __name__ == "__main__":
