@@ -366,3 +366,19 @@ def ship_and_sea(nx=96, ny=64, dx=0.75, dy=0.75, seed=4):
     sea[hull] = 1.0
     sea[(np.abs(yy - cy + 3) <= 4) & (np.abs(xx - cx) <= 1.5)] = 6.0  # superstructure
     return sea.astype(np.float32)
+
+
+def extended_echo(num, geo, scene_file="", points="", beam=None, snr_db=float("inf"), seed=0,
+                  taps=8, oversampling=2.0):
+    """extended_scene_echo from a YAML scene file (its targets, maps and beam; its numerology
+    and geometry are ignored here: the block's num and geo rule) and/or point targets
+    ('X,Y[,RCS];...' or a preset). beam (an antenna_beam) replaces the file's. Used by GRC."""
+    from .nrsar_python import extended_scene_echo
+    pts, maps, fbeam = [], [], None
+    if scene_file:
+        sf = load_scene_file(scene_file)
+        pts, maps, fbeam = list(sf.points.targets), sf.maps, sf.beam
+    if points:
+        pts += list(params.make_scene(points).targets)
+    return extended_scene_echo(num, geo, scene(pts), maps, beam or fbeam or antenna_beam(),
+                               snr_db, seed, taps, oversampling)
