@@ -153,6 +153,7 @@ extended_scene::extended_scene(const numerology& num,
         d_y.push_back(y);
         d_xh2.push_back(x * x + geo.height_m * geo.height_m);
         d_amp.push_back(a);
+        d_ampf.push_back(gr_complex(a));
     };
     for (const auto& map : maps) {
         std::vector<gr_complex> spk;
@@ -224,11 +225,17 @@ void extended_scene::reference(std::uint64_t m, gr_complex* h)
         if (g == 0.0)
             continue; // outside the beam (beyond the cutoff)
         // b_k = a_k g exp(-j 2 pi 2 R (fc + n0 Delta f) / c): cycles reduced mod 1 in double.
+        // The range product and its reduction are double (1.5e5 rad, SPEC 3); the reduced
+        // angle in [-pi, pi) then goes to a float sincos (error < 4e-7 rad, about -128 dB),
+        // measured 1.3x faster per scatterer than the double sin and cos.
         double cyc = R * cyc_scale;
-        cyc -= std::floor(cyc);
-        const std::complex<double> b =
-            d_amp[k] * g * std::complex<double>(std::cos(two_pi * cyc), -std::sin(two_pi * cyc));
-        const float br = static_cast<float>(b.real()), bi = static_cast<float>(b.imag());
+        cyc -= std::floor(cyc + 0.5);
+        float sn, cs;
+        ::sincosf(static_cast<float>(two_pi * cyc), &sn, &cs);
+        // b = a g exp(-j phi), written out (std::complex's operator* adds a NaN branch)
+        const float ar = d_ampf[k].real() * static_cast<float>(g);
+        const float ai = d_ampf[k].imag() * static_cast<float>(g);
+        const float br = ar * cs + ai * sn, bi = ai * cs - ar * sn;
         // Position on the periodic tau grid (exp(-j 2 pi n' tau) has period 1 in tau).
         double tau = R * tau_scale;
         tau -= std::floor(tau);

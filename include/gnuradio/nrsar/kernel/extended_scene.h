@@ -169,6 +169,7 @@ private:
     double d_total_power = 0.0;
     std::vector<double> d_x, d_y, d_xh2; //!< position; x^2 + H^2
     std::vector<std::complex<double>> d_amp;
+    std::vector<gr_complex> d_ampf; //!< d_amp in float for the spreading
     std::vector<float> d_table;       //!< (d_rows + 1) x L kernel weights
     volk::vector<float> d_deapod;     //!< 1 / Phi(n'/P) for n = 0 .. N-1
     volk::vector<gr_complex> d_grid;  //!< P + L cells (the tail wraps onto the head)
