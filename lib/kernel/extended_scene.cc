@@ -8,6 +8,7 @@
 #include "param_check.h"
 #include <gnuradio/nrsar/kernel/extended_scene.h>
 #include <gnuradio/nrsar/kernel/fft_size.h>
+#include <volk/volk.h>
 #include <algorithm>
 #include <cmath>
 
@@ -312,15 +313,8 @@ std::size_t extended_scene::echo(std::uint64_t m,
     reference(m, hb);
     const unsigned N = d_num.num_subcarriers;
     std::size_t bad = 0;
-    for (unsigned n = 0; n < N; n++) {
-        const gr_complex v = s[n];
-        if (std::isfinite(v.real()) && std::isfinite(v.imag())) {
-            y[n] = v * hb[n];
-        } else {
-            y[n] = 0.0f;
-            bad++;
-        }
-    }
+    const gr_complex* clean = d_guard.guard(s, N, bad); // non-finite S counts as 0
+    volk_32fc_x2_multiply_32fc(y, clean, hb, N);         // eq. (7): Y = S H
     if (noise && sigma > 0.0f)
         noise->add(m, sigma, y, N);
     return bad;

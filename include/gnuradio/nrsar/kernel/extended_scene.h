@@ -11,6 +11,7 @@
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/finite_guard.h>
 #include <gnuradio/nrsar/kernel/gaussian_noise.h>
 #include <gnuradio/nrsar/params.h>
 #include <volk/volk_alloc.hh>
@@ -174,6 +175,7 @@ private:
     volk::vector<float> d_deapod;     //!< 1 / Phi(n'/P) for n = 0 .. N-1
     volk::vector<gr_complex> d_grid;  //!< P + L cells (the tail wraps onto the head)
     volk::vector<gr_complex> d_h;
+    finite_guard d_guard;
     std::unique_ptr<gr::fft::fft_complex_fwd> d_fft;
 };
 
