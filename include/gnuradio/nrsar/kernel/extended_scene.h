@@ -175,6 +175,10 @@ private:
     volk::vector<float> d_deapod;     //!< 1 / Phi(n'/P) for n = 0 .. N-1
     volk::vector<gr_complex> d_grid;  //!< P + L cells (the tail wraps onto the head)
     volk::vector<gr_complex> d_h;
+    //! Scatterers per pass of reference(): range, reduced phase, grid position, sin, cos.
+    static constexpr std::size_t block = 256;
+    std::vector<double> d_Rb, d_cycb, d_posb;
+    std::vector<float> d_snb, d_csb;
     finite_guard d_guard;
     std::unique_ptr<gr::fft::fft_complex_fwd> d_fft;
 };
