@@ -11,6 +11,7 @@
 #include <volk/volk.h>
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace gr {
 namespace nrsar {
@@ -272,36 +273,58 @@ void extended_scene::reference(std::uint64_t m, gr_complex* h)
             snb[i] = (qi & 2) ? -sv : sv;
             csb[i] = ((qi + 1) & 2) ? -cv : cv;
         }
-        // Pass 3: beam gain, b_k, kernel weights, accumulation on the grid.
-        for (std::size_t i = 0; i < nb; i++) {
-            const std::size_t k = k0 + i;
-            float g = 1.0f;
-            if (beam) {
-                g = static_cast<float>(d_beam.azimuth_gain(d_geo, y[i] - yp, Rb[i]));
-                if (g == 0.0f)
-                    continue; // outside the beam (beyond the cutoff)
+        // Pass 3: beam gain, b_k, kernel weights, accumulation on the grid. The tap count
+        // is a template constant for the usual L (the compiler unrolls and vectorises the
+        // taps), a run-time one otherwise.
+        auto spread = [&](auto taps_tag) {
+            constexpr unsigned LT = decltype(taps_tag)::value;
+            const unsigned nt = LT ? LT : L;
+            for (std::size_t i = 0; i < nb; i++) {
+                const std::size_t k = k0 + i;
+                float g = 1.0f;
+                if (beam) {
+                    g = static_cast<float>(d_beam.azimuth_gain(d_geo, y[i] - yp, Rb[i]));
+                    if (g == 0.0f)
+                        continue; // outside the beam (beyond the cutoff)
+                }
+                // b = a g exp(-j phi), written out (std::complex's operator* adds a NaN branch)
+                const float ar = d_ampf[k].real() * g, ai = d_ampf[k].imag() * g;
+                const float cs = csb[i], sn = snb[i];
+                const float br = ar * cs + ai * sn, bi = ai * cs - ar * sn;
+                const double xpos = posb[i];
+                double ix = std::floor(xpos);
+                if (ix >= P)    // tau rounded up to 1
+                    ix = P - 1; // then the fractional offset is 1: the same point, p = P = 0
+                const double ff = (xpos - ix) * d_rows;
+                const unsigned f = std::min(static_cast<unsigned>(ff), d_rows - 1);
+                const float a = static_cast<float>(ff - f);
+                // Taps p = ix - L/2 + 1 + t; shifted by L/2 so the index is never negative.
+                const std::size_t p0 = static_cast<std::size_t>(ix) + 1; // + L/2 - L/2
+                const float* w0 = table + std::size_t(f) * nt;
+                const float* w1 = w0 + nt;
+                float* cell = reinterpret_cast<float*>(grid + p0);
+                for (unsigned t = 0; t < nt; t++) {
+                    const float w = w0[t] + a * (w1[t] - w0[t]);
+                    cell[2 * t] += w * br;
+                    cell[2 * t + 1] += w * bi;
+                }
             }
-            // b = a g exp(-j phi), written out (std::complex's operator* adds a NaN branch)
-            const float ar = d_ampf[k].real() * g, ai = d_ampf[k].imag() * g;
-            const float cs = csb[i], sn = snb[i];
-            const float br = ar * cs + ai * sn, bi = ai * cs - ar * sn;
-            const double xpos = posb[i];
-            double ix = std::floor(xpos);
-            if (ix >= P) // tau rounded up to 1
-                ix = P - 1; // then the fractional offset is 1: the same point, p = P = 0
-            const double ff = (xpos - ix) * d_rows;
-            const unsigned f = std::min(static_cast<unsigned>(ff), d_rows - 1);
-            const float a = static_cast<float>(ff - f);
-            // Taps p = ix - L/2 + 1 + t; shifted by L/2 so that the index is never negative.
-            const std::size_t p0 = static_cast<std::size_t>(ix) + 1; // + L/2 - L/2
-            const float* w0 = table + std::size_t(f) * L;
-            const float* w1 = w0 + L;
-            float* cell = reinterpret_cast<float*>(grid + p0);
-            for (unsigned t = 0; t < L; t++) {
-                const float w = w0[t] + a * (w1[t] - w0[t]);
-                cell[2 * t] += w * br;
-                cell[2 * t + 1] += w * bi;
-            }
+        };
+        switch (L) {
+        case 4:
+            spread(std::integral_constant<unsigned, 4>());
+            break;
+        case 6:
+            spread(std::integral_constant<unsigned, 6>());
+            break;
+        case 8:
+            spread(std::integral_constant<unsigned, 8>());
+            break;
+        case 12:
+            spread(std::integral_constant<unsigned, 12>());
+            break;
+        default:
+            spread(std::integral_constant<unsigned, 0>());
         }
     }
     // Fold the periodic grid: storage index s = p + L/2, p in [-L/2 + 1, P + L/2).
