@@ -99,6 +99,21 @@ class qa_extended_scene_echo(gr_unittest.TestCase):
         self.assertGreater(e4, err_db(h, ref) + 10)
         self.assertLess(e4, -30.0)
 
+    def test_agrees_with_scene_echo(self):
+        # The paper3 targets as three pixels of a sparse map (the rest zero): the same echo as
+        # scene_echo's independent per-target recurrence.
+        vals = np.zeros((41, 51), dtype=np.complex64)
+        vals[0, 50] = vals[0, 0] = vals[40, 50] = 1.0  # (300,100), (250,100), (300,140)
+        mp = nrsar.make_map(vals, 1.0, 1.0, 250.0, 100.0, kind="amplitude")
+        num = nrsar.make_numerology("small")
+        ext = nrsar.extended_scene_echo(num, self.geo, nrsar.scene(), [mp])
+        pts = nrsar.scene_echo(num, self.geo, nrsar.make_scene("paper3"))
+        self.assertEqual(ext.num_scatterers(), 3)
+        s = np.ones((4, num.num_subcarriers), dtype=np.complex64)
+        _, h1, _ = run_block(ext, num, s)
+        _, h2, _ = run_block(pts, num, s)
+        self.assertLess(err_db(h1, h2), -100.0)
+
     def test_paper_numerology_and_late_symbol(self):
         num = nrsar.make_numerology("paper")
         k = nrsar.extended_scene_kernel(num, self.geo, self.points, [self.map])
