@@ -45,7 +45,8 @@ def add_arguments(parser):
     parser.add_argument("--aperture-s", type=float, default=None,
                         help="slow-time span to simulate [s] (default: the geometry's, 2 s)")
     parser.add_argument("--scene", default="paper3",
-                        help="point targets: a preset (paper3, single) or 'X,Y[,RCS];...' in metres")
+                        help="point targets: a preset (paper3, single) or 'X,Y[,RCS];...' in metres, "
+                             "or a YAML scene file (maps, speckle, beam; see nrsar.scenes)")
     parser.add_argument("--target", action="append", default=None, metavar="X,Y[,RCS]",
                         help="add a point target (ground range X, along-track Y in metres, "
                              "RCS linear power); repeatable, replaces --scene; the first is the "
@@ -93,7 +94,33 @@ def presum_factor(args):
 def make_scene_from_args(args):
     if args.target:
         return params.make_scene(args.target)
+    if scene_file_of(args) is not None:
+        return scene_file_of(args).extent_scene
     return params.make_scene(args.scene)
+
+
+def scene_file_of(args):
+    """The parsed YAML scene file when --scene names an existing file (cached on args), else None.
+    Its extent_scene (points, then the corners of every map) stands for the scene in the
+    checks, the crop and the metrics: the reference target is its first point (or a map corner)."""
+    if not (isinstance(getattr(args, "scene", None), str) and os.path.isfile(args.scene)):
+        return None
+    if getattr(args, "_scene_file", None) is None:
+        from . import scenes
+        sf = scenes.load_scene_file(args.scene)
+        sf.extent_scene = scenes.bounding_scene(sf.points, sf.maps)
+        args._scene_file = sf
+    return args._scene_file
+
+
+def make_echo(num, geo, scn, args):
+    """scene_echo for point targets, extended_scene_echo for a YAML scene file."""
+    sf = None if args.target else scene_file_of(args)
+    if sf is None:
+        return scene_echo(num, geo, scn, args.snr_db, args.seed + 1)
+    from .nrsar_python import antenna_beam, extended_scene_echo
+    return extended_scene_echo(num, geo, sf.points, sf.maps, sf.beam or antenna_beam(),
+                               args.snr_db, args.seed + 1)
 
 
 def fft_size_from_arg(arg, num_subcarriers):
@@ -127,7 +154,7 @@ def build_chain(tb, num, geo, scn, args, symbols):
     filter_type = params.make_filter(args.filter)
     tx = nr_isac_tx(num, modulation, params.make_tx_mode(mode), srs, args.seed)
     head = blocks.head(gr.sizeof_gr_complex * n, symbols)
-    echo = scene_echo(num, geo, scn, args.snr_db, args.seed + 1)
+    echo = make_echo(num, geo, scn, args)
     tff = tf_filter(n, filter_type, args.snr_db, args.estimate_snr)
 
     extent = params.compute_extent(geo, scn)
@@ -241,6 +268,13 @@ def run(args):
     geo_overrides = {} if args.aperture_s is None else {"aperture_s": args.aperture_s}
     geo = params.make_geometry(args.geometry, **geo_overrides)
     scn = make_scene_from_args(args)
+    sf = None if args.target else scene_file_of(args)
+    if sf is not None:  # the scene file's numerology and geometry replace the presets
+        num = sf.numerology or num
+        if sf.geometry is not None:
+            fields = ("carrier_hz", "velocity_mps", "height_m", "track_start_m", "aperture_s")
+            geo = params.make_geometry("paper", **{**{k: getattr(sf.geometry, k) for k in fields},
+                                                   **geo_overrides})
     pulse_symbols = grid_of_mode(args.mode, num)[2]
     warnings = params.check_scenario(num, geo, scn, pulse_symbols)
     symbols = int(geo.symbols_per_aperture(num))
