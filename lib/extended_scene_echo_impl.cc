@@ -15,11 +15,6 @@ namespace gr {
 namespace nrsar {
 
 namespace {
-void check_snr_db(double snr_db)
-{
-    if (std::isnan(snr_db) || snr_db == -INFINITY)
-        throw_param("snr_db", snr_db, "must be a number above -inf (+inf turns the noise off)");
-}
 
 // The corners of every map's bounding box plus the point targets: what check_scenario
 // needs to judge the farthest round trip, eta and the Doppler band.
