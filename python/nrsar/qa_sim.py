@@ -67,6 +67,26 @@ class qa_sim(gr_unittest.TestCase):
             self.assertIn(key, result)
         self.assertEqual(result["subcarriers"], 64)
         self.assertEqual(len(result["azimuth_axis_m"]), 2)
+        # stress: the receive chain's share and the process's peak memory
+        self.assertIn("rx_runtime_s", result)
+        self.assertIn("peak_rss_mb", result)
+
+    def test_rx_runtime_and_peak_rss_are_sane(self):
+        args = parse(["--preset", "small", "--aperture-s", "0.4", "--target", "300,10",
+                      "--snr-db", "10", "--presum", "cheby", "--decim", "4", "--out", self.out])
+        result = sim.run(args)
+        blocks_s = result["rx_block_s"]
+        self.assertEqual(set(blocks_s), {"filter", "range_ifft", "presum", "focuser", "probe"})
+        for name, seconds in blocks_s.items():
+            self.assertGreater(seconds, 0.0, name)
+        self.assertAlmostEqual(result["rx_runtime_s"], sum(blocks_s.values()), 9)
+        # CPU time in work() of blocks sharing the cores: at most cores x wall time.
+        self.assertLess(result["rx_runtime_s"], result["runtime_s"] * (os.cpu_count() or 1))
+        # At least the two arrays this run wrote, at most a sane bound for 12000 x K.
+        image_mb = (os.path.getsize(result["image_npy"])
+                    + os.path.getsize(result["range_compressed_npy"])) / 2**20
+        self.assertGreater(result["peak_rss_mb"], image_mb)
+        self.assertLess(result["peak_rss_mb"], 4096)
 
     def test_cli_reports_a_geometry_the_cp_cannot_hold(self):
         proc = subprocess.run(

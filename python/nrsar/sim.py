@@ -18,6 +18,7 @@ for the first target and names the files and axes (SPEC section 9).
 import argparse
 import json
 import os
+import resource
 import sys
 import time
 
@@ -183,6 +184,35 @@ def build_chain(tb, num, geo, scn, args, symbols):
             "presum": presummers[0] if presummers else None}
 
 
+# stress: run-time split and memory of a run
+def run_with_counters(tb):
+    """tb.run() with GNU Radio's performance counters on (the executors read
+    GR_CONF_PERFCOUNTERS_ON when they start, so setting it for the run is enough)."""
+    old = os.environ.get("GR_CONF_PERFCOUNTERS_ON")
+    os.environ["GR_CONF_PERFCOUNTERS_ON"] = "True"
+    try:
+        tb.run()
+    finally:
+        if old is None:
+            del os.environ["GR_CONF_PERFCOUNTERS_ON"]
+        else:
+            os.environ["GR_CONF_PERFCOUNTERS_ON"] = old
+
+
+def rx_block_times(chain):
+    """CPU time [s] each block of the receive chain (main branch: filter, range IFFT,
+    presummer, focuser, probe) spent in work(), from pc_work_time_total (high-resolution
+    timer ticks, ns on Linux). The reference branch and the generator are excluded."""
+    names = ("filter", "range_ifft", "presum", "focuser", "probe")
+    return {name: chain[name].pc_work_time_total() / 1e9 for name in names
+            if chain.get(name) is not None}
+
+
+def peak_rss_mb():
+    """Peak resident set size of this process so far [MiB] (ru_maxrss is in KiB on Linux)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
 def azimuth_axis_of(sink, fallback):
     """[first, step] of the focused image's azimuth axis from the focuser's tag."""
     for tag in sink.tags():
@@ -230,8 +260,9 @@ def run(args):
     tb = gr.top_block("nrsar-sim")
     chain = build_chain(tb, num, geo, scn, args, symbols)
     start = time.perf_counter()
-    tb.run()
+    run_with_counters(tb)
     runtime_s = time.perf_counter() - start
+    rx_times = rx_block_times(chain)
 
     rif, probe = chain["range_ifft"], chain["probe"]
     k = rif.num_bins()
@@ -275,6 +306,9 @@ def run(args):
         "range_fft_size": rif.fft_size(),
         "azimuth_lines": image.shape[0],
         "runtime_s": runtime_s,
+        # stress: receive chain alone = CPU time in work() of its blocks (perf counters)
+        "rx_runtime_s": sum(rx_times.values()),
+        "rx_block_s": rx_times,
         "image_npy": files["image_npy"],
         "image_png": files["image_png"],
         "range_compressed_npy": files["range_compressed_npy"],
@@ -294,6 +328,8 @@ def run(args):
     for key in ("nmse_db", "nmse_theory_db", "pel_db", "snr_out_db", "islr_db", "pslr_db",
                 "irw_range_m", "irw_azimuth_m", "peak_error_m"):
         result[key] = metrics.get(key, float("nan"))
+    # stress: after the images are written, so the .npy/.png step counts too
+    result["peak_rss_mb"] = peak_rss_mb()
     return result
 
 
