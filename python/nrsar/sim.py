@@ -75,6 +75,13 @@ def add_arguments(parser):
                         help="azimuth presummer after the range IFFT (cheby_presum), both branches")
     parser.add_argument("--decim", type=int, default=10,
                         help="presumming factor D (pulses per output pulse; with --presum)")
+    # stress: knobs of the run-time / error sweep (nrsar-bench --sweep)
+    parser.add_argument("--presum-domain", default="range", choices=["range", "tf"],
+                        help="presum after the range IFFT (range) or before it (tf: saves D-1 "
+                             "of every D IFFTs)")
+    parser.add_argument("--range-crop", default="on", choices=["on", "off"],
+                        help="crop the range-compressed data to the scene's swath +- margin "
+                             "(off: keep every IFFT bin)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the data PRBS and the noise")
     parser.add_argument("--out", default="nrsar-out", help="output folder")
     parser.add_argument("--json", action="store_true", help="print one JSON object on stdout")
@@ -128,6 +135,9 @@ def build_chain(tb, num, geo, scn, args, symbols):
     # At least 16 bins each side, so the probe has target-free bins for SNR_out.
     margin = max(args.range_margin_m, 16 * num.range_bin_m(nfft))
     crop = (max(0.0, extent.min_slant_range_m - margin), extent.max_slant_range_m + margin)
+    if getattr(args, "range_crop", "on") == "off":
+        crop = (0.0, 0.0)  # every bin
+    tf_domain = getattr(args, "presum_domain", "range") == "tf"
     cfg = focuser_config()
     cfg.symbols_per_pulse = params.symbols_per_pulse(mode, num, srs)
     cfg.band = {"scene": doppler_band.SCENE, "estimate": doppler_band.ESTIMATE,
@@ -143,21 +153,28 @@ def build_chain(tb, num, geo, scn, args, symbols):
     presummers = []
 
     def range_and_focus():
+        """(block taking the filtered TF pulses, range IFFT, focuser)"""
         rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
         foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                          rif.range_bin_m(), cfg)
         if decim == 1:
             tb.connect(rif, foc)
-        else:
-            pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.RANGE,
-                               rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
-                               symbols_per_pulse=spp)
+            return rif, rif, foc
+        if tf_domain:  # stress: presum the TF pulses, then range-compress D times fewer
+            pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.TF,
+                               n, symbols_per_pulse=spp)
+            tb.connect(pre, rif, foc)
             presummers.append(pre)
-            tb.connect(rif, pre, foc)
-        return rif, foc
+            return pre, rif, foc
+        pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.RANGE,
+                           rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
+                           symbols_per_pulse=spp)
+        presummers.append(pre)
+        tb.connect(rif, pre, foc)
+        return rif, rif, foc
 
-    rif, foc = range_and_focus()
-    rif_ref, foc_ref = range_and_focus()
+    entry, rif, foc = range_and_focus()
+    entry_ref, rif_ref, foc_ref = range_and_focus()
     # The reference branch is the same chain fed with S = 1 and Z = 0 (SPEC 8): the
     # reference echo, filtered against an all-ones grid, so the filter's scale (WF's
     # 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's randomness.
@@ -171,11 +188,11 @@ def build_chain(tb, num, geo, scn, args, symbols):
     image_sink = blocks.vector_sink_c(k, symbols)
     tb.connect(tx, head, echo, (tff, 0))
     tb.connect(head, (tff, 1))
-    tb.connect(tff, rif)
+    tb.connect(tff, entry)
     tb.connect(rif, range_sink)
     tb.connect((echo, 1), (tff_ref, 0))
     tb.connect(ones, (tff_ref, 1))
-    tb.connect(tff_ref, rif_ref)
+    tb.connect(tff_ref, entry_ref)
     tb.connect(foc, image_sink)
     tb.connect(foc, (probe, 0))
     tb.connect(foc_ref, (probe, 1))
@@ -268,6 +285,8 @@ def run(args):
     k = rif.num_bins()
     range_axis = [rif.range_axis_first_m(), rif.range_bin_m()]
     slow_time_axis = [geo.track_start_m, geo.velocity_mps * num.symbol_s()]
+    if getattr(args, "presum_domain", "range") == "tf":  # stress: presummed before the IFFT
+        slow_time_axis[1] *= presum_factor(args)
     compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(-1, k)
     image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
     azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
