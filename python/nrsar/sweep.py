@@ -92,12 +92,16 @@ def write_png(path, rows, cpu):
     import matplotlib.pyplot as plt
 
     front = {r["case"] for r in pareto(rows)}
-    fig, ax = plt.subplots(figsize=(8, 5.5))
-    for r in rows:
+    fig, ax = plt.subplots(figsize=(10, 5.5))
+    for i, r in enumerate(rows, 1):
         on = r["case"] in front
         ax.plot(r["rx_runtime_s"], r["nmse_db"], "o", color="tab:red" if on else "tab:blue")
-        ax.annotate(r["case"], (r["rx_runtime_s"], r["nmse_db"]), fontsize=7,
-                    xytext=(4, 3), textcoords="offset points")
+        # numbers at the points (clustered cases would overprint names), names in the key
+        ax.annotate(str(i), (r["rx_runtime_s"], r["nmse_db"]), fontsize=7,
+                    xytext=(3 + 9 * (i % 3), 3 + 7 * (i % 4)), textcoords="offset points",
+                    arrowprops=dict(arrowstyle="-", lw=0.3))
+    key = "\n".join(f"{i}: {r['case']}" for i, r in enumerate(rows, 1))
+    ax.text(1.02, 1.0, key, transform=ax.transAxes, fontsize=7, va="top")
     pts = sorted((r["rx_runtime_s"], r["nmse_db"]) for r in rows if r["case"] in front)
     ax.plot([p[0] for p in pts], [p[1] for p in pts], "--", color="tab:red", lw=0.8,
             label="Pareto front")
@@ -111,6 +115,17 @@ def write_png(path, rows, cpu):
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def read_csv(path):
+    """Rows of a sweep.csv, numbers as numbers (to re-plot without re-running)."""
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        for k in KEYS:
+            r[k] = float(r[k]) if k not in ("range_bins", "range_fft_size", "azimuth_lines") \
+                else int(r[k])
+    return rows
 
 
 def format_table(rows):
