@@ -109,6 +109,20 @@ class qa_sim(gr_unittest.TestCase):
         self.assertAlmostEqual(runs["tf"]["nmse_db"], runs["range"]["nmse_db"], delta=0.3)
         self.assertAlmostEqual(runs["tf"]["snr_out_db"], runs["range"]["snr_out_db"], delta=0.5)
 
+    def test_images_none_gives_the_same_metrics_without_files(self):
+        # stress: --images none (null sinks) for memory measurements of the chain alone
+        common = ["--preset", "tiny", "--aperture-s", "0.2", "--target", "300,5",
+                  "--snr-db", "0"]
+        keep = sim.run(parse(common + ["--out", os.path.join(self.out, "keep")]))
+        none = sim.run(parse(common + ["--images", "none", "--out",
+                                       os.path.join(self.out, "none")]))
+        for key in ("nmse_db", "snr_out_db", "pslr_db", "peak_error_m", "azimuth_lines"):
+            self.assertEqual(none[key], keep[key], key)
+        for a, b in zip(none["azimuth_axis_m"], keep["azimuth_axis_m"]):
+            self.assertAlmostEqual(a, b, 9)
+        self.assertIsNone(none["image_npy"])
+        self.assertEqual(os.listdir(os.path.join(self.out, "none")), [])
+
     def test_sweep_pareto_front(self):
         from gnuradio.nrsar import sweep
         rows = [{"case": "a", "rx_runtime_s": 1.0, "nmse_db": 5.0},

@@ -82,6 +82,10 @@ def add_arguments(parser):
     parser.add_argument("--range-crop", default="on", choices=["on", "off"],
                         help="crop the range-compressed data to the scene's swath +- margin "
                              "(off: keep every IFFT bin)")
+    parser.add_argument("--images", default="keep", choices=["keep", "none"],
+                        help="keep the range-compressed data and the image in memory and write "
+                             ".npy/.png (keep), or send them to null sinks (none: metrics only, "
+                             "the memory of a streaming receiver)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the data PRBS and the noise")
     parser.add_argument("--out", default="nrsar-out", help="output folder")
     parser.add_argument("--json", action="store_true", help="print one JSON object on stdout")
@@ -184,8 +188,12 @@ def build_chain(tb, num, geo, scn, args, symbols):
     probe = nmse_probe(num, geo, scn, constellation(modulation).points(), filter_type,
                        args.snr_db, k, reference_input=True,
                        symbols_per_aperture=symbols)
-    range_sink = blocks.vector_sink_c(k, symbols)
-    image_sink = blocks.vector_sink_c(k, symbols)
+    if getattr(args, "images", "keep") == "none":  # stress: metrics only
+        range_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
+        image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
+    else:
+        range_sink = blocks.vector_sink_c(k, symbols)
+        image_sink = blocks.vector_sink_c(k, symbols)
     tb.connect(tx, head, echo, (tff, 0))
     tb.connect(head, (tff, 1))
     tb.connect(tff, entry)
@@ -287,9 +295,17 @@ def run(args):
     slow_time_axis = [geo.track_start_m, geo.velocity_mps * num.symbol_s()]
     if getattr(args, "presum_domain", "range") == "tf":  # stress: presummed before the IFFT
         slow_time_axis[1] *= presum_factor(args)
-    compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(-1, k)
-    image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
-    azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
+    keep = getattr(args, "images", "keep") != "none"
+    if keep:
+        compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(-1, k)
+        image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
+        azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
+    else:  # stress: null sinks; the probe's line count and the focuser's axis
+        image = np.zeros((chain["focuser"].lines_per_aperture(), 0), np.complex64)
+        compressed = None
+        azimuth_axis = [geo.track_start_m + chain["focuser"].line_shift() *
+                        chain["focuser"].pulse_interval_s() * geo.velocity_mps,
+                        chain["focuser"].pulse_interval_s() * geo.velocity_mps]
 
     ref_y = scn.targets[0].y_m
     last_y = azimuth_axis[0] + azimuth_axis[1] * (image.shape[0] - 1)
@@ -306,6 +322,9 @@ def run(args):
     for name, data, axis, title, limits in (
             ("range_compressed", compressed, slow_time_axis, "range-compressed", None),
             ("image", image, azimuth_axis, "focused image", (min(ys) - 15, max(ys) + 15))):
+        if not keep:
+            files[name + "_npy"] = files[name + "_png"] = None
+            continue
         files[name + "_npy"] = os.path.abspath(os.path.join(args.out, name + ".npy"))
         files[name + "_png"] = os.path.abspath(os.path.join(args.out, name + ".png"))
         np.save(files[name + "_npy"], data)
