@@ -54,6 +54,22 @@ class qa_sim(gr_unittest.TestCase):
         self.assertTrue(os.path.getsize(result["image_png"]) > 1000)
         self.assertEqual(result["nonfinite"], 0)
 
+    def test_srs_pilots_are_the_pulses(self):
+        # One SRS symbol every 2 slots = 28 symbols: the focuser gets one pulse per SRS
+        # symbol and still puts the target at its place.
+        args = parse(["--preset", "small", "--aperture-s", "0.4", "--target", "300,10",
+                      "--snr-db", "10", "--mode", "srs2", "--out", self.out])
+        result = sim.run(args)
+        self.assertEqual(result["azimuth_lines"], result["symbols"] // 28)
+        self.assertIsNone(result["nmse_theory_db"])
+        image = np.load(result["image_npy"])
+        line, bin_ = np.unravel_index(np.argmax(np.abs(image)), image.shape)
+        first, step = result["range_axis_m"]
+        az_first, az_step = result["azimuth_axis_m"]
+        self.assertAlmostEqual(az_step, 50.0 * 28 / 24000.0, 9)
+        self.assertLess(abs(first + bin_ * step - math.hypot(300.0, 1000.0)), 2 * step)
+        self.assertLess(abs(az_first + line * az_step - 10.0), 1.0)
+
     def test_cli_prints_json_with_the_contract_keys(self):
         proc = subprocess.run(
             [sys.executable, APP, "--preset", "tiny", "--aperture-s", "0.01", "--scene", "paper3",
