@@ -19,6 +19,7 @@ import argparse
 import json
 import math
 import os
+import resource
 import sys
 import time
 
@@ -76,6 +77,17 @@ def add_arguments(parser):
                         help="azimuth presummer after the range IFFT (cheby_presum), both branches")
     parser.add_argument("--decim", type=int, default=10,
                         help="presumming factor D (pulses per output pulse; with --presum)")
+    # stress: knobs of the run-time / error sweep (nrsar-bench --sweep)
+    parser.add_argument("--presum-domain", default="range", choices=["range", "tf"],
+                        help="presum after the range IFFT (range) or before it (tf: saves D-1 "
+                             "of every D IFFTs)")
+    parser.add_argument("--range-crop", default="on", choices=["on", "off"],
+                        help="crop the range-compressed data to the scene's swath +- margin "
+                             "(off: keep every IFFT bin)")
+    parser.add_argument("--images", default="keep", choices=["keep", "none"],
+                        help="keep the range-compressed data and the image in memory and write "
+                             ".npy/.png (keep), or send them to null sinks (none: metrics only, "
+                             "the memory of a streaming receiver)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the data PRBS and the noise")
     parser.add_argument("--out", default="nrsar-out", help="output folder")
     parser.add_argument("--json", action="store_true", help="print one JSON object on stdout")
@@ -162,6 +174,9 @@ def build_chain(tb, num, geo, scn, args, symbols):
     # At least 16 bins each side, so the probe has target-free bins for SNR_out.
     margin = max(args.range_margin_m, 16 * num.range_bin_m(nfft))
     crop = (max(0.0, extent.min_slant_range_m - margin), extent.max_slant_range_m + margin)
+    if getattr(args, "range_crop", "on") == "off":
+        crop = (0.0, 0.0)  # every bin
+    tf_domain = getattr(args, "presum_domain", "range") == "tf"
     cfg = focuser_config()
     cfg.symbols_per_pulse = pulse_symbols
     cfg.band = {"scene": doppler_band.SCENE, "estimate": doppler_band.ESTIMATE,
@@ -177,21 +192,28 @@ def build_chain(tb, num, geo, scn, args, symbols):
     presummers = []
 
     def range_and_focus():
+        """(block taking the filtered TF pulses, range IFFT, focuser)"""
         rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
         foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                          rif.range_bin_m(), cfg)
         if decim == 1:
             tb.connect(rif, foc)
-        else:
-            pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.RANGE,
-                               rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
-                               symbols_per_pulse=spp)
+            return rif, rif, foc
+        if tf_domain:  # stress: presum the TF pulses, then range-compress D times fewer
+            pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.TF,
+                               n, symbols_per_pulse=spp)
+            tb.connect(pre, rif, foc)
             presummers.append(pre)
-            tb.connect(rif, pre, foc)
-        return rif, foc
+            return pre, rif, foc
+        pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.RANGE,
+                           rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
+                           symbols_per_pulse=spp)
+        presummers.append(pre)
+        tb.connect(rif, pre, foc)
+        return rif, rif, foc
 
-    rif, foc = range_and_focus()
-    rif_ref, foc_ref = range_and_focus()
+    entry, rif, foc = range_and_focus()
+    entry_ref, rif_ref, foc_ref = range_and_focus()
     # The reference branch is the same chain fed with S = 1 and Z = 0 (SPEC 8): the
     # reference echo, filtered against an all-ones grid, so the filter's scale (WF's
     # 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's randomness.
@@ -201,21 +223,25 @@ def build_chain(tb, num, geo, scn, args, symbols):
     probe = nmse_probe(num, geo, scn, constellation(modulation).points(), filter_type,
                        args.snr_db, k, reference_input=True,
                        symbols_per_aperture=symbols)
-    range_sink = blocks.vector_sink_c(k, symbols)
-    image_sink = blocks.vector_sink_c(k, symbols)
+    if getattr(args, "images", "keep") == "none":  # stress: metrics only
+        range_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
+        image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
+    else:
+        range_sink = blocks.vector_sink_c(k, symbols)
+        image_sink = blocks.vector_sink_c(k, symbols)
     tb.connect(tx, head, echo, (tff, 0))
     tb.connect(head, (tff, 1))
     tb.connect((echo, 1), (tff_ref, 0))
     tb.connect(ones, (tff_ref, 1))
     if spp == 1:
-        tb.connect(tff, rif)
-        tb.connect(tff_ref, rif_ref)
+        tb.connect(tff, entry)
+        tb.connect(tff_ref, entry_ref)
     else:
         # Pilot-only imaging: the pulses are the SRS symbols, one every spp symbols at
         # symbol_in_slot of every SRS slot; both branches keep exactly those. (The focuser
         # takes pulse p at p spp Tsym: the symbol_in_slot Tsym offset, 13 x 41.7 us = 2.7 cm
         # of track, is below a tenth of a resolution cell.)
-        for source, sink in ((tff, rif), (tff_ref, rif_ref)):
+        for source, sink in ((tff, entry), (tff_ref, entry_ref)):
             tb.connect(source,
                        blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, spp, srs.symbol_in_slot),
                        sink)
@@ -226,6 +252,35 @@ def build_chain(tb, num, geo, scn, args, symbols):
     return {"tx": tx, "echo": echo, "filter": tff, "range_ifft": rif, "focuser": foc,
             "probe": probe, "range_sink": range_sink, "image_sink": image_sink,
             "presum": presummers[0] if presummers else None}
+
+
+# stress: run-time split and memory of a run
+def run_with_counters(tb):
+    """tb.run() with GNU Radio's performance counters on (the executors read
+    GR_CONF_PERFCOUNTERS_ON when they start, so setting it for the run is enough)."""
+    old = os.environ.get("GR_CONF_PERFCOUNTERS_ON")
+    os.environ["GR_CONF_PERFCOUNTERS_ON"] = "True"
+    try:
+        tb.run()
+    finally:
+        if old is None:
+            del os.environ["GR_CONF_PERFCOUNTERS_ON"]
+        else:
+            os.environ["GR_CONF_PERFCOUNTERS_ON"] = old
+
+
+def rx_block_times(chain):
+    """CPU time [s] each block of the receive chain (main branch: filter, range IFFT,
+    presummer, focuser, probe) spent in work(), from pc_work_time_total (high-resolution
+    timer ticks, ns on Linux). The reference branch and the generator are excluded."""
+    names = ("filter", "range_ifft", "presum", "focuser", "probe")
+    return {name: chain[name].pc_work_time_total() / 1e9 for name in names
+            if chain.get(name) is not None}
+
+
+def peak_rss_mb():
+    """Peak resident set size of this process so far [MiB] (ru_maxrss is in KiB on Linux)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
 def azimuth_axis_of(sink, fallback):
@@ -282,16 +337,27 @@ def run(args):
     tb = gr.top_block("nrsar-sim")
     chain = build_chain(tb, num, geo, scn, args, symbols)
     start = time.perf_counter()
-    tb.run()
+    run_with_counters(tb)
     runtime_s = time.perf_counter() - start
+    rx_times = rx_block_times(chain)
 
     rif, probe = chain["range_ifft"], chain["probe"]
     k = rif.num_bins()
     range_axis = [rif.range_axis_first_m(), rif.range_bin_m()]
     slow_time_axis = [geo.track_start_m, geo.velocity_mps * num.symbol_s() * pulse_symbols]
-    compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(-1, k)
-    image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
-    azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
+    if getattr(args, "presum_domain", "range") == "tf":  # stress: presummed before the IFFT
+        slow_time_axis[1] *= presum_factor(args)
+    keep = getattr(args, "images", "keep") != "none"
+    if keep:
+        compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(-1, k)
+        image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
+        azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
+    else:  # stress: null sinks; the probe's line count and the focuser's axis
+        image = np.zeros((chain["focuser"].lines_per_aperture(), 0), np.complex64)
+        compressed = None
+        azimuth_axis = [geo.track_start_m + chain["focuser"].line_shift() *
+                        chain["focuser"].pulse_interval_s() * geo.velocity_mps,
+                        chain["focuser"].pulse_interval_s() * geo.velocity_mps]
 
     ref_y = scn.targets[0].y_m
     last_y = azimuth_axis[0] + azimuth_axis[1] * (image.shape[0] - 1)
@@ -308,6 +374,9 @@ def run(args):
     for name, data, axis, title, limits in (
             ("range_compressed", compressed, slow_time_axis, "range-compressed", None),
             ("image", image, azimuth_axis, "focused image", (min(ys) - 15, max(ys) + 15))):
+        if not keep:
+            files[name + "_npy"] = files[name + "_png"] = None
+            continue
         files[name + "_npy"] = os.path.abspath(os.path.join(args.out, name + ".npy"))
         files[name + "_png"] = os.path.abspath(os.path.join(args.out, name + ".png"))
         np.save(files[name + "_npy"], data)
@@ -327,6 +396,9 @@ def run(args):
         "range_fft_size": rif.fft_size(),
         "azimuth_lines": image.shape[0],
         "runtime_s": runtime_s,
+        # stress: receive chain alone = CPU time in work() of its blocks (perf counters)
+        "rx_runtime_s": sum(rx_times.values()),
+        "rx_block_s": rx_times,
         "image_npy": files["image_npy"],
         "image_png": files["image_png"],
         "range_compressed_npy": files["range_compressed_npy"],
@@ -349,6 +421,8 @@ def run(args):
         result[key] = value if math.isfinite(value) else None  # JSON has no NaN
     if MODES[args.mode][0] != "data":
         result["nmse_theory_db"] = None  # SPEC 8's theory is that of data-aided grids
+    # stress: after the images are written, so the .npy/.png step counts too
+    result["peak_rss_mb"] = peak_rss_mb()
     return result
 
 
