@@ -39,6 +39,13 @@ inline void check_finite_positive(const std::string& name, double value)
         throw_param(name, value, "must be finite and > 0");
 }
 
+//! SNR of an echo generator: +inf turns the noise off, NaN and -inf are refused.
+inline void check_snr_db(double snr_db)
+{
+    if (std::isnan(snr_db) || snr_db == -INFINITY)
+        throw_param("snr_db", snr_db, "must be a number above -inf (+inf turns the noise off)");
+}
+
 template <typename T>
 void check_at_least(const std::string& name, T value, T minimum)
 {

@@ -14,16 +14,6 @@
 namespace gr {
 namespace nrsar {
 
-namespace {
-
-void check_snr_db(double snr_db)
-{
-    if (std::isnan(snr_db) || snr_db == -INFINITY)
-        throw_param("snr_db", snr_db, "must be a number above -inf (+inf turns the noise off)");
-}
-
-} // namespace
-
 scene_echo::sptr scene_echo::make(const numerology& num,
                                   const geometry& geo,
                                   const scene& scn,

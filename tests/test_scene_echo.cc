@@ -80,25 +80,32 @@ class EchoAtSymbol : public ::testing::TestWithParam<std::uint64_t>
 {
 };
 
-TEST_P(EchoAtSymbol, MatchesDirectFloat64Below80dB)
+// The kernel's echo and reference outputs at symbol m against direct_echo, both < -80 dB.
+static void expect_echo_below_80db(const scene& scn, std::uint64_t m, unsigned seed, const char* what)
 {
     const auto num = numerology::preset("paper");
     const auto geo = geometry::preset("paper");
-    const auto scn = test_scene();
     kernel::scene_echo k(num, geo, scn);
-    const auto s = random_qam(num.num_subcarriers, 7);
+    const auto s = random_qam(num.num_subcarriers, seed);
     std::vector<gr_complex> y(num.num_subcarriers), h(num.num_subcarriers);
-    const std::uint64_t m = GetParam();
     k.echo(m, s.data(), y.data(), h.data());
 
     const double err_y = rel_error_db(y, direct_echo(num, geo, scn, m, s));
     const std::vector<gr_complex> ones(num.num_subcarriers, gr_complex(1.0f, 0.0f));
     const double err_h = rel_error_db(h, direct_echo(num, geo, scn, m, ones));
-    RecordProperty("error_y_db", std::to_string(err_y));
-    std::printf("m = %llu: echo error %.1f dB, reference error %.1f dB\n",
-                static_cast<unsigned long long>(m), err_y, err_h);
+    ::testing::Test::RecordProperty("error_y_db", std::to_string(err_y));
+    std::printf("%sm = %llu: echo error %.1f dB, reference error %.1f dB\n",
+                what,
+                static_cast<unsigned long long>(m),
+                err_y,
+                err_h);
     EXPECT_LT(err_y, -80.0);
     EXPECT_LT(err_h, -80.0);
+}
+
+TEST_P(EchoAtSymbol, MatchesDirectFloat64Below80dB)
+{
+    expect_echo_below_80db(test_scene(), GetParam(), 7, "");
 }
 
 // Start, end of the paper's 2 s aperture, and a long stream (no drift).
@@ -218,3 +225,26 @@ TEST(SceneEcho, NonFiniteInputCountsAsZero)
         EXPECT_EQ(k.echo(5, s.data(), y.data()), 0u);
     }
 }
+
+// stress: very long streams and large target phases (docs/stress.md). Symbol 10^8 (70 min
+// of stream, platform 208 km on, range phase 3e7 rad) and just past 2^32 symbols (50 h; a
+// 32-bit symbol counter would wrap here: phase 1.3e9 rad, where the float64 reference still
+// holds ~3e-7 rad), with target phases of 1e5 .. 3e6 rad on top.
+class StressEchoAtSymbol : public ::testing::TestWithParam<std::uint64_t>
+{
+};
+
+TEST_P(StressEchoAtSymbol, LargePhasesMatchDirectFloat64Below80dB)
+{
+    auto scn = scene::preset("paper3");
+    scn.targets[0].phase_rad = 1.0e5;
+    scn.targets[1].phase_rad = -2.5e5;
+    scn.targets[1].rcs = 0.25;
+    scn.targets[2].phase_rad = 3.0e6;
+    expect_echo_below_80db(scn, GetParam(), 11, "stress ");
+}
+
+INSTANTIATE_TEST_SUITE_P(LongStream,
+                         StressEchoAtSymbol,
+                         ::testing::Values(0ull, 10000000ull, 100000000ull,
+                                           4294967296ull + 12345ull));

@@ -18,3 +18,4 @@ from .nrsar_python import *
 
 from .params import (make_numerology, make_geometry, make_scene, make_srs,
                      make_modulation, make_tx_mode, make_filter, parse_target)
+from .scenes import (make_map, make_beam, load_scene_file, SceneFileError)

@@ -91,12 +91,18 @@ def main(argv=None):
                         help="run only this block's comparisons (repeatable)")
     parser.add_argument("--quick", action="store_true",
                         help="short runs (smoke test; ratios are noisier)")
+    parser.add_argument("--sweep", action="store_true",
+                        help="instead: run time vs NMSE / SNR_out / PSLR of nrsar-sim, one "
+                             "processing knob at a time (sweep.csv, sweep.png)")
     args = parser.parse_args(argv)
     from .sim import quiet_gnuradio_logs
     quiet_gnuradio_logs()
     if os.environ.get("VOLK_GENERIC"):
         print("nrsar-bench: VOLK_GENERIC is set: VOLK's generic kernels would be measured",
               file=sys.stderr)
+    if args.sweep:  # stress
+        from . import sweep
+        return sweep.main(args.out, args.quick)
     try:
         modules = bench_modules(args.only)
     except ValueError as err:

@@ -60,10 +60,12 @@ def scenario(quick):
                 noise=noise.astype(np.complex64))
 
 
-def numpy_focus(s, band_lo, band_hi, full, line_shift=0, taps=16, beta=6.0):
+def numpy_focus(s, band_lo, band_hi, full, line_shift=0, taps=16, beta=6.0, phases=None):
     """The same steps in numpy: azimuth FFT, band selection, hyperbolic RCMC by a Kaiser
     windowed sinc on the demodulated range profile, compression, inverse FFT, output rotated
-    by `line_shift` lines (the block's line_shift() in its circular mode)."""
+    by `line_shift` lines (the block's line_shift() in its circular mode). `phases`: round
+    the fractional shift to that many steps per bin as the block's tabulated kernel does
+    (None: exact)."""
     data = s["data"]
     m, k = data.shape
     v = s["geo"].velocity_mps
@@ -89,6 +91,8 @@ def numpy_focus(s, band_lo, band_hi, full, line_shift=0, taps=16, beta=6.0):
         pos = kk[None, :] + shift
         base = np.floor(pos).astype(int)
         mu = pos - base
+        if phases:
+            mu = np.floor(mu * phases + 0.5) / phases
         idx = base[:, :, None] + j[None, None, :]
         off = j[None, None, :] - mu[:, :, None]
         h = (np.sinc(off) * np.i0(beta * np.sqrt(np.clip(1 - (off / (taps / 2)) ** 2, 0, 1)))

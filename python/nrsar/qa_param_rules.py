@@ -14,6 +14,8 @@ module really gives, so the document cannot drift from the code."""
 import math
 import sys
 
+import numpy as np
+
 from gnuradio import fft, gr, gr_unittest
 from gnuradio import blocks
 from gnuradio import nrsar
@@ -97,6 +99,20 @@ def presum(**kw):
              range_bin_m=1.0)
     a.update(kw)
     return cheby_presum(**a)
+
+
+def ext(maps=None, **kw):
+    """extended_scene_echo with one 2 x 2 m map around (300, 0)."""
+    if maps is None:
+        maps = [nrsar.make_map(np.ones((2, 2)), 1.0, 1.0, 300.0, 0.0)]
+    return nrsar.extended_scene_echo(num(), geo(), scn((300.0, 0.0)), maps, **kw)
+
+
+def bad_size_map():
+    m = nrsar.reflectivity_map()
+    m.nx, m.ny = 3, 3
+    m.values = np.ones(4, dtype=np.complex64)
+    return m
 
 
 def connect_mismatch():
@@ -188,6 +204,29 @@ RULES = [
      lambda: echo(n=num(cp_samples=80), s=scn((5500.0, 0.0))), "beyond the unambiguous range"),
     ("scene_echo", "threads 0", lambda: echo().set_threads(0), "threads = 0"),
     ("scene_echo", "threads 3", lambda: echo().set_threads(3), "threads = 3"),
+    # extended_scene_echo
+    ("extended_scene_echo", "odd interpolation taps", lambda: ext(taps=7), "taps = 7"),
+    ("extended_scene_echo", "taps above 32", lambda: ext(taps=40), "taps = 40"),
+    ("extended_scene_echo", "oversampling below 1.25", lambda: ext(oversampling=1.0),
+     "oversampling = 1"),
+    ("extended_scene_echo", "SNR NaN", lambda: ext(snr_db=NAN), "snr_db = nan"),
+    ("extended_scene_echo", "set_snr_db -inf", lambda: ext().set_snr_db(-INF), "snr_db = -inf"),
+    ("extended_scene_echo", "map pixel spacing 0",
+     lambda: nrsar.make_map(np.ones((2, 2)), 0.0, 1.0), "map.dx = 0"),
+    ("extended_scene_echo", "negative map power",
+     lambda: nrsar.make_map(-np.ones((2, 2)), 1.0, 1.0), "power"),
+    ("extended_scene_echo", "map value NaN",
+     lambda: nrsar.make_map(np.array([[1.0, NAN], [1.0, 1.0]]), 1.0, 1.0, kind="amplitude"),
+     "nan"),
+    ("extended_scene_echo", "map values not nx * ny", lambda: ext(maps=[bad_size_map()]),
+     "map.values.size()"),
+    ("extended_scene_echo", "map beyond the cyclic prefix",
+     lambda: ext(maps=[nrsar.make_map(np.ones((2, 2)), 1.0, 1.0, 3000.0, 0.0)]),
+     "cyclic prefix too short"),
+    ("extended_scene_echo", "negative beam aperture",
+     lambda: nrsar.make_beam("azimuth", az_aperture_m=-1.0), "beam.az_aperture_m = -1"),
+    ("extended_scene_echo", "unknown beam mode", lambda: nrsar.make_beam("sideways"),
+     "beam mode = 'sideways'"),
     # tf_filter
     ("tf_filter", "vlen 0", lambda: tf_filter(0), "vlen = 0"),
     ("tf_filter", "SNR NaN", lambda: tf_filter(64, make_filter("wf"), NAN), "snr_db = nan"),

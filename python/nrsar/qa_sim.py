@@ -54,6 +54,22 @@ class qa_sim(gr_unittest.TestCase):
         self.assertTrue(os.path.getsize(result["image_png"]) > 1000)
         self.assertEqual(result["nonfinite"], 0)
 
+    def test_srs_pilots_are_the_pulses(self):
+        # One SRS symbol every 2 slots = 28 symbols: the focuser gets one pulse per SRS
+        # symbol and still puts the target at its place.
+        args = parse(["--preset", "small", "--aperture-s", "0.4", "--target", "300,10",
+                      "--snr-db", "10", "--mode", "srs2", "--out", self.out])
+        result = sim.run(args)
+        self.assertEqual(result["azimuth_lines"], result["symbols"] // 28)
+        self.assertIsNone(result["nmse_theory_db"])
+        image = np.load(result["image_npy"])
+        line, bin_ = np.unravel_index(np.argmax(np.abs(image)), image.shape)
+        first, step = result["range_axis_m"]
+        az_first, az_step = result["azimuth_axis_m"]
+        self.assertAlmostEqual(az_step, 50.0 * 28 / 24000.0, 9)
+        self.assertLess(abs(first + bin_ * step - math.hypot(300.0, 1000.0)), 2 * step)
+        self.assertLess(abs(az_first + line * az_step - 10.0), 1.0)
+
     def test_cli_prints_json_with_the_contract_keys(self):
         proc = subprocess.run(
             [sys.executable, APP, "--preset", "tiny", "--aperture-s", "0.01", "--scene", "paper3",
@@ -67,6 +83,69 @@ class qa_sim(gr_unittest.TestCase):
             self.assertIn(key, result)
         self.assertEqual(result["subcarriers"], 64)
         self.assertEqual(len(result["azimuth_axis_m"]), 2)
+        # stress: the receive chain's share and the process's peak memory
+        self.assertIn("rx_runtime_s", result)
+        self.assertIn("peak_rss_mb", result)
+
+    def test_rx_runtime_and_peak_rss_are_sane(self):
+        args = parse(["--preset", "small", "--aperture-s", "0.4", "--target", "300,10",
+                      "--snr-db", "10", "--presum", "cheby", "--decim", "4", "--out", self.out])
+        result = sim.run(args)
+        blocks_s = result["rx_block_s"]
+        self.assertEqual(set(blocks_s), {"filter", "range_ifft", "presum", "focuser", "probe"})
+        for name, seconds in blocks_s.items():
+            self.assertGreater(seconds, 0.0, name)
+        self.assertAlmostEqual(result["rx_runtime_s"], sum(blocks_s.values()), 9)
+        # CPU time in work() of blocks sharing the cores: at most cores x wall time.
+        self.assertLess(result["rx_runtime_s"], result["runtime_s"] * (os.cpu_count() or 1))
+        # At least the two arrays this run wrote, at most a sane bound for 12000 x K.
+        image_mb = (os.path.getsize(result["image_npy"])
+                    + os.path.getsize(result["range_compressed_npy"])) / 2**20
+        self.assertGreater(result["peak_rss_mb"], image_mb)
+        self.assertLess(result["peak_rss_mb"], 4096)
+
+    def test_presum_before_the_ifft_and_uncropped_range_image_the_same_target(self):
+        # stress: the sweep's knobs --presum-domain tf and --range-crop off
+        common = ["--preset", "tiny", "--aperture-s", "0.2", "--target", "300,5",
+                  "--snr-db", "10", "--presum", "cheby", "--decim", "4"]
+        runs = {name: sim.run(parse(common + extra + ["--out", os.path.join(self.out, name)]))
+                for name, extra in (("range", []), ("tf", ["--presum-domain", "tf"]),
+                                    ("nocrop", ["--range-crop", "off"]))}
+        self.assertEqual(runs["nocrop"]["range_bins"], runs["nocrop"]["range_fft_size"])
+        self.assertLess(runs["range"]["range_bins"], runs["nocrop"]["range_bins"])
+        for name, r in runs.items():
+            image = np.load(r["image_npy"])
+            line, bin_ = np.unravel_index(np.argmax(np.abs(image)), image.shape)
+            first, step = r["range_axis_m"]
+            az_first, az_step = r["azimuth_axis_m"]
+            self.assertLess(abs(first + bin_ * step - math.hypot(300.0, 1000.0)), step, name)
+            self.assertLess(abs(az_first + line * az_step - 5.0), 0.5, name)
+        # presumming commutes with the (linear, per-pulse) range IFFT, up to the TF
+        # domain's one compensation range for all subcarriers (0.13 dB NMSE, 0.36 dB SNR_out)
+        self.assertAlmostEqual(runs["tf"]["nmse_db"], runs["range"]["nmse_db"], delta=0.3)
+        self.assertAlmostEqual(runs["tf"]["snr_out_db"], runs["range"]["snr_out_db"], delta=0.5)
+
+    def test_images_none_gives_the_same_metrics_without_files(self):
+        # stress: --images none (null sinks) for memory measurements of the chain alone
+        common = ["--preset", "tiny", "--aperture-s", "0.2", "--target", "300,5",
+                  "--snr-db", "0"]
+        keep = sim.run(parse(common + ["--out", os.path.join(self.out, "keep")]))
+        none = sim.run(parse(common + ["--images", "none", "--out",
+                                       os.path.join(self.out, "none")]))
+        for key in ("nmse_db", "snr_out_db", "pslr_db", "peak_error_m", "azimuth_lines"):
+            self.assertEqual(none[key], keep[key], key)
+        for a, b in zip(none["azimuth_axis_m"], keep["azimuth_axis_m"]):
+            self.assertAlmostEqual(a, b, 9)
+        self.assertIsNone(none["image_npy"])
+        self.assertEqual(os.listdir(os.path.join(self.out, "none")), [])
+
+    def test_sweep_pareto_front(self):
+        from gnuradio.nrsar import sweep
+        rows = [{"case": "a", "rx_runtime_s": 1.0, "nmse_db": 5.0},
+                {"case": "b", "rx_runtime_s": 2.0, "nmse_db": 3.0},
+                {"case": "c", "rx_runtime_s": 2.5, "nmse_db": 4.0},
+                {"case": "d", "rx_runtime_s": 0.5, "nmse_db": 9.0}]
+        self.assertEqual([r["case"] for r in sweep.pareto(rows)], ["a", "b", "d"])
 
     def test_cli_reports_a_geometry_the_cp_cannot_hold(self):
         proc = subprocess.run(

@@ -17,7 +17,9 @@ for the first target and names the files and axes (SPEC section 9).
 
 import argparse
 import json
+import math
 import os
+import resource
 import sys
 import time
 
@@ -44,7 +46,8 @@ def add_arguments(parser):
     parser.add_argument("--aperture-s", type=float, default=None,
                         help="slow-time span to simulate [s] (default: the geometry's, 2 s)")
     parser.add_argument("--scene", default="paper3",
-                        help="point targets: a preset (paper3, single) or 'X,Y[,RCS];...' in metres")
+                        help="point targets: a preset (paper3, single) or 'X,Y[,RCS];...' in metres, "
+                             "or a YAML scene file (maps, speckle, beam; see nrsar.scenes)")
     parser.add_argument("--target", action="append", default=None, metavar="X,Y[,RCS]",
                         help="add a point target (ground range X, along-track Y in metres, "
                              "RCS linear power); repeatable, replaces --scene; the first is the "
@@ -74,6 +77,17 @@ def add_arguments(parser):
                         help="azimuth presummer after the range IFFT (cheby_presum), both branches")
     parser.add_argument("--decim", type=int, default=10,
                         help="presumming factor D (pulses per output pulse; with --presum)")
+    # stress: knobs of the run-time / error sweep (nrsar-bench --sweep)
+    parser.add_argument("--presum-domain", default="range", choices=["range", "tf"],
+                        help="presum after the range IFFT (range) or before it (tf: saves D-1 "
+                             "of every D IFFTs)")
+    parser.add_argument("--range-crop", default="on", choices=["on", "off"],
+                        help="crop the range-compressed data to the scene's swath +- margin "
+                             "(off: keep every IFFT bin)")
+    parser.add_argument("--images", default="keep", choices=["keep", "none"],
+                        help="keep the range-compressed data and the image in memory and write "
+                             ".npy/.png (keep), or send them to null sinks (none: metrics only, "
+                             "the memory of a streaming receiver)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the data PRBS and the noise")
     parser.add_argument("--out", default="nrsar-out", help="output folder")
     parser.add_argument("--json", action="store_true", help="print one JSON object on stdout")
@@ -92,7 +106,33 @@ def presum_factor(args):
 def make_scene_from_args(args):
     if args.target:
         return params.make_scene(args.target)
+    if scene_file_of(args) is not None:
+        return scene_file_of(args).extent_scene
     return params.make_scene(args.scene)
+
+
+def scene_file_of(args):
+    """The parsed YAML scene file when --scene names an existing file (cached on args), else None.
+    Its extent_scene (points, then the corners of every map) stands for the scene in the
+    checks, the crop and the metrics: the reference target is its first point (or a map corner)."""
+    if not (isinstance(getattr(args, "scene", None), str) and os.path.isfile(args.scene)):
+        return None
+    if getattr(args, "_scene_file", None) is None:
+        from . import scenes
+        sf = scenes.load_scene_file(args.scene)
+        sf.extent_scene = scenes.bounding_scene(sf.points, sf.maps)
+        args._scene_file = sf
+    return args._scene_file
+
+
+def make_echo(num, geo, scn, args):
+    """scene_echo for point targets, extended_scene_echo for a YAML scene file."""
+    sf = None if args.target else scene_file_of(args)
+    if sf is None:
+        return scene_echo(num, geo, scn, args.snr_db, args.seed + 1)
+    from .nrsar_python import antenna_beam, extended_scene_echo
+    return extended_scene_echo(num, geo, sf.points, sf.maps, sf.beam or antenna_beam(),
+                               args.snr_db, args.seed + 1)
 
 
 def fft_size_from_arg(arg, num_subcarriers):
@@ -103,23 +143,30 @@ def fft_size_from_arg(arg, num_subcarriers):
     return int(arg)
 
 
-def build_chain(tb, num, geo, scn, args, symbols):
-    """Connects the imaging chain and its reference branch into top block tb.
-
-    Returns the blocks by name: the sinks hold the range-compressed data and the focused
-    image; the probe holds the metrics of the first target."""
-    mode, period = MODES[args.mode]
+def grid_of_mode(mode_arg, num):
+    """(tx mode name, SRS layout, symbols per pulse) of a --mode value. The SRS band is
+    the paper's (subcarriers 1667..1954) where it fits, else centred."""
+    mode, period = MODES[mode_arg]
     srs = srs_config()
     if period:
         srs.period_slots = period
     if mode != "data" and srs.start_subcarrier + srs.num_subcarriers() > num.num_subcarriers:
         srs.start_subcarrier = (num.num_subcarriers - srs.num_subcarriers()) // 2
+    return mode, srs, params.symbols_per_pulse(mode, num, srs)
+
+
+def build_chain(tb, num, geo, scn, args, symbols):
+    """Connects the imaging chain and its reference branch into top block tb.
+
+    Returns the blocks by name: the sinks hold the range-compressed data and the focused
+    image; the probe holds the metrics of the first target."""
+    mode, srs, pulse_symbols = grid_of_mode(args.mode, num)
     n = num.num_subcarriers
     modulation = params.make_modulation(args.modulation)
     filter_type = params.make_filter(args.filter)
     tx = nr_isac_tx(num, modulation, params.make_tx_mode(mode), srs, args.seed)
     head = blocks.head(gr.sizeof_gr_complex * n, symbols)
-    echo = scene_echo(num, geo, scn, args.snr_db, args.seed + 1)
+    echo = make_echo(num, geo, scn, args)
     tff = tf_filter(n, filter_type, args.snr_db, args.estimate_snr)
 
     extent = params.compute_extent(geo, scn)
@@ -127,8 +174,11 @@ def build_chain(tb, num, geo, scn, args, symbols):
     # At least 16 bins each side, so the probe has target-free bins for SNR_out.
     margin = max(args.range_margin_m, 16 * num.range_bin_m(nfft))
     crop = (max(0.0, extent.min_slant_range_m - margin), extent.max_slant_range_m + margin)
+    if getattr(args, "range_crop", "on") == "off":
+        crop = (0.0, 0.0)  # every bin
+    tf_domain = getattr(args, "presum_domain", "range") == "tf"
     cfg = focuser_config()
-    cfg.symbols_per_pulse = params.symbols_per_pulse(mode, num, srs)
+    cfg.symbols_per_pulse = pulse_symbols
     cfg.band = {"scene": doppler_band.SCENE, "estimate": doppler_band.ESTIMATE,
                 "full": doppler_band.FULL}[args.band]
     cfg.rcmc_taps = args.rcmc_taps
@@ -142,21 +192,28 @@ def build_chain(tb, num, geo, scn, args, symbols):
     presummers = []
 
     def range_and_focus():
+        """(block taking the filtered TF pulses, range IFFT, focuser)"""
         rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
         foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                          rif.range_bin_m(), cfg)
         if decim == 1:
             tb.connect(rif, foc)
-        else:
-            pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.RANGE,
-                               rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
-                               symbols_per_pulse=spp)
+            return rif, rif, foc
+        if tf_domain:  # stress: presum the TF pulses, then range-compress D times fewer
+            pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.TF,
+                               n, symbols_per_pulse=spp)
+            tb.connect(pre, rif, foc)
             presummers.append(pre)
-            tb.connect(rif, pre, foc)
-        return rif, foc
+            return pre, rif, foc
+        pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.RANGE,
+                           rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
+                           symbols_per_pulse=spp)
+        presummers.append(pre)
+        tb.connect(rif, pre, foc)
+        return rif, rif, foc
 
-    rif, foc = range_and_focus()
-    rif_ref, foc_ref = range_and_focus()
+    entry, rif, foc = range_and_focus()
+    entry_ref, rif_ref, foc_ref = range_and_focus()
     # The reference branch is the same chain fed with S = 1 and Z = 0 (SPEC 8): the
     # reference echo, filtered against an all-ones grid, so the filter's scale (WF's
     # 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's randomness.
@@ -166,21 +223,64 @@ def build_chain(tb, num, geo, scn, args, symbols):
     probe = nmse_probe(num, geo, scn, constellation(modulation).points(), filter_type,
                        args.snr_db, k, reference_input=True,
                        symbols_per_aperture=symbols)
-    range_sink = blocks.vector_sink_c(k, symbols)
-    image_sink = blocks.vector_sink_c(k, symbols)
+    if getattr(args, "images", "keep") == "none":  # stress: metrics only
+        range_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
+        image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
+    else:
+        range_sink = blocks.vector_sink_c(k, symbols)
+        image_sink = blocks.vector_sink_c(k, symbols)
     tb.connect(tx, head, echo, (tff, 0))
     tb.connect(head, (tff, 1))
-    tb.connect(tff, rif)
-    tb.connect(rif, range_sink)
     tb.connect((echo, 1), (tff_ref, 0))
     tb.connect(ones, (tff_ref, 1))
-    tb.connect(tff_ref, rif_ref)
+    if spp == 1:
+        tb.connect(tff, entry)
+        tb.connect(tff_ref, entry_ref)
+    else:
+        # Pilot-only imaging: the pulses are the SRS symbols, one every spp symbols at
+        # symbol_in_slot of every SRS slot; both branches keep exactly those. (The focuser
+        # takes pulse p at p spp Tsym: the symbol_in_slot Tsym offset, 13 x 41.7 us = 2.7 cm
+        # of track, is below a tenth of a resolution cell.)
+        for source, sink in ((tff, entry), (tff_ref, entry_ref)):
+            tb.connect(source,
+                       blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, spp, srs.symbol_in_slot),
+                       sink)
+    tb.connect(rif, range_sink)
     tb.connect(foc, image_sink)
     tb.connect(foc, (probe, 0))
     tb.connect(foc_ref, (probe, 1))
     return {"tx": tx, "echo": echo, "filter": tff, "range_ifft": rif, "focuser": foc,
             "probe": probe, "range_sink": range_sink, "image_sink": image_sink,
             "presum": presummers[0] if presummers else None}
+
+
+# stress: run-time split and memory of a run
+def run_with_counters(tb):
+    """tb.run() with GNU Radio's performance counters on (the executors read
+    GR_CONF_PERFCOUNTERS_ON when they start, so setting it for the run is enough)."""
+    old = os.environ.get("GR_CONF_PERFCOUNTERS_ON")
+    os.environ["GR_CONF_PERFCOUNTERS_ON"] = "True"
+    try:
+        tb.run()
+    finally:
+        if old is None:
+            del os.environ["GR_CONF_PERFCOUNTERS_ON"]
+        else:
+            os.environ["GR_CONF_PERFCOUNTERS_ON"] = old
+
+
+def rx_block_times(chain):
+    """CPU time [s] each block of the receive chain (main branch: filter, range IFFT,
+    presummer, focuser, probe) spent in work(), from pc_work_time_total (high-resolution
+    timer ticks, ns on Linux). The reference branch and the generator are excluded."""
+    names = ("filter", "range_ifft", "presum", "focuser", "probe")
+    return {name: chain[name].pc_work_time_total() / 1e9 for name in names
+            if chain.get(name) is not None}
+
+
+def peak_rss_mb():
+    """Peak resident set size of this process so far [MiB] (ru_maxrss is in KiB on Linux)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
 def azimuth_axis_of(sink, fallback):
@@ -223,23 +323,41 @@ def run(args):
     geo_overrides = {} if args.aperture_s is None else {"aperture_s": args.aperture_s}
     geo = params.make_geometry(args.geometry, **geo_overrides)
     scn = make_scene_from_args(args)
-    warnings = params.check_scenario(num, geo, scn,
-                                     params.symbols_per_pulse(MODES[args.mode][0], num))
+    sf = None if args.target else scene_file_of(args)
+    if sf is not None:  # the scene file's numerology and geometry replace the presets
+        num = sf.numerology or num
+        if sf.geometry is not None:
+            fields = ("carrier_hz", "velocity_mps", "height_m", "track_start_m", "aperture_s")
+            geo = params.make_geometry("paper", **{**{k: getattr(sf.geometry, k) for k in fields},
+                                                   **geo_overrides})
+    pulse_symbols = grid_of_mode(args.mode, num)[2]
+    warnings = params.check_scenario(num, geo, scn, pulse_symbols)
     symbols = int(geo.symbols_per_aperture(num))
 
     tb = gr.top_block("nrsar-sim")
     chain = build_chain(tb, num, geo, scn, args, symbols)
     start = time.perf_counter()
-    tb.run()
+    run_with_counters(tb)
     runtime_s = time.perf_counter() - start
+    rx_times = rx_block_times(chain)
 
     rif, probe = chain["range_ifft"], chain["probe"]
     k = rif.num_bins()
     range_axis = [rif.range_axis_first_m(), rif.range_bin_m()]
-    slow_time_axis = [geo.track_start_m, geo.velocity_mps * num.symbol_s()]
-    compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(-1, k)
-    image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
-    azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
+    slow_time_axis = [geo.track_start_m, geo.velocity_mps * num.symbol_s() * pulse_symbols]
+    if getattr(args, "presum_domain", "range") == "tf":  # stress: presummed before the IFFT
+        slow_time_axis[1] *= presum_factor(args)
+    keep = getattr(args, "images", "keep") != "none"
+    if keep:
+        compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(-1, k)
+        image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
+        azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
+    else:  # stress: null sinks; the probe's line count and the focuser's axis
+        image = np.zeros((chain["focuser"].lines_per_aperture(), 0), np.complex64)
+        compressed = None
+        azimuth_axis = [geo.track_start_m + chain["focuser"].line_shift() *
+                        chain["focuser"].pulse_interval_s() * geo.velocity_mps,
+                        chain["focuser"].pulse_interval_s() * geo.velocity_mps]
 
     ref_y = scn.targets[0].y_m
     last_y = azimuth_axis[0] + azimuth_axis[1] * (image.shape[0] - 1)
@@ -256,6 +374,9 @@ def run(args):
     for name, data, axis, title, limits in (
             ("range_compressed", compressed, slow_time_axis, "range-compressed", None),
             ("image", image, azimuth_axis, "focused image", (min(ys) - 15, max(ys) + 15))):
+        if not keep:
+            files[name + "_npy"] = files[name + "_png"] = None
+            continue
         files[name + "_npy"] = os.path.abspath(os.path.join(args.out, name + ".npy"))
         files[name + "_png"] = os.path.abspath(os.path.join(args.out, name + ".png"))
         np.save(files[name + "_npy"], data)
@@ -275,6 +396,9 @@ def run(args):
         "range_fft_size": rif.fft_size(),
         "azimuth_lines": image.shape[0],
         "runtime_s": runtime_s,
+        # stress: receive chain alone = CPU time in work() of its blocks (perf counters)
+        "rx_runtime_s": sum(rx_times.values()),
+        "rx_block_s": rx_times,
         "image_npy": files["image_npy"],
         "image_png": files["image_png"],
         "range_compressed_npy": files["range_compressed_npy"],
@@ -293,7 +417,12 @@ def run(args):
         result["warnings"] += list(chain["presum"].warnings())
     for key in ("nmse_db", "nmse_theory_db", "pel_db", "snr_out_db", "islr_db", "pslr_db",
                 "irw_range_m", "irw_azimuth_m", "peak_error_m"):
-        result[key] = metrics.get(key, float("nan"))
+        value = metrics.get(key, float("nan"))
+        result[key] = value if math.isfinite(value) else None  # JSON has no NaN
+    if MODES[args.mode][0] != "data":
+        result["nmse_theory_db"] = None  # SPEC 8's theory is that of data-aided grids
+    # stress: after the images are written, so the .npy/.png step counts too
+    result["peak_rss_mb"] = peak_rss_mb()
     return result
 
 

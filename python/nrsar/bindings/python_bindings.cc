@@ -28,6 +28,7 @@ namespace py = pybind11;
     void bind_rd_focuser(py::module& m);
     void bind_nmse_probe(py::module& m);
     void bind_cheby_presum(py::module& m);
+    void bind_extended_scene_echo(py::module& m);
 // ) END BINDING_FUNCTION_PROTOTYPES
 
 
@@ -67,5 +68,6 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_rd_focuser(m);
     bind_nmse_probe(m);
     bind_cheby_presum(m);
+    bind_extended_scene_echo(m);
     // ) END BINDING_FUNCTION_CALLS
 }
