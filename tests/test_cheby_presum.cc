@@ -9,6 +9,7 @@
 // the Parks-McClellan design against a direct DTFT, and parameter validation.
 
 #include <gnuradio/nrsar/kernel/cheby_presum.h>
+#include "test_util.h"
 #include <gtest/gtest.h>
 #include <cmath>
 #include <complex>
@@ -35,16 +36,6 @@ kernel::presum_config config(presum_method m, unsigned d)
     return c;
 }
 
-std::vector<gr_complex> noise(std::size_t n, unsigned seed)
-{
-    std::mt19937 rng(seed);
-    std::normal_distribution<float> g(0.0f, 1.0f);
-    std::vector<gr_complex> x(n);
-    for (auto& v : x)
-        v = gr_complex(g(rng), g(rng));
-    return x;
-}
-
 // Runs the kernel over P pulses, returns the outputs.
 std::vector<std::vector<gr_complex>> run(kernel::cheby_presum& k,
                                          const std::vector<gr_complex>& x,
@@ -64,7 +55,7 @@ TEST(cheby_presum, drop_keeps_every_dth_pulse)
 {
     const unsigned d = 7, pulses = 100;
     kernel::cheby_presum k(num, geo, scn, K, first_m, bin_m, config(presum_method::DROP, d));
-    const auto x = noise(std::size_t(pulses) * K, 1);
+    const auto x = nrsar_test::gaussian_samples(std::size_t(pulses) * K, 1);
     const auto out = run(k, x, pulses);
     ASSERT_EQ(out.size(), (pulses + d - 1) / d);
     for (std::size_t g = 0; g < out.size(); ++g)
@@ -76,7 +67,7 @@ TEST(cheby_presum, boxcar_sums_groups)
 {
     const unsigned d = 5, pulses = 50;
     kernel::cheby_presum k(num, geo, scn, K, first_m, bin_m, config(presum_method::BOXCAR, d));
-    const auto x = noise(std::size_t(pulses) * K, 2);
+    const auto x = nrsar_test::gaussian_samples(std::size_t(pulses) * K, 2);
     const auto out = run(k, x, pulses);
     ASSERT_EQ(out.size(), pulses / d);
     for (std::size_t g = 0; g < out.size(); ++g)

@@ -7,6 +7,7 @@
 // Kernel tests of range compression, eq. (29), against a direct O(N^2) DFT in double.
 
 #include <gnuradio/nrsar/kernel/range_ifft.h>
+#include "test_util.h"
 #include <gtest/gtest.h>
 #include <cmath>
 #include <complex>
@@ -38,19 +39,9 @@ std::vector<cd> direct(const std::vector<gr_complex>& x,
     return out;
 }
 
-std::vector<gr_complex> noise(std::size_t n, unsigned seed)
-{
-    std::mt19937 rng(seed);
-    std::normal_distribution<float> g(0.0f, 1.0f);
-    std::vector<gr_complex> x(n);
-    for (auto& v : x)
-        v = gr_complex(g(rng), g(rng));
-    return x;
-}
-
 void expect_direct(unsigned n, unsigned nfft, unsigned first, unsigned count, bool hann)
 {
-    const auto x = noise(n, n + nfft);
+    const auto x = nrsar_test::gaussian_samples(n, n + nfft);
     std::vector<double> w(n, 1.0);
     if (hann) // Hann written out here: 0.5 - 0.5 cos(2 pi i / (n - 1))
         for (unsigned i = 0; i < n; i++)
