@@ -125,6 +125,47 @@ void srs_config::validate(const numerology& num) const
     }
 }
 
+bool dmrs_config::is_dmrs_symbol(unsigned symbol_in_slot) const
+{
+    return std::find(symbols.begin(), symbols.end(), symbol_in_slot) != symbols.end();
+}
+
+void dmrs_config::validate(const numerology& num) const
+{
+    check_range("dmrs scrambling_id", scrambling_id, 0u, 65535u);
+    for (std::size_t i = 0; i < symbols.size(); ++i) {
+        if (symbols[i] >= num.symbols_per_slot)
+            throw_param("dmrs symbols",
+                        symbols[i],
+                        "must be below symbols_per_slot = " + std::to_string(num.symbols_per_slot));
+        if (i > 0 && symbols[i] <= symbols[i - 1])
+            throw_param("dmrs symbols",
+                        symbols[i],
+                        "must be strictly increasing (follows " + std::to_string(symbols[i - 1]) +
+                            ")");
+    }
+}
+
+namespace {
+const std::vector<std::pair<std::string, dmrs_config>>& dmrs_presets()
+{
+    static const std::vector<std::pair<std::string, dmrs_config>> table = {
+        { "none", dmrs_config{} },
+        { "pusch1", dmrs_config{ { 2 }, 0 } },
+        { "pusch2", dmrs_config{ { 2, 11 }, 0 } },
+        { "pusch4", dmrs_config{ { 2, 5, 8, 11 }, 0 } },
+    };
+    return table;
+}
+} // namespace
+
+dmrs_config dmrs_config::preset(const std::string& name)
+{
+    return lookup(dmrs_presets(), "dmrs", name);
+}
+
+std::vector<std::string> dmrs_config::preset_names() { return names_of(dmrs_presets()); }
+
 std::uint64_t geometry::symbols_per_aperture(const numerology& num) const
 {
     return static_cast<std::uint64_t>(std::llround(aperture_s / num.symbol_s()));

@@ -139,3 +139,25 @@ TEST(Validation, EveryRuleNamesItsParameter)
     srs.comb_offset = 4;
     EXPECT_NE(error_of([&] { srs.validate(small); }).find("comb_offset = 4"), std::string::npos);
 }
+
+TEST(params, dmrs_presets_and_rules)
+{
+    const auto num = numerology::preset("paper");
+    const auto nr = dmrs_config::preset("pusch2");
+    EXPECT_EQ(nr.symbols, (std::vector<unsigned>{ 2, 11 }));
+    EXPECT_TRUE(nr.enabled());
+    EXPECT_TRUE(nr.is_dmrs_symbol(11));
+    EXPECT_FALSE(nr.is_dmrs_symbol(3));
+    EXPECT_NO_THROW(nr.validate(num));
+    EXPECT_FALSE(dmrs_config::preset("none").enabled());
+
+    dmrs_config late{ { 2, 14 }, 0 };
+    EXPECT_NE(error_of([&] { late.validate(num); }).find("dmrs symbols = 14 must be below"),
+              std::string::npos);
+    dmrs_config unordered{ { 5, 5 }, 0 };
+    EXPECT_NE(error_of([&] { unordered.validate(num); }).find("strictly increasing"),
+              std::string::npos);
+    dmrs_config big_id{ { 2 }, 70000 };
+    EXPECT_NE(error_of([&] { big_id.validate(num); }).find("scrambling_id = 70000"),
+              std::string::npos);
+}

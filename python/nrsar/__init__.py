@@ -16,6 +16,6 @@ numerology, geometry, scene (see params.py for builders from presets and strings
 # import pybind11 generated symbols into the nrsar namespace
 from .nrsar_python import *
 
-from .params import (make_numerology, make_geometry, make_scene, make_srs,
+from .params import (make_numerology, make_geometry, make_scene, make_srs, make_dmrs,
                      make_modulation, make_tx_mode, make_filter, parse_target)
 from .scenes import (make_map, make_beam, load_scene_file, SceneFileError)

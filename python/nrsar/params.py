@@ -10,7 +10,7 @@ The one place where GRC `make:` lines, the apps and scripts turn user input into
 `validate()` / `check_scenario()` so every front end gets the same errors.
 """
 
-from .nrsar_python import (numerology, geometry, scene, point_target, srs_config,
+from .nrsar_python import (numerology, geometry, scene, point_target, srs_config, dmrs_config,
                            modulation, tx_mode, filter_type, check_scenario, compute_extent)
 
 MODULATIONS = {
@@ -72,6 +72,30 @@ def make_geometry(preset="paper", **overrides):
 
 def make_srs(**overrides):
     return _with_overrides(srs_config(), overrides, "srs_config")
+
+
+def make_dmrs(spec="none", num=None, scrambling_id=0):
+    """A DMRS layout from a preset name ('none', 'pusch1', 'pusch2', 'pusch4'), a
+    comma-separated list of symbol positions ('2,11') or a list of ints; validated against
+    num when given."""
+    if isinstance(spec, dmrs_config):
+        dmrs = spec
+    elif isinstance(spec, str) and not spec.strip()[:1].isdigit():
+        dmrs = dmrs_config.preset(spec.strip().lower())
+    else:
+        text = spec.split(",") if isinstance(spec, str) else spec
+        try:
+            symbols = [int(s) for s in text]
+        except (TypeError, ValueError):
+            raise ValueError(f"dmrs symbols '{spec}' must be a preset name or integers "
+                             "like '2,11'") from None
+        dmrs = dmrs_config()
+        dmrs.symbols = symbols
+    if scrambling_id:
+        dmrs.scrambling_id = int(scrambling_id)
+    if num is not None:
+        dmrs.validate(num)
+    return dmrs
 
 
 def parse_target(text):

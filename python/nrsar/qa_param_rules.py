@@ -20,7 +20,7 @@ from gnuradio import fft, gr, gr_unittest
 from gnuradio import blocks
 from gnuradio import nrsar
 from gnuradio.nrsar import (cheby_presum, focuser_config, make_filter, make_geometry,
-                            make_modulation, make_numerology, make_scene, make_srs,
+                            make_dmrs, make_modulation, make_numerology, make_scene, make_srs,
                             make_tx_mode, nmse_probe, nr_isac_tx, range_ifft, rd_focuser,
                             scene_echo, tf_filter)
 
@@ -169,6 +169,14 @@ RULES = [
      "srs symbol_in_slot = 14"),
     ("srs_config", "band beyond the grid", lambda: srs(start_subcarrier=60).validate(num()),
      "does not fit the 64 subcarriers"),
+    ("dmrs_config", "symbol beyond the slot", lambda: make_dmrs("2,14", num()),
+     "dmrs symbols = 14 must be below symbols_per_slot = 14"),
+    ("dmrs_config", "symbols not increasing", lambda: make_dmrs("11,2", num()),
+     "dmrs symbols = 2 must be strictly increasing"),
+    ("dmrs_config", "scrambling id beyond 16 bits", lambda: make_dmrs("pusch2", num(), 65536),
+     "dmrs scrambling_id = 65536"),
+    ("make_dmrs", "symbols not integers", lambda: make_dmrs("2,x"), "must be a preset name"),
+    ("dmrs_config", "unknown preset", lambda: make_dmrs("pusch3"), "pusch3"),
     ("make_srs", "unknown field", lambda: make_srs(combs=2), "no field 'combs'"),
     ("modulation", "unknown modulation", lambda: make_modulation("qam1024"),
      "modulation 'qam1024' is unknown"),

@@ -90,6 +90,34 @@ struct NRSAR_API srs_config {
 };
 
 /*!
+ * \brief PUSCH DMRS layout of the uplink slot (3GPP TS 38.211 6.4.1.1, configuration type 1,
+ * single port, two CDM groups without data).
+ *
+ * The OFDM symbols of every slot listed in symbols (positions 0 .. symbols_per_slot - 1,
+ * strictly increasing) carry the DMRS on the even subcarriers (n % 2 == 0) of the whole grid:
+ * QPSK values of the Gold sequence c(n) (SPEC section 2) with
+ * c_init = (2^17 (14 slot + symbol + 1) (2 scrambling_id + 1) + 2 scrambling_id) mod 2^31
+ * (slot = slot index within the frame). The odd subcarriers of those symbols are left empty,
+ * so a DMRS symbol repeats with period fft_size / 2 in time (what the base station's
+ * timing and CFO acquisition looks for). An empty symbols list means no DMRS (every RE of the
+ * grid carries data, the radar-only default). The imaging side uses every RE, DMRS included.
+ */
+struct NRSAR_API dmrs_config {
+    std::vector<unsigned> symbols;  //!< DMRS symbol positions in the slot (NR: {2, 11})
+    unsigned scrambling_id = 0;     //!< N_ID^{n_SCID}, 0 .. 65535
+
+    bool enabled() const { return !symbols.empty(); }
+    //! True when symbol l of a slot carries DMRS.
+    bool is_dmrs_symbol(unsigned symbol_in_slot) const;
+    void validate(const numerology& num) const;
+
+    //! Presets: "none" (no DMRS), "pusch2" ({2, 11}: NR's 1+1 additional position),
+    //! "pusch1" ({2}), "pusch4" ({2, 5, 8, 11}).
+    static dmrs_config preset(const std::string& name);
+    static std::vector<std::string> preset_names();
+};
+
+/*!
  * \brief Platform geometry: carrier, straight track along y at height H (SPEC section 2).
  *
  * The platform is at (0, track_start_m + v t, H) at slow time t; one aperture lasts

@@ -82,6 +82,22 @@ void bind_params(py::module& m)
         .def("num_subcarriers", &srs_config::num_subcarriers)
         .def("validate", &srs_config::validate, py::arg("num"));
 
+    py::class_<dmrs_config>(m, "dmrs_config", "PUSCH DMRS layout (type 1, comb 2)")
+        .def(py::init<>())
+        .def_readwrite("symbols", &dmrs_config::symbols)
+        .def_readwrite("scrambling_id", &dmrs_config::scrambling_id)
+        .def("enabled", &dmrs_config::enabled)
+        .def("is_dmrs_symbol", &dmrs_config::is_dmrs_symbol, py::arg("symbol_in_slot"))
+        .def("validate", &dmrs_config::validate, py::arg("num"))
+        .def_static("preset", &dmrs_config::preset, py::arg("name"))
+        .def_static("preset_names", &dmrs_config::preset_names)
+        .def("__repr__", [](const dmrs_config& d) {
+            std::string s = "dmrs_config(symbols=[";
+            for (std::size_t i = 0; i < d.symbols.size(); ++i)
+                s += (i ? ", " : "") + std::to_string(d.symbols[i]);
+            return s + "], scrambling_id=" + std::to_string(d.scrambling_id) + ")";
+        });
+
     py::class_<geometry>(m, "geometry", "Platform geometry and aperture")
         .def(py::init<>())
         .def_readwrite("carrier_hz", &geometry::carrier_hz)
