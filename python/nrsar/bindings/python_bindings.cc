@@ -29,6 +29,13 @@ namespace py = pybind11;
     void bind_nmse_probe(py::module& m);
     void bind_cheby_presum(py::module& m);
     void bind_extended_scene_echo(py::module& m);
+    void bind_pusch_encoder(py::module& m);
+    void bind_pusch_receiver(py::module& m);
+    void bind_ofdm_mod(py::module& m);
+    void bind_ofdm_demod(py::module& m);
+    void bind_ofdm_sync(py::module& m);
+    void bind_td_echo(py::module& m);
+    void bind_image_sink(py::module& m);
 // ) END BINDING_FUNCTION_PROTOTYPES
 
 
@@ -69,5 +76,12 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_nmse_probe(m);
     bind_cheby_presum(m);
     bind_extended_scene_echo(m);
+    bind_pusch_encoder(m);
+    bind_pusch_receiver(m);
+    bind_ofdm_mod(m);
+    bind_ofdm_demod(m);
+    bind_ofdm_sync(m);
+    bind_td_echo(m);
+    bind_image_sink(m);
     // ) END BINDING_FUNCTION_CALLS
 }
