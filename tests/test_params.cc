@@ -140,6 +140,15 @@ TEST(Validation, EveryRuleNamesItsParameter)
     EXPECT_NE(error_of([&] { srs.validate(small); }).find("comb_offset = 4"), std::string::npos);
 }
 
+TEST(params, dc_subcarrier_is_even_and_central)
+{
+    EXPECT_EQ(numerology::preset("paper").dc_subcarrier(), 1666u); // 3333 / 2 = 1666
+    EXPECT_EQ(numerology::preset("sdr20").dc_subcarrier(), 306u);  // 612 / 2
+    numerology odd_half = numerology::preset("tiny");
+    odd_half.num_subcarriers = 54; // 27 -> 26
+    EXPECT_EQ(odd_half.dc_subcarrier(), 26u);
+}
+
 TEST(params, dmrs_presets_and_rules)
 {
     const auto num = numerology::preset("paper");

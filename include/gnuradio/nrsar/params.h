@@ -54,6 +54,13 @@ struct NRSAR_API numerology {
     double symbol_s() const { return useful_symbol_s() + cp_s(); }            //!< Tsym
     double prf_hz() const { return 1.0 / symbol_s(); }                        //!< 1/Tsym
     double bandwidth_hz() const { return num_subcarriers * subcarrier_spacing_hz; } //!< Br
+    /*!
+     * Subcarrier k0 that the time-domain waveform puts at DC: floor(N / 2) rounded down to an
+     * even number, so subcarrier n sits at baseband frequency (n - k0) Delta f (FFT bin
+     * (n - k0) mod fft_size) and even subcarriers land on even bins. The TF model's frequency
+     * fc + n Delta f (SPEC section 3) then means an RF carrier at fc + k0 Delta f.
+     */
+    unsigned dc_subcarrier() const { return (num_subcarriers / 2) & ~1u; }
     //! Slant-range spacing of bin k of an nfft-point range IFFT: c / (2 nfft Delta f).
     double range_bin_m(unsigned nfft) const;
     //! Unambiguous slant range of the subcarrier grid, c / (2 Delta f).
