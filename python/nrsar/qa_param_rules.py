@@ -327,6 +327,23 @@ RULES = [
     ("cheby_presum", "passband NaN", lambda: presum(passband_hz=NAN), "passband_hz = nan"),
     ("cheby_presum", "stopband above PRF / 2", lambda: presum(stopband_hz=1e6),
      "stopband_hz"),
+    # td_echo
+    ("td_echo", "odd delay-filter taps", lambda: nrsar.td_echo(num(), geo(), scn(), taps=7),
+     "taps = 7"),
+    ("td_echo", "delay-filter taps 0", lambda: nrsar.td_echo(num(), geo(), scn(), taps=0),
+     "taps = 0"),
+    ("td_echo", "delay-filter taps above 256",
+     lambda: nrsar.td_echo(num(), geo(), scn(), taps=258), "taps = 258"),
+    ("td_echo", "Kaiser beta above 50",
+     lambda: nrsar.td_echo(num(), geo(), scn(), kaiser_beta=60.0), "kaiser_beta = 60"),
+    ("td_echo", "SNR NaN", lambda: nrsar.td_echo(num(), geo(), scn(), NAN), "snr_db = nan"),
+    ("td_echo", "set_snr_db -inf", lambda: nrsar.td_echo(num(), geo(), scn()).set_snr_db(-INF),
+     "snr_db = -inf"),
+    ("td_echo", "round trip beyond the CP",
+     lambda: nrsar.td_echo(num(cp_samples=4), geo(), scn()), "cyclic prefix too short"),
+    ("td_echo", "set_scene with an empty scene",
+     lambda: nrsar.td_echo(num(), geo(), scn()).set_scene(nrsar.scene([])),
+     "scene has no targets"),
 ]
 
 
