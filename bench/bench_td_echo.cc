@@ -35,6 +35,7 @@ void BM_TdEchoPaper3(benchmark::State& state)
     const unsigned taps = static_cast<unsigned>(state.range(0));
     const bool noise = state.range(1) != 0;
     kernel::td_echo k(num, geometry::preset("paper"), scene::preset("paper3"), taps);
+    k.fir().set_simd(state.range(2) != 0);
     kernel::gaussian_noise g(5);
     const std::size_t n = 8192, hist = k.history();
     const auto x = samples(hist + n);
@@ -53,6 +54,7 @@ void BM_MultipathFirOnePath(benchmark::State& state)
 {
     const unsigned taps = static_cast<unsigned>(state.range(0));
     kernel::multipath_fir fir(taps, 9.0, 2000);
+    fir.set_simd(state.range(1) != 0);
     const kernel::echo_path p{ 900.37, 1.0 };
     fir.set_paths(&p, 1);
     const std::size_t n = 8192;
@@ -67,5 +69,6 @@ void BM_MultipathFirOnePath(benchmark::State& state)
 
 } // namespace
 
-BENCHMARK(BM_TdEchoPaper3)->ArgsProduct({ { 16, 32, 64 }, { 0, 1 } });
-BENCHMARK(BM_MultipathFirOnePath)->Arg(16)->Arg(32)->Arg(64);
+// Args: taps, noise (0/1), AVX2 loop (1) or one VOLK dot product per output (0).
+BENCHMARK(BM_TdEchoPaper3)->ArgsProduct({ { 16, 32, 64 }, { 0, 1 }, { 0, 1 } });
+BENCHMARK(BM_MultipathFirOnePath)->ArgsProduct({ { 16, 32, 64 }, { 0, 1 } });

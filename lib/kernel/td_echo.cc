@@ -6,6 +6,8 @@
  */
 
 #include "../param_check.h"
+#include "gaussian_noise_impl.h" // noise_detail::avx2_available()
+#include "td_echo_impl.h"
 #include <gnuradio/nrsar/kernel/td_echo.h>
 #include <volk/volk.h>
 #include <algorithm>
@@ -32,7 +34,10 @@ double i0(double x)
 } // namespace
 
 multipath_fir::multipath_fir(unsigned taps, double kaiser_beta, unsigned max_lag)
-    : d_taps(taps), d_beta(kaiser_beta), d_max_lag(max_lag)
+    : d_simd(noise_detail::avx2_available()),
+      d_taps(taps),
+      d_beta(kaiser_beta),
+      d_max_lag(max_lag)
 {
     if (taps < 2 || taps > 256 || taps % 2 != 0)
         throw_param("taps", taps, "must be even and in [2, 256]");
@@ -41,6 +46,7 @@ multipath_fir::multipath_fir(unsigned taps, double kaiser_beta, unsigned max_lag
     d_i0_beta = i0(kaiser_beta);
     d_acc.resize(max_lag + 1);
     d_grev.resize(max_lag + 1);
+    d_tail.resize(max_lag + 4);
 }
 
 double multipath_fir::default_beta(unsigned taps, double band_edge)
@@ -130,9 +136,15 @@ void multipath_fir::filter(const gr_complex* x, gr_complex* y, std::size_t n) co
     }
     const gr_complex* g = d_grev.data();
     const gr_complex* xs = x - d_lag_hi;
+    if (d_simd) {
+        td_detail::fir_avx2(xs, g, span, y, n, d_tail.data());
+        return;
+    }
     for (std::size_t i = 0; i < n; i++)
         volk_32fc_x2_dot_prod_32fc(y + i, xs + i, g, span);
 }
+
+void multipath_fir::set_simd(bool allow) { d_simd = allow && noise_detail::avx2_available(); }
 
 td_echo::td_echo(const numerology& num,
                  const geometry& geo,
@@ -219,8 +231,8 @@ std::uint64_t td_echo::process(std::uint64_t s0,
         if (with_noise) {
             if (off == 0 && len == d_sym) {
                 noise->add(m, sigma, y + i, len);
-            } else { // partial symbol: element off.. of block m
-                noise->generate(m, sigma, d_z.data(), d_sym);
+            } else { // partial symbol: elements off .. off + len of block m
+                noise->generate(m, sigma, d_z.data(), off + len);
                 volk_32f_x2_add_32f(reinterpret_cast<float*>(y + i),
                                     reinterpret_cast<const float*>(y + i),
                                     reinterpret_cast<const float*>(d_z.data() + off),

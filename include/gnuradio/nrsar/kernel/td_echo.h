@@ -39,7 +39,8 @@ struct echo_path {
  * DC gain; an integer delay gives the single tap 1, so it is exact). Taps at negative lags
  * (delays below L/2 samples) are dropped: the filter is causal. A path whose lags exceed
  * max_lag is dropped and counted.
- * The inner loop is volk_32fc_x2_dot_prod_32fc over the span lag_hi - lag_lo + 1.
+ * Inner loop over the span lag_hi - lag_lo + 1: an AVX2/FMA loop (16 outputs per pass,
+ * runtime dispatch) or, without AVX2, one volk_32fc_x2_dot_prod_32fc per output.
  */
 class NRSAR_API multipath_fir
 {
@@ -77,7 +78,13 @@ public:
      */
     void filter(const gr_complex* x, gr_complex* y, std::size_t n) const;
 
+    //! false: the VOLK dot-product loop even when the CPU has AVX2/FMA (tests, bench).
+    void set_simd(bool allow);
+    //! "avx2" or "volk".
+    const char* implementation() const { return d_simd ? "avx2" : "volk"; }
+
 private:
+    bool d_simd;
     unsigned d_taps;
     double d_beta;
     double d_i0_beta;
@@ -85,6 +92,7 @@ private:
     int d_lag_lo = 1, d_lag_hi = 0;
     std::vector<std::complex<double>> d_acc; //!< g over lags 0 .. max_lag (double)
     volk::vector<gr_complex> d_grev;         //!< g[lag_hi - i], i < span (float)
+    mutable volk::vector<gr_complex> d_tail; //!< scratch of the AVX2 loop's last outputs
 };
 
 /*!
@@ -137,6 +145,7 @@ public:
     //! Highest |f| of the OFDM signal [cycles/sample], max(k0, N - k0) / fft_size.
     double band_edge() const;
     const multipath_fir& fir() const { return d_fir; }
+    multipath_fir& fir() { return d_fir; }
 
     //! Delays [samples] and gains (carrier term included) of the targets at symbol m.
     std::vector<echo_path> paths(std::uint64_t m) const;
