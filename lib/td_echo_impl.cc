@@ -47,7 +47,9 @@ td_echo_impl::td_echo_impl(const numerology& num,
     check_and_log(scn);
     check_snr_db(snr_db);
     update_sigma();
-    d_line.assign(d_echo.history(), gr_complex(0.0f, 0.0f)); // zeros before the start
+    // zeros before the stream start
+    d_line.assign(d_echo.history() * 9, gr_complex(0.0f, 0.0f));
+    d_pos = d_echo.history();
     if (d_echo.band_edge() >= 0.5)
         d_logger->warn("the numerology fills the whole FFT band (num_subcarriers = {} of "
                        "fft_size = {}): fractional delays of the band-edge subcarriers are "
@@ -113,11 +115,19 @@ int td_echo_impl::work(int noutput_items,
                      tags::nonfinite_key(),
                      d_nonfinite.note(d_logger, zeroed, nitems_read(0) + first));
     }
-    d_line.resize(hist + n);
-    std::memcpy(d_line.data() + hist, clean, n * sizeof(gr_complex));
+    // Delay line: the hist samples before d_pos are the past input; append this call's
+    // input, sliding the last hist samples to the front only when the buffer is full.
+    if (d_pos + n > d_line.size()) {
+        if (hist + n > d_line.size())
+            d_line.resize(hist + std::max<std::size_t>(n, 8 * hist));
+        std::memmove(d_line.data(), d_line.data() + d_pos - hist, hist * sizeof(gr_complex));
+        d_pos = hist;
+    }
+    std::memcpy(d_line.data() + d_pos, clean, n * sizeof(gr_complex));
 
     const std::uint64_t before = d_echo.dropped_paths();
-    d_echo.process(nitems_read(0), d_line.data() + hist, out, n, &d_noise, d_sigma);
+    d_echo.process(nitems_read(0), d_line.data() + d_pos, out, n, &d_noise, d_sigma);
+    d_pos += n;
     if (d_echo.dropped_paths() > before && !d_dropped_logged) {
         d_logger->warn("a target's delay exceeds one OFDM symbol ({} samples) at sample {}: "
                        "left out (see dropped_paths())",
@@ -125,8 +135,6 @@ int td_echo_impl::work(int noutput_items,
                        nitems_read(0));
         d_dropped_logged = true;
     }
-    // Keep the last hist samples for the next call.
-    std::memmove(d_line.data(), d_line.data() + n, hist * sizeof(gr_complex));
     return noutput_items;
 }
 

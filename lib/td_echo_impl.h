@@ -31,8 +31,9 @@ private:
     float d_sigma;
     nonfinite_reporter d_nonfinite;
     bool d_dropped_logged = false;
-    //! Delay line: history() past input samples, then the current work() call's input.
+    //! Delay line: the history() samples before d_pos are past input, then this call's.
     volk::vector<gr_complex> d_line;
+    std::size_t d_pos = 0;
 
     void check_and_log(const scene& scn) const;
     void update_sigma();
