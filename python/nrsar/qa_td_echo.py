@@ -88,9 +88,9 @@ class qa_td_echo(gr_unittest.TestCase):
     def tearDown(self):
         self.tb = None
 
-    def run_td(self, x, scn, snr_db=float("inf"), seed=0, taps=32, tags=(), num=None):
+    def run_td(self, x, scn, snr_db=float("inf"), seed=0, taps=32, tags=(), num=None, geo=None):
         src = blocks.vector_source_c(list(x.astype(np.complex64)), False, 1, list(tags))
-        blk = nrsar.td_echo(num or self.num, self.geo, scn, snr_db, seed, taps)
+        blk = nrsar.td_echo(num or self.num, geo or self.geo, scn, snr_db, seed, taps)
         snk = blocks.vector_sink_c()
         tb = gr.top_block()
         tb.connect(src, blk, snk)
@@ -190,6 +190,48 @@ class qa_td_echo(gr_unittest.TestCase):
         x0[[100, 501]] = 0
         y0, _, _ = self.run_td(x0, scene_of(PAPER3))
         self.assertLess(np.max(np.abs(y - y0)), 1e-6)
+
+    def test_matches_gr_radar_static_target_simulator(self):
+        """Peer: gr-radar's static_target_simulator_cc delays each tagged packet circularly
+        (FFT, phase ramp over the FFT bins), with c = 3e8 m/s, the radar-equation amplitude
+        b = (c / fc) sqrt(rcs) / (R^2 (4 pi)^1.5) and no carrier phase. For a signal that
+        repeats with the packet length, circular and linear delay agree after the first
+        packet, so td_echo's output equals the peer's times e^{-j 2 pi (fc + k0 df) tau} / b
+        when the peer gets the range R' = R 3e8 / c (the same delay)."""
+        try:
+            from gnuradio import radar
+        except ImportError:
+            self.skipTest("gr-radar is not installed")
+        num = nrsar.make_numerology("sdr20", num_subcarriers=800)  # band edge 0.39
+        geo = nrsar.make_geometry("paper", velocity_mps=1e-6, track_start_m=100.0)  # static
+        P, fs = num.fft_size, num.fft_size * num.subcarrier_spacing_hz
+        R = float(np.sqrt(300.0**2 + geo.height_m**2))
+        tau = 2.0 * R / C
+        rng = np.random.default_rng(5)
+        X = np.zeros(P, dtype=np.complex128)
+        bins = np.r_[1:400, P - 399:P]  # both signs of frequency, |f| < 0.39
+        X[bins] = np.exp(2j * np.pi * rng.random(bins.size))
+        x = np.tile(np.fft.ifft(X) * np.sqrt(P), 12)
+        ours, _, _ = self.run_td(x, scene_of([(300.0, 100.0, 1.0, 0.0)]), num=num, geo=geo)
+
+        r_peer = R * 3e8 / C
+        tb = gr.top_block()
+        src = blocks.vector_source_c(list(x.astype(np.complex64)))
+        s2t = blocks.stream_to_tagged_stream(gr.sizeof_gr_complex, 1, P, "packet_len")
+        sim = radar.static_target_simulator_cc([r_peer], [0.0], [1.0], [0.0], [0.0], int(fs),
+                                               geo.carrier_hz, -10.0, False, False, "packet_len")
+        snk = blocks.vector_sink_c()
+        tb.connect(src, s2t, sim, snk)
+        tb.run()
+        peer = np.array(snk.data(), dtype=np.complex128)
+        rp32 = float(np.float32(r_peer))
+        b = 3e8 / float(np.float32(geo.carrier_hz)) / rp32**2 / (4 * np.pi) ** 1.5
+        frf = geo.carrier_hz + k0_of(num) * num.subcarrier_spacing_hz
+        peer_conv = peer / b * np.exp(-2j * np.pi * np.mod(frf * tau, 1.0))
+        steady = slice(P, len(x))  # after the first packet (ours starts from zeros)
+        e = nmse_db(ours[steady], peer_conv[steady])
+        print(f"td_echo vs gr-radar static_target_simulator_cc: {e:.1f} dB (delay {tau * fs:.3f} samples)")
+        self.assertLess(e, -80.0)
 
     def test_parameter_rules(self):
         scn = scene_of(PAPER3)
