@@ -11,7 +11,6 @@
 #include <gnuradio/nrsar/tags.h>
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace gr {
 namespace nrsar {
@@ -47,9 +46,7 @@ td_echo_impl::td_echo_impl(const numerology& num,
     check_and_log(scn);
     check_snr_db(snr_db);
     update_sigma();
-    // zeros before the stream start
-    d_line.assign(d_echo.history() * 9, gr_complex(0.0f, 0.0f));
-    d_pos = d_echo.history();
+    set_history(d_echo.history() + 1); // the delay line; zeros before the stream start
     if (d_echo.band_edge() >= 0.5)
         d_logger->warn("the numerology fills the whole FFT band (num_subcarriers = {} of "
                        "fft_size = {}): fractional delays of the band-edge subcarriers are "
@@ -104,35 +101,45 @@ int td_echo_impl::work(int noutput_items,
     const std::size_t n = static_cast<std::size_t>(noutput_items);
     const std::size_t hist = d_echo.history();
 
+    // input_items[0] starts hist samples before the current ones (set_history; the
+    // scheduler fills the history with zeros at the stream start).
+    const std::uint64_t k0 = nitems_read(0);
     std::size_t zeroed = 0;
-    const gr_complex* clean = d_guard.guard(in, n, zeroed);
+    d_guard.guard(in + hist, n, zeroed);
     if (zeroed) {
-        std::size_t first = 0;
-        while (std::isfinite(in[first].real()) && std::isfinite(in[first].imag()))
-            first++;
+        std::size_t first = 0, last = 0;
+        for (std::size_t i = 0; i < n; i++) {
+            if (!(std::isfinite(in[hist + i].real()) && std::isfinite(in[hist + i].imag()))) {
+                if (!last)
+                    first = i;
+                last = i + 1;
+            }
+        }
         add_item_tag(0,
                      nitems_written(0) + first,
                      tags::nonfinite_key(),
-                     d_nonfinite.note(d_logger, zeroed, nitems_read(0) + first));
+                     d_nonfinite.note(d_logger, zeroed, k0 + first));
+        d_bad_end = k0 + last; // the history holds non-finite samples until d_bad_end + hist
     }
-    // Delay line: the hist samples before d_pos are the past input; append this call's
-    // input, sliding the last hist samples to the front only when the buffer is full.
-    if (d_pos + n > d_line.size()) {
-        if (hist + n > d_line.size())
-            d_line.resize(hist + std::max<std::size_t>(n, 8 * hist));
-        std::memmove(d_line.data(), d_line.data() + d_pos - hist, hist * sizeof(gr_complex));
-        d_pos = hist;
+    const gr_complex* x = in + hist;
+    if (d_bad_end > 0 && d_bad_end + hist > k0) {
+        // Rare path: a non-finite sample in this call or in the history it reads: filter a
+        // zeroed copy of history + input.
+        d_line.resize(hist + n);
+        for (std::size_t i = 0; i < hist + n; i++) {
+            const bool ok = std::isfinite(in[i].real()) && std::isfinite(in[i].imag());
+            d_line[i] = ok ? in[i] : gr_complex(0.0f, 0.0f);
+        }
+        x = d_line.data() + hist;
     }
-    std::memcpy(d_line.data() + d_pos, clean, n * sizeof(gr_complex));
 
     const std::uint64_t before = d_echo.dropped_paths();
-    d_echo.process(nitems_read(0), d_line.data() + d_pos, out, n, &d_noise, d_sigma);
-    d_pos += n;
+    d_echo.process(k0, x, out, n, &d_noise, d_sigma);
     if (d_echo.dropped_paths() > before && !d_dropped_logged) {
         d_logger->warn("a target's delay exceeds one OFDM symbol ({} samples) at sample {}: "
                        "left out (see dropped_paths())",
                        d_echo.max_delay_samples(),
-                       nitems_read(0));
+                       k0);
         d_dropped_logged = true;
     }
     return noutput_items;

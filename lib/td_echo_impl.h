@@ -31,9 +31,10 @@ private:
     float d_sigma;
     nonfinite_reporter d_nonfinite;
     bool d_dropped_logged = false;
-    //! Delay line: the history() samples before d_pos are past input, then this call's.
+    //! Zeroed copy of history + input, only while non-finite samples are in reach.
     volk::vector<gr_complex> d_line;
-    std::size_t d_pos = 0;
+    //! One past the absolute index of the last non-finite input sample (0: none yet).
+    std::uint64_t d_bad_end = 0;
 
     void check_and_log(const scene& scn) const;
     void update_sigma();

@@ -231,8 +231,15 @@ std::uint64_t td_echo::process(std::uint64_t s0,
         if (with_noise) {
             if (off == 0 && len == d_sym) {
                 noise->add(m, sigma, y + i, len);
-            } else { // partial symbol: elements off .. off + len of block m
-                noise->generate(m, sigma, d_z.data(), off + len);
+            } else {
+                // Partial symbol (a work() call boundary): the whole symbol's noise is drawn
+                // once and kept, so small calls do not redraw it.
+                if (d_z_m != m || d_z_sigma != sigma || d_z_seed != noise->seed()) {
+                    noise->generate(m, sigma, d_z.data(), d_sym);
+                    d_z_m = m;
+                    d_z_sigma = sigma;
+                    d_z_seed = noise->seed();
+                }
                 volk_32f_x2_add_32f(reinterpret_cast<float*>(y + i),
                                     reinterpret_cast<const float*>(y + i),
                                     reinterpret_cast<const float*>(d_z.data() + off),

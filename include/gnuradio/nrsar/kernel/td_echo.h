@@ -175,6 +175,9 @@ private:
     std::uint64_t d_dropped = 0;
     std::vector<echo_path> d_paths;
     volk::vector<gr_complex> d_z; //!< one symbol of noise for partial symbols
+    std::uint64_t d_z_m = ~std::uint64_t(0); //!< symbol, sigma and seed d_z was drawn for
+    float d_z_sigma = 0.0f;
+    std::uint64_t d_z_seed = 0;
 };
 
 } // namespace kernel
