@@ -6,6 +6,7 @@
  */
 
 #include "../param_check.h"
+#include "bessel_i0.h"
 #include "gaussian_noise_impl.h" // noise_detail::avx2_available()
 #include "td_echo_impl.h"
 #include <gnuradio/nrsar/kernel/td_echo.h>
@@ -17,22 +18,6 @@ namespace gr {
 namespace nrsar {
 namespace kernel {
 
-namespace {
-// Modified Bessel function of the first kind, order 0 (power series, beta <= 50).
-double i0(double x)
-{
-    double sum = 1.0, term = 1.0;
-    const double q = x * x / 4.0;
-    for (int k = 1; k < 300; ++k) {
-        term *= q / (double(k) * k);
-        sum += term;
-        if (term < 1e-17 * sum)
-            break;
-    }
-    return sum;
-}
-} // namespace
-
 multipath_fir::multipath_fir(unsigned taps, double kaiser_beta, unsigned max_lag)
     : d_simd(noise_detail::avx2_available()),
       d_taps(taps),
@@ -43,7 +28,7 @@ multipath_fir::multipath_fir(unsigned taps, double kaiser_beta, unsigned max_lag
         throw_param("taps", taps, "must be even and in [2, 256]");
     check_range("kaiser_beta", kaiser_beta, 0.0, 50.0);
     check_at_least("max_lag", max_lag, taps);
-    d_i0_beta = i0(kaiser_beta);
+    d_i0_beta = bessel_i0(kaiser_beta);
     d_acc.resize(max_lag + 1);
     d_grev.resize(max_lag + 1);
     d_tail.resize(max_lag + 4);
@@ -69,7 +54,7 @@ double multipath_fir::kernel(double t) const
         return 0.0;
     const double s = (t == 0.0) ? 1.0 : std::sin(M_PI * t) / (M_PI * t);
     const double u = t / half;
-    return s * i0(d_beta * std::sqrt(std::max(0.0, 1.0 - u * u))) / d_i0_beta;
+    return s * bessel_i0(d_beta * std::sqrt(std::max(0.0, 1.0 - u * u))) / d_i0_beta;
 }
 
 std::size_t multipath_fir::set_paths(const echo_path* paths, std::size_t n)

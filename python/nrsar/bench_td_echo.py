@@ -36,19 +36,6 @@ def _samples(count, seed=1):
     return x.astype(np.complex64).tolist()
 
 
-def _cpu_rate(build, n_items, repeats=3):
-    """Items per CPU second of the whole process (all flowgraph threads), best of
-    `repeats`: steadier than wall time when other jobs share the cores."""
-    best = float("inf")
-    for _ in range(repeats):
-        tb = gr.top_block()
-        build(tb, n_items)
-        start = time.process_time()
-        tb.run()
-        best = min(best, time.process_time() - start)
-    return n_items / best
-
-
 def _peer_block(num, geo, scn, packet):
     from gnuradio import radar
     ranges = [t.slant_range_m(geo, geo.track_start_m) for t in scn.targets]
@@ -86,7 +73,7 @@ def run(quick=False):
 
     try:
         peer_rate = benchutil.items_per_second(peer, n_items)
-        peer_cpu = _cpu_rate(peer, n_items)
+        peer_cpu = benchutil.items_per_second(peer, n_items, clock=time.process_time)
         peer_name = "gr-radar static_target_simulator_cc (4096-sample packets)"
     except ImportError:
         peer_rate, peer_cpu, peer_name = None, None, "gr-radar not installed"
@@ -96,7 +83,7 @@ def run(quick=False):
                                ("td_echo paper 3 targets, 16 taps, noise-free", float("inf"), 16),
                                ("td_echo paper 3 targets, 64 taps, noise-free", float("inf"), 64)):
         rate = benchutil.items_per_second(ours(snr_db, taps), n_items)
-        cpu = _cpu_rate(ours(snr_db, taps), n_items)
+        cpu = benchutil.items_per_second(ours(snr_db, taps), n_items, clock=time.process_time)
         rows.append(benchutil.row(name, rate, peer_name, peer_rate, unit="samples/s",
                                   realtime_factor=rate / num.sample_rate_hz(),
                                   ours_per_cpu_s=cpu, peer_per_cpu_s=peer_cpu,
