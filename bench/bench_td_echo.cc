@@ -67,8 +67,22 @@ void BM_MultipathFirOnePath(benchmark::State& state)
     state.SetItemsProcessed(state.iterations() * n);
 }
 
+// Per-symbol set-up: eq. (8) delays and the FIR taps (double) for the paper3 scene.
+void BM_TdEchoSymbolSetup(benchmark::State& state)
+{
+    const auto num = numerology::preset("paper");
+    kernel::td_echo k(num, geometry::preset("paper"), scene::preset("paper3"), 32);
+    std::uint64_t m = 0;
+    for (auto _ : state) {
+        const auto p = k.paths(m++);
+        benchmark::DoNotOptimize(k.fir().set_paths(p.data(), p.size()));
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
 } // namespace
 
 // Args: taps, noise (0/1), AVX2 loop (1) or one VOLK dot product per output (0).
 BENCHMARK(BM_TdEchoPaper3)->ArgsProduct({ { 16, 32, 64 }, { 0, 1 }, { 0, 1 } });
+BENCHMARK(BM_TdEchoSymbolSetup);
 BENCHMARK(BM_MultipathFirOnePath)->ArgsProduct({ { 16, 32, 64 }, { 0, 1 } });
