@@ -21,10 +21,11 @@ td_echo::sptr td_echo::make(const numerology& num,
                             double snr_db,
                             std::uint64_t seed,
                             unsigned taps,
-                            double kaiser_beta)
+                            double kaiser_beta,
+                            const kernel::antenna_beam& beam)
 {
     return gnuradio::make_block_sptr<td_echo_impl>(
-        num, geo, scn, snr_db, seed, taps, kaiser_beta);
+        num, geo, scn, snr_db, seed, taps, kaiser_beta, beam);
 }
 
 td_echo_impl::td_echo_impl(const numerology& num,
@@ -33,13 +34,14 @@ td_echo_impl::td_echo_impl(const numerology& num,
                            double snr_db,
                            std::uint64_t seed,
                            unsigned taps,
-                           double kaiser_beta)
+                           double kaiser_beta,
+                           const kernel::antenna_beam& beam)
     : gr::sync_block("td_echo",
                      gr::io_signature::make(1, 1, sizeof(gr_complex)),
                      gr::io_signature::make(1, 1, sizeof(gr_complex))),
       d_num(num),
       d_geo(geo),
-      d_echo(num, geo, scn, taps, kaiser_beta), // validates num, geo, scn, taps, beta
+      d_echo(num, geo, scn, taps, kaiser_beta, beam), // validates everything
       d_noise(seed),
       d_snr_db(snr_db)
 {

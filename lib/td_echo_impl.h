@@ -46,7 +46,8 @@ public:
                  double snr_db,
                  std::uint64_t seed,
                  unsigned taps,
-                 double kaiser_beta);
+                 double kaiser_beta,
+                 const kernel::antenna_beam& beam);
 
     void set_snr_db(double snr_db) override;
     double snr_db() const override { return d_snr_db; }
@@ -54,6 +55,7 @@ public:
     void set_scene(const scene& scn) override;
     scene get_scene() const override;
     unsigned taps() const override { return d_echo.fir().taps(); }
+    kernel::antenna_beam beam() const override { return d_echo.beam(); }
     double kaiser_beta() const override { return d_echo.fir().beta(); }
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
     std::uint64_t dropped_paths() const override { return d_echo.dropped_paths(); }

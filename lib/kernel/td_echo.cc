@@ -135,9 +135,11 @@ td_echo::td_echo(const numerology& num,
                  const geometry& geo,
                  const scene& scn,
                  unsigned taps,
-                 double kaiser_beta)
+                 double kaiser_beta,
+                 const antenna_beam& beam)
     : d_num(num),
       d_geo(geo),
+      d_beam(beam),
       d_sym(num.cp_samples + num.fft_size),
       d_fir(taps,
             kaiser_beta < 0.0
@@ -151,6 +153,7 @@ td_echo::td_echo(const numerology& num,
 {
     d_num.validate();
     d_geo.validate();
+    d_beam.validate();
     set_scene(scn);
     d_z.resize(d_sym);
 }
@@ -181,13 +184,19 @@ std::vector<echo_path> td_echo::paths(std::uint64_t m) const
     for (const auto& t : d_scene.targets) {
         if (!(t.rcs > 0.0))
             continue;
-        const double tau = 2.0 * t.slant_range_m(d_geo, yp) / speed_of_light;
+        const double R = t.slant_range_m(d_geo, yp); // eq. (8)
+        // two-way beam amplitude, eqs. (1)-(3) (1 for WHOLE_BLOCK)
+        const double g = d_beam.azimuth_gain(d_geo, t.y_m - yp, R) *
+                         d_beam.elevation_gain(d_geo, t.x_m);
+        if (g == 0.0)
+            continue; // outside the beam
+        const double tau = 2.0 * R / speed_of_light;
         // carrier term e^{-j 2 pi (fc + k0 Delta f) tau}: the phase is ~1.5e5 rad, so it
         // is reduced modulo 2 pi in double before the sincos.
         const double phi = t.phase_rad - std::fmod(2.0 * M_PI * f_rf * tau, 2.0 * M_PI);
         echo_path p;
         p.delay_samples = tau * fs;
-        p.gain = std::polar(std::sqrt(t.rcs), phi);
+        p.gain = std::polar(g * std::sqrt(t.rcs), phi);
         out.push_back(p);
     }
     return out;

@@ -121,6 +121,14 @@ def connect_mismatch():
 
 
 # (subject, rule, call, fragment that the message must contain)
+def bad_beam():
+    """An antenna_beam built field by field (make_beam would refuse it already)."""
+    b = nrsar.antenna_beam()
+    b.mode = nrsar.beam_mode.AZIMUTH
+    b.az_aperture_m = -1.0
+    return b
+
+
 RULES = [
     # shared types
     ("numerology", "subcarrier spacing zero", lambda: num(subcarrier_spacing_hz=0.0).validate(),
@@ -344,6 +352,8 @@ RULES = [
     ("td_echo", "set_scene with an empty scene",
      lambda: nrsar.td_echo(num(), geo(), scn()).set_scene(nrsar.scene([])),
      "scene has no targets"),
+    ("td_echo", "negative beam aperture", lambda: nrsar.td_echo(num(), geo(), scn(), beam=bad_beam()),
+     "beam.az_aperture_m = -1"),
 ]
 
 

@@ -9,6 +9,7 @@
 #define INCLUDED_NRSAR_TD_ECHO_H
 
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/extended_scene.h>
 #include <gnuradio/nrsar/params.h>
 #include <gnuradio/sync_block.h>
 #include <cstdint>
@@ -42,7 +43,9 @@ namespace nrsar {
  * output at the first bad sample. The noise depends only on (seed, sample index).
  * Targets whose delay exceeds one OFDM symbol (possible after the aperture, as the
  * platform flies on) are left out and counted (dropped_paths()); delays below taps/2
- * samples lose the filter's look-ahead taps. No antenna beam weighting (rect envelope).
+ * samples lose the filter's look-ahead taps. Optional antenna beam (kernel::antenna_beam,
+ * eqs. 1-3, as extended_scene_echo): target q's amplitude is multiplied by its two-way
+ * beam gain at symbol m; the SNR still refers to the total RCS without beam.
  */
 class NRSAR_API td_echo : virtual public gr::sync_block
 {
@@ -63,6 +66,9 @@ public:
      *        below -80 dB at the paper numerology, docs/blocks/td_echo.md).
      * \param kaiser_beta Kaiser window parameter in [0, 50]; negative (default): from
      *        Kaiser's formula for `taps` and the numerology's band edge.
+     * \param beam antenna illumination (default WHOLE_BLOCK, the paper's assumption;
+     *        AZIMUTH / AZIMUTH_ELEVATION: sinc^2 two-way patterns of eqs. 1-3; Python
+     *        nrsar.make_beam).
      */
     static sptr make(const numerology& num,
                      const geometry& geo,
@@ -70,7 +76,8 @@ public:
                      double snr_db = std::numeric_limits<double>::infinity(),
                      std::uint64_t seed = 0,
                      unsigned taps = 32,
-                     double kaiser_beta = -1.0);
+                     double kaiser_beta = -1.0,
+                     const kernel::antenna_beam& beam = kernel::antenna_beam());
 
     //! New SNR per RE [dB] (+inf: no noise); takes effect at the next work() call.
     virtual void set_snr_db(double snr_db) = 0;
@@ -83,6 +90,7 @@ public:
     virtual scene get_scene() const = 0;
 
     virtual unsigned taps() const = 0;
+    virtual kernel::antenna_beam beam() const = 0;
     //! The Kaiser beta in use (the default one when make() got a negative value).
     virtual double kaiser_beta() const = 0;
 

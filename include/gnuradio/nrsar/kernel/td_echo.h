@@ -10,6 +10,7 @@
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/extended_scene.h>
 #include <gnuradio/nrsar/kernel/gaussian_noise.h>
 #include <gnuradio/nrsar/params.h>
 #include <volk/volk_alloc.hh>
@@ -111,6 +112,10 @@ private:
  * x(t - tau) puts S[n] e^{-j 2 pi (n - k0) Delta f tau} on subcarrier n, and the carrier
  * term completes it to e^{-j 2 pi (fc + n Delta f) tau} = e^{-j 4 pi (fc + n Delta f) R / c}.
  *
+ * With an antenna beam (antenna_beam, eqs. 1-3) each target's amplitude is multiplied by
+ * the two-way gain azimuth_gain(y_q - y_p(m), R_q(m)) elevation_gain(x_q) at symbol m;
+ * targets with gain 0 (beyond the beam's cutoff) are left out.
+ *
  * Noise: sample i of symbol m is sigma z with z element i of block m of
  * kernel::gaussian_noise, independent of how the stream is cut.
  */
@@ -121,13 +126,15 @@ public:
      * \param taps fractional-delay FIR length (even, 2 .. 256).
      * \param kaiser_beta Kaiser window parameter; negative: default_beta for the band
      *        edge of num (max(k0, N - k0) / fft_size).
-     * Validates num, geo, scn; no scenario check here.
+     * \param beam illumination (default WHOLE_BLOCK: every target lit all the time).
+     * Validates num, geo, scn, beam; no scenario check here.
      */
     td_echo(const numerology& num,
             const geometry& geo,
             const scene& scn,
             unsigned taps = 32,
-            double kaiser_beta = -1.0);
+            double kaiser_beta = -1.0,
+            const antenna_beam& beam = antenna_beam());
     td_echo(td_echo&&) = default;
     td_echo& operator=(td_echo&&) = default;
     td_echo(const td_echo&) = delete;
@@ -135,6 +142,7 @@ public:
 
     void set_scene(const scene& scn);
     const scene& get_scene() const { return d_scene; }
+    const antenna_beam& beam() const { return d_beam; }
 
     //! Samples per OFDM symbol, cp_samples + fft_size.
     unsigned symbol_samples() const { return d_sym; }
@@ -169,6 +177,7 @@ private:
     numerology d_num;
     geometry d_geo;
     scene d_scene;
+    antenna_beam d_beam;
     unsigned d_sym;
     multipath_fir d_fir;
     std::uint64_t d_cur_m = ~std::uint64_t(0); //!< symbol whose paths d_fir holds

@@ -26,10 +26,11 @@ sample. Demodulated with ofdm_demod it equals scene_echo's eq. (7) when the dela
  static const char *__doc_gr_nrsar_td_echo_td_echo = R"doc()doc";
 
 
-static const char* __doc_gr_nrsar_td_echo_make = R"doc(td_echo(num, geo, scn, snr_db=inf, seed=0, taps=32, kaiser_beta=-1)
+static const char* __doc_gr_nrsar_td_echo_make = R"doc(td_echo(num, geo, scn, snr_db=inf, seed=0, taps=32, kaiser_beta=-1, beam=antenna_beam())
 
 num: numerology, geo: geometry, scn: scene (check_scenario must accept it), snr_db: SNR
 per RE in dB (total RCS / sigma^2; inf = no noise), seed: noise seed, taps: fractional-delay
-FIR length (even, 2..256), kaiser_beta: Kaiser window parameter (negative: automatic).)doc";
+FIR length (even, 2..256), kaiser_beta: Kaiser window parameter (negative: automatic),
+beam: antenna illumination (nrsar.make_beam; default: whole block).)doc";
 
   
