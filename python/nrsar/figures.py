@@ -377,9 +377,6 @@ VC_FILTER, VC_SNR = "mf", 5.0
 # block: a 4 s aperture (track 0..200 m, T1 at its middle) does both; the paper's 2 s block
 # folds only 2 x 13 Hz of its 112 Hz band, into replicas outside its 100 m window.
 VC_ALIAS_APERTURE_S = 4.0
-# The whole unambiguous range of a data-aided run uncropped at 2 s would be 48000 x 3360
-# samples per sink: its range profile is taken over 0.1 s (the profile is per pulse).
-VC_WIDE_DATA_APERTURE_S = 0.1
 SHIP_AND_SEA = "ship_and_sea.yaml"
 
 
@@ -460,6 +457,45 @@ def peak_near(profile_db, axis_m, centre, half_width):
     return float(axis_m[i]), float(profile_db[i])
 
 
+def range_profile(preset, mode, aperture_s, snr_db=VC_SNR, seed=1):
+    """(range axis [m], mean power per bin) of the range-compressed pulses of T1 over the whole
+    unambiguous range c / (2 Delta f): the chain's transmitter, echo, MF and uncropped range
+    IFFT (nrsar-sim's blocks and settings), the pulses summed in power by integrate_ff. No
+    focuser: with an uncropped window it would plan its output for the far range (thousands
+    of lines of migration shift) and need gigabytes at full rate."""
+    from gnuradio import blocks, fft, gr
+    from .nrsar_python import nr_isac_tx, range_ifft, scene_echo, tf_filter
+    num = params.make_numerology(preset)
+    geo = params.make_geometry("paper", aperture_s=aperture_s)
+    kind, srs, spp = sim.grid_of_mode(mode, num)
+    symbols = int(geo.symbols_per_aperture(num))
+    n = num.num_subcarriers
+    tb = gr.top_block("range-profile")
+    tx = nr_isac_tx(num, params.make_modulation("qam256"), params.make_tx_mode(kind), srs, seed)
+    head = blocks.head(gr.sizeof_gr_complex * n, symbols)
+    echo = scene_echo(num, geo, params.make_scene(TARGET1), snr_db, seed + 1)
+    tff = tf_filter(n, params.make_filter(VC_FILTER), snr_db, False)
+    rif = range_ifft(num, range_ifft.fast_fft_size(n), fft.window.WIN_RECTANGULAR, -1.0,
+                     0.0, 0.0)
+    k = rif.num_bins()
+    pulses = symbols // spp
+    power = blocks.complex_to_mag_squared(k)
+    total = blocks.integrate_ff(pulses, k)
+    sink = blocks.vector_sink_f(k)
+    tb.connect(tx, head, echo, (tff, 0))
+    tb.connect(head, (tff, 1))
+    tb.connect((echo, 1), blocks.null_sink(gr.sizeof_gr_complex * n))
+    if spp == 1:
+        tb.connect(tff, rif)
+    else:  # the SRS symbols only, as nrsar-sim keeps them
+        tb.connect(tff, blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, spp,
+                                           srs.symbol_in_slot), rif)
+    tb.connect(rif, power, total, sink)
+    tb.run()
+    prof = np.asarray(sink.data(), dtype=float)[:k] / pulses
+    return rif.range_axis_first_m() + rif.range_bin_m() * np.arange(k), prof
+
+
 def vc_run(workdir, name, preset, mode, **overrides):
     base = {"preset": preset, "target": [TARGET1], "filter": VC_FILTER, "snr_db": VC_SNR,
             "modulation": "qam256", "seed": 1, "mode": mode}
@@ -477,18 +513,17 @@ def fig6(out, quick, workdir):
         log(f"fig6: {mode}: focused image, whole range, {alias_aperture:g} s aperture")
         pred = vc_predictions(preset, mode, aperture)
         focus = vc_run(workdir, f"fig6_{mode}", preset, mode, aperture_s=aperture)
-        wide = vc_run(workdir, f"fig6_{mode}_wide", preset, mode, range_crop="off",
-                      aperture_s=VC_WIDE_DATA_APERTURE_S if mode == "data" else aperture)
+        r_wide, prof = range_profile(preset, mode, aperture or 2.0)
         alias = vc_run(workdir, f"fig6_{mode}_alias", preset, mode, aperture_s=alias_aperture)
         # (1) range profile over the unambiguous range: mean power of the range-compressed pulses
-        rc = load_image(wide, "range_compressed_npy")
-        prof = np.mean(np.abs(rc.astype(np.complex128)) ** 2, axis=0)
         prof_db = 10 * np.log10(prof / prof.max() + 1e-30)
-        r_wide = axis(wide["range_axis_m"], rc.shape[1])
-        del rc
         srs_pred = vc_predictions(preset, "srs2")
-        step = wide["range_axis_m"][1]
-        main_r, main_db = peak_near(prof_db, r_wide, pred["r0_m"], 3 * step)
+        step = r_wide[1] - r_wide[0]
+        # before azimuth focusing the target sits at its range over the track, eq. (8)
+        t = np.linspace(0.0, aperture or 2.0, 201)
+        v = params.make_geometry("paper").velocity_mps
+        r_track = float(np.mean(np.hypot(pred["r0_m"], pred["y0_m"] - v * t)))
+        main_r, main_db = peak_near(prof_db, r_wide, r_track, 3 * step)
         ghost_r, ghost_db = peak_near(prof_db, r_wide, main_r + srs_pred["ghost_spacing_m"],
                                       3 * step)
         # (2) focused image near the target: range IRW from the energy profile
@@ -550,8 +585,7 @@ def fig6(out, quick, workdir):
         ax.set_ylim(-60, 3)
         ax.set_xlabel("slant range [m]")
         ax.set_ylabel("mean pulse power [dB re peak]")
-        ap = VC_WIDE_DATA_APERTURE_S if mode == "data" else (aperture or 2.0)
-        ax.set_title(f"(a) {label}: range profile, {ap:g} s", fontsize=10)
+        ax.set_title(f"(a) {label}: range profile, {aperture or 2.0:g} s", fontsize=10)
         ax.legend(fontsize=7, loc="lower right")
         ax.grid(alpha=0.3)
 
