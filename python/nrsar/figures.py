@@ -496,6 +496,61 @@ def range_profile(preset, mode, aperture_s, snr_db=VC_SNR, seed=1):
     return rif.range_axis_first_m() + rif.range_bin_m() * np.arange(k), prof
 
 
+def focused_window(preset, mode, aperture_s, r_lo, r_hi, snr_db=VC_SNR, seed=1):
+    """(image, range axis [m]) of T1 focused by rd_focuser over the slant-range window
+    [r_lo, r_hi] only (nrsar-sim's chain and focuser settings, the range IFFT cropped there):
+    how a window that holds an SRS range ghost, and no target, focuses."""
+    from gnuradio import blocks, fft, gr
+    from .nrsar_python import (doppler_band, focuser_config, nr_isac_tx, range_ifft,
+                               rd_focuser, scene_echo, tf_filter)
+    num = params.make_numerology(preset)
+    geo = params.make_geometry("paper", aperture_s=aperture_s)
+    kind, srs, spp = sim.grid_of_mode(mode, num)
+    symbols = int(geo.symbols_per_aperture(num))
+    n = num.num_subcarriers
+    scn = params.make_scene(TARGET1)
+    tb = gr.top_block("focused-window")
+    tx = nr_isac_tx(num, params.make_modulation("qam256"), params.make_tx_mode(kind), srs, seed)
+    head = blocks.head(gr.sizeof_gr_complex * n, symbols)
+    echo = scene_echo(num, geo, scn, snr_db, seed + 1)
+    tff = tf_filter(n, params.make_filter(VC_FILTER), snr_db, False)
+    rif = range_ifft(num, range_ifft.fast_fft_size(n), fft.window.WIN_RECTANGULAR, -1.0,
+                     r_lo, r_hi)
+    cfg = focuser_config()
+    cfg.symbols_per_pulse = spp
+    cfg.band = doppler_band.SCENE
+    cfg.lines_per_aperture = symbols // spp
+    foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                     rif.range_bin_m(), cfg)
+    k = rif.num_bins()
+    sink = blocks.vector_sink_c(k)
+    tb.connect(tx, head, echo, (tff, 0))
+    tb.connect(head, (tff, 1))
+    tb.connect((echo, 1), blocks.null_sink(gr.sizeof_gr_complex * n))
+    if spp == 1:
+        tb.connect(tff, rif)
+    else:
+        tb.connect(tff, blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, spp,
+                                           srs.symbol_in_slot), rif)
+    tb.connect(rif, foc, sink)
+    tb.run()
+    img = np.asarray(sink.data(), dtype=np.complex128).reshape(-1, k)
+    return img, rif.range_axis_first_m() + rif.range_bin_m() * np.arange(k)
+
+
+def ghost_defocus_db(preset, mode, aperture_s=None):
+    """Predicted peak of the focused range ghost re the target's: the ghost carries the azimuth
+    chirp of R0 (rate Ka(R0)) but is compressed with Ka(R0 + ghost); the residual chirp rate
+    Kr = 1 / (1/Ka(R0 + g) - 1/Ka(R0)) over the target's Doppler band B = Ka(R0) Ta leaves a
+    Fresnel peak of amplitude sqrt(Kr) against B in focus: 10 log10(Kr / B^2)."""
+    pred = vc_predictions(preset, mode, aperture_s)
+    ka0 = pred["ka_hz_per_s"]
+    ka_g = ka0 * pred["r0_m"] / (pred["r0_m"] + pred["ghost_spacing_m"])
+    kr = 1.0 / (1.0 / ka_g - 1.0 / ka0)
+    band = min(pred["doppler_band_hz"], pred["prf_hz"])
+    return 10 * math.log10(kr / band ** 2)
+
+
 def vc_run(workdir, name, preset, mode, **overrides):
     base = {"preset": preset, "target": [TARGET1], "filter": VC_FILTER, "snr_db": VC_SNR,
             "modulation": "qam256", "seed": 1, "mode": mode}
@@ -541,6 +596,16 @@ def fig6(out, quick, workdir):
         spacing = vc_predictions(preset, "srs20", alias_aperture)["replica_spacing_m"]
         y_main, lv_main = peak_near(az_db, az, apred["y0_m"], 2.0)
         reps = [peak_near(az_db, az, y_main + s * spacing, 0.15 * spacing) for s in (-1, 1)]
+        if mode != "data":  # the ghost window focused: energy kept, peak defocused
+            g_img, _ = focused_window(preset, mode, aperture or 2.0,
+                                      main_r + srs_pred["ghost_spacing_m"] - 40,
+                                      main_r + srs_pred["ghost_spacing_m"] + 40)
+            t_img, _ = focused_window(preset, mode, aperture or 2.0, main_r - 40, main_r + 40)
+            pg, pt = np.abs(g_img) ** 2, np.abs(t_img) ** 2
+            rows += [(mode, "ghost_focused_peak_db", 10 * math.log10(pg.max() / pt.max()),
+                      ghost_defocus_db(preset, mode, aperture), "dB re target peak (image)"),
+                     (mode, "ghost_focused_energy_db", 10 * math.log10(pg.sum() / pt.sum()),
+                      0.0, "dB re target energy (image)")]
         runs[mode] = {"focus": focus, "img": img, "r_wide": r_wide, "prof_db": prof_db,
                       "az": az, "az_db": az_db, "energy": energy, "pred": pred,
                       "apred": apred}

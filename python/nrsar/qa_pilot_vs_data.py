@@ -183,6 +183,31 @@ class qa_pilot_vs_data(gr_unittest.TestCase):
         # at 5 dB the gap to the data-aided scheme exceeds the RE-count penalty 10 log10(N M / P)
         self.assertGreater(nmse[("srs2", 5.0)] - nmse[("data", 5.0)], 10 * math.log10(n * m / p))
 
+    def test_005_focused_ghost_keeps_energy_but_defocuses(self):
+        # The ghost at R0 + g carries the azimuth chirp of R0 (rate Ka(R0)) and is compressed
+        # with Ka(R0 + g): a residual chirp of rate Kr = 1 / (1/Ka(R0 + g) - 1/Ka(R0)) over the
+        # target's Doppler band B = Ka(R0) Ta focuses to a Fresnel peak sqrt(Kr) instead of B:
+        # peak 10 log10(Kr / B^2) re the target's (-24.3 dB), energy unchanged.
+        ta = 2.0
+        lam = C / FC
+        g = C / (2 * COMB * DF)
+        ka0 = 2 * V ** 2 / (lam * R0)
+        kag = 2 * V ** 2 / (lam * (R0 + g))
+        kr = 1.0 / (1.0 / kag - 1.0 / ka0)
+        band = ka0 * ta
+        self.assertGreater(band, 5 * math.sqrt(kr))        # Fresnel regime: B >> sqrt(Kr)
+        expected = 10 * math.log10(kr / band ** 2)
+        t = np.linspace(0.0, ta, 201)
+        r_track = np.mean(np.sqrt(R0 ** 2 + (Y0 - V * t) ** 2))
+        p = {}
+        for name, centre in (("target", r_track), ("ghost", r_track + g)):
+            img, _ = figures.focused_window("paper", "srs2", ta, centre - 40, centre + 40,
+                                            snr_db=20.0)
+            p[name] = np.abs(img) ** 2
+        peak_db = 10 * math.log10(p["ghost"].max() / p["target"].max())
+        energy_db = 10 * math.log10(p["ghost"].sum() / p["target"].sum())
+        self.assertAlmostEqual(peak_db, expected, delta=3.0)
+        self.assertAlmostEqual(energy_db, 0.0, delta=1.5)
 
 if __name__ == "__main__":
     gr_unittest.run(qa_pilot_vs_data)
