@@ -457,12 +457,10 @@ def peak_near(profile_db, axis_m, centre, half_width):
     return float(axis_m[i]), float(profile_db[i])
 
 
-def range_profile(preset, mode, aperture_s, snr_db=VC_SNR, seed=1):
-    """(range axis [m], mean power per bin) of the range-compressed pulses of T1 over the whole
-    unambiguous range c / (2 Delta f): the chain's transmitter, echo, MF and uncropped range
-    IFFT (nrsar-sim's blocks and settings), the pulses summed in power by integrate_ff. No
-    focuser: with an uncropped window it would plan its output for the far range (thousands
-    of lines of migration shift) and need gigabytes at full rate."""
+def vc_range_chain(tb, preset, mode, aperture_s, r_lo, r_hi, snr_db, seed):
+    """Connects nrsar-sim's front end for T1 into tb: transmitter -> head -> echo -> MF ->
+    (SRS modes: the SRS symbols only, as nrsar-sim keeps them) -> range IFFT cropped to
+    [r_lo, r_hi] (0, 0: every bin). Returns (range_ifft, pulses, chain dict)."""
     from gnuradio import blocks, fft, gr
     from .nrsar_python import nr_isac_tx, range_ifft, scene_echo, tf_filter
     num = params.make_numerology(preset)
@@ -470,60 +468,13 @@ def range_profile(preset, mode, aperture_s, snr_db=VC_SNR, seed=1):
     kind, srs, spp = sim.grid_of_mode(mode, num)
     symbols = int(geo.symbols_per_aperture(num))
     n = num.num_subcarriers
-    tb = gr.top_block("range-profile")
-    tx = nr_isac_tx(num, params.make_modulation("qam256"), params.make_tx_mode(kind), srs, seed)
-    head = blocks.head(gr.sizeof_gr_complex * n, symbols)
-    echo = scene_echo(num, geo, params.make_scene(TARGET1), snr_db, seed + 1)
-    tff = tf_filter(n, params.make_filter(VC_FILTER), snr_db, False)
-    rif = range_ifft(num, range_ifft.fast_fft_size(n), fft.window.WIN_RECTANGULAR, -1.0,
-                     0.0, 0.0)
-    k = rif.num_bins()
-    pulses = symbols // spp
-    power = blocks.complex_to_mag_squared(k)
-    total = blocks.integrate_ff(pulses, k)
-    sink = blocks.vector_sink_f(k)
-    tb.connect(tx, head, echo, (tff, 0))
-    tb.connect(head, (tff, 1))
-    tb.connect((echo, 1), blocks.null_sink(gr.sizeof_gr_complex * n))
-    if spp == 1:
-        tb.connect(tff, rif)
-    else:  # the SRS symbols only, as nrsar-sim keeps them
-        tb.connect(tff, blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, spp,
-                                           srs.symbol_in_slot), rif)
-    tb.connect(rif, power, total, sink)
-    tb.run()
-    prof = np.asarray(sink.data(), dtype=float)[:k] / pulses
-    return rif.range_axis_first_m() + rif.range_bin_m() * np.arange(k), prof
-
-
-def focused_window(preset, mode, aperture_s, r_lo, r_hi, snr_db=VC_SNR, seed=1):
-    """(image, range axis [m]) of T1 focused by rd_focuser over the slant-range window
-    [r_lo, r_hi] only (nrsar-sim's chain and focuser settings, the range IFFT cropped there):
-    how a window that holds an SRS range ghost, and no target, focuses."""
-    from gnuradio import blocks, fft, gr
-    from .nrsar_python import (doppler_band, focuser_config, nr_isac_tx, range_ifft,
-                               rd_focuser, scene_echo, tf_filter)
-    num = params.make_numerology(preset)
-    geo = params.make_geometry("paper", aperture_s=aperture_s)
-    kind, srs, spp = sim.grid_of_mode(mode, num)
-    symbols = int(geo.symbols_per_aperture(num))
-    n = num.num_subcarriers
     scn = params.make_scene(TARGET1)
-    tb = gr.top_block("focused-window")
     tx = nr_isac_tx(num, params.make_modulation("qam256"), params.make_tx_mode(kind), srs, seed)
     head = blocks.head(gr.sizeof_gr_complex * n, symbols)
     echo = scene_echo(num, geo, scn, snr_db, seed + 1)
     tff = tf_filter(n, params.make_filter(VC_FILTER), snr_db, False)
     rif = range_ifft(num, range_ifft.fast_fft_size(n), fft.window.WIN_RECTANGULAR, -1.0,
                      r_lo, r_hi)
-    cfg = focuser_config()
-    cfg.symbols_per_pulse = spp
-    cfg.band = doppler_band.SCENE
-    cfg.lines_per_aperture = symbols // spp
-    foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
-                     rif.range_bin_m(), cfg)
-    k = rif.num_bins()
-    sink = blocks.vector_sink_c(k)
     tb.connect(tx, head, echo, (tff, 0))
     tb.connect(head, (tff, 1))
     tb.connect((echo, 1), blocks.null_sink(gr.sizeof_gr_complex * n))
@@ -532,6 +483,41 @@ def focused_window(preset, mode, aperture_s, r_lo, r_hi, snr_db=VC_SNR, seed=1):
     else:
         tb.connect(tff, blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, spp,
                                            srs.symbol_in_slot), rif)
+    return rif, symbols // spp, {"num": num, "geo": geo, "scn": scn, "spp": spp}
+
+
+def range_profile(preset, mode, aperture_s, snr_db=VC_SNR, seed=1):
+    """(range axis [m], mean power per bin) of the range-compressed pulses of T1 over the whole
+    unambiguous range c / (2 Delta f): vc_range_chain uncropped, the pulses summed in power by
+    integrate_ff. No focuser: with an uncropped window it plans its output for the far range
+    (docs/pilot_vs_data.md, findings) and needs gigabytes at full rate."""
+    from gnuradio import blocks, gr
+    tb = gr.top_block("range-profile")
+    rif, pulses, _ = vc_range_chain(tb, preset, mode, aperture_s, 0.0, 0.0, snr_db, seed)
+    k = rif.num_bins()
+    sink = blocks.vector_sink_f(k)
+    tb.connect(rif, blocks.complex_to_mag_squared(k), blocks.integrate_ff(pulses, k), sink)
+    tb.run()
+    prof = np.asarray(sink.data(), dtype=float)[:k] / pulses
+    return rif.range_axis_first_m() + rif.range_bin_m() * np.arange(k), prof
+
+
+def focused_window(preset, mode, aperture_s, r_lo, r_hi, snr_db=VC_SNR, seed=1):
+    """(image, range axis [m]) of T1 focused by rd_focuser (nrsar-sim's settings) over the
+    slant-range window [r_lo, r_hi] only: how a window that holds an SRS range ghost, and no
+    target, focuses."""
+    from gnuradio import blocks, gr
+    from .nrsar_python import doppler_band, focuser_config, rd_focuser
+    tb = gr.top_block("focused-window")
+    rif, pulses, c = vc_range_chain(tb, preset, mode, aperture_s, r_lo, r_hi, snr_db, seed)
+    cfg = focuser_config()
+    cfg.symbols_per_pulse = c["spp"]
+    cfg.band = doppler_band.SCENE
+    cfg.lines_per_aperture = pulses
+    k = rif.num_bins()
+    foc = rd_focuser(c["num"], c["geo"], c["scn"], k, rif.range_axis_first_m(),
+                     rif.range_bin_m(), cfg)
+    sink = blocks.vector_sink_c(k)
     tb.connect(rif, foc, sink)
     tb.run()
     img = np.asarray(sink.data(), dtype=np.complex128).reshape(-1, k)
