@@ -1,0 +1,233 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include "../param_check.h"
+#include <gnuradio/nrsar/kernel/ofdm_modem.h>
+#include <volk/volk.h>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+
+namespace {
+void check_layout(unsigned n, unsigned fft_size, unsigned cp, unsigned k0)
+{
+    check_at_least("num_subcarriers", n, 1u);
+    check_at_least("fft_size", fft_size, n);
+    if (k0 >= n && n > 0)
+        throw_param("k0", k0, "must be below num_subcarriers = " + std::to_string(n));
+    if (cp > fft_size)
+        throw_param("cp_samples", cp, "must be at most fft_size = " + std::to_string(fft_size));
+}
+} // namespace
+
+ofdm_modulator::ofdm_modulator(unsigned n, unsigned fft_size, unsigned cp, unsigned k0)
+    : d_n(n), d_fft_size(fft_size), d_cp(cp), d_k0(k0)
+{
+    check_layout(n, fft_size, cp, k0);
+    d_scale = float(1.0 / std::sqrt(double(fft_size)));
+    d_fft = std::make_unique<gr::fft::fft_complex_rev>(int(fft_size), 1);
+    // The bins between N - k0 and fft_size - k0 stay empty: execute() writes only the
+    // N used bins and the out-of-place plan preserves its input.
+    std::fill_n(d_fft->get_inbuf(), fft_size, gr_complex(0.0f, 0.0f));
+}
+
+void ofdm_modulator::execute(const gr_complex* in, gr_complex* out)
+{
+    gr_complex* bins = d_fft->get_inbuf();
+    // Subcarrier n -> bin (n - k0) mod fft_size: n >= k0 to the positive bins, n < k0
+    // to the top (negative-frequency) bins.
+    std::memcpy(bins, in + d_k0, sizeof(gr_complex) * (d_n - d_k0));
+    std::memcpy(bins + d_fft_size - d_k0, in, sizeof(gr_complex) * d_k0);
+    d_fft->execute();
+    const gr_complex* x = d_fft->get_outbuf();
+    // Unitary 1/sqrt(fft_size) on the real and imaginary parts (one float multiply each).
+    volk_32f_s32f_multiply_32f(reinterpret_cast<float*>(out + d_cp),
+                               reinterpret_cast<const float*>(x),
+                               d_scale,
+                               2 * d_fft_size);
+    std::memcpy(out, out + d_fft_size, sizeof(gr_complex) * d_cp); // cyclic prefix
+}
+
+ofdm_demodulator::ofdm_demodulator(
+    unsigned n, unsigned fft_size, unsigned cp, unsigned k0, unsigned fft_start)
+    : d_n(n), d_fft_size(fft_size), d_cp(cp), d_k0(k0), d_fft_start(fft_start)
+{
+    check_layout(n, fft_size, cp, k0);
+    if (fft_start > cp)
+        throw_param("fft_start",
+                    fft_start,
+                    "must be at most cp_samples = " + std::to_string(cp) +
+                        " (a later FFT window reaches into the next symbol)");
+    d_scale = float(1.0 / std::sqrt(double(fft_size)));
+    d_fft = std::make_unique<gr::fft::fft_complex_fwd>(int(fft_size), 1);
+}
+
+void ofdm_demodulator::execute(const gr_complex* in, gr_complex* out)
+{
+    std::memcpy(d_fft->get_inbuf(), in + d_fft_start, sizeof(gr_complex) * d_fft_size);
+    d_fft->execute();
+    const gr_complex* bins = d_fft->get_outbuf();
+    volk_32f_s32f_multiply_32f(reinterpret_cast<float*>(out + d_k0),
+                               reinterpret_cast<const float*>(bins),
+                               d_scale,
+                               2 * (d_n - d_k0));
+    volk_32f_s32f_multiply_32f(reinterpret_cast<float*>(out),
+                               reinterpret_cast<const float*>(bins + d_fft_size - d_k0),
+                               d_scale,
+                               2 * d_k0);
+}
+
+void phase_rotator::rotate(const gr_complex* in, gr_complex* out, std::size_t n)
+{
+    constexpr std::size_t block = 4096;
+    const double step = 2.0 * M_PI * d_freq;
+    const gr_complex inc(float(std::cos(step)), float(std::sin(step)));
+    for (std::size_t i = 0; i < n; i += block) {
+        const std::size_t len = std::min(block, n - i);
+        // The float phasor VOLK advances is re-seeded from the double phase every block.
+        gr_complex ph(float(std::cos(d_phase)), float(std::sin(d_phase)));
+        volk_32fc_s32fc_x2_rotator_32fc(out + i, in + i, inc, &ph, len);
+        d_phase = std::remainder(d_phase + step * double(len), 2.0 * M_PI);
+    }
+}
+
+sc_acquirer::sc_acquirer(unsigned fft_size, unsigned cp, double threshold, std::size_t lookback)
+    : d_half(fft_size / 2), d_cp(cp), d_threshold(threshold), d_lookback(lookback)
+{
+    if (fft_size < 4 || fft_size % 2 != 0)
+        throw_param("fft_size", fft_size, "must be even and at least 4 (half-symbol repetition)");
+    check_finite("threshold", threshold);
+    if (!(threshold > 0.0 && threshold < 1.0))
+        throw_param("threshold", threshold, "must be in (0, 1)");
+}
+
+void sc_acquirer::reset()
+{
+    d_buf.clear();
+    d_base = 0;
+    d_pos = 0;
+    d_since_recompute = -1;
+    d_p = 0.0;
+    d_e = 0.0;
+    d_collecting = false;
+    d_m.clear();
+    d_pv.clear();
+    d_res = result();
+}
+
+void sc_acquirer::recompute(std::int64_t d)
+{
+    const gr_complex* r = d_buf.data() + (d - d_base);
+    std::complex<double> p = 0.0;
+    double e = 0.0;
+    for (unsigned m = 0; m < d_half; m++) {
+        p += std::conj(std::complex<double>(r[m])) * std::complex<double>(r[m + d_half]);
+        e += std::norm(std::complex<double>(r[m])) +
+             std::norm(std::complex<double>(r[m + d_half]));
+    }
+    d_p = p;
+    d_e = e;
+    d_since_recompute = 0;
+}
+
+void sc_acquirer::discard_before(std::int64_t abs)
+{
+    if (abs <= d_base)
+        return;
+    const std::size_t drop = std::min<std::size_t>(std::size_t(abs - d_base), d_buf.size());
+    d_buf.erase(d_buf.begin(), d_buf.begin() + drop);
+    d_base += std::int64_t(drop);
+}
+
+bool sc_acquirer::push(const gr_complex* in, std::size_t n)
+{
+    d_buf.insert(d_buf.end(), in, in + n);
+    if (d_res.locked)
+        return true;
+    const std::int64_t end = d_base + std::int64_t(d_buf.size());
+    const std::int64_t h = d_half;
+    const std::size_t span = std::size_t(h + d_cp + h / 2 + 1);
+    // State (d_p, d_e) belongs to position d_pos - 1 once the loop has run; the update to
+    // d uses samples up to d + 2H - 1, present whenever M(d) itself can be computed.
+    while (d_pos + 2 * h <= end) {
+        if (d_since_recompute < 0 || d_since_recompute >= (1 << 16)) {
+            recompute(d_pos);
+        } else {
+            const gr_complex* r = d_buf.data() + (d_pos - 1 - d_base);
+            const std::complex<double> a0(r[0]), ah(r[h]), a2h(r[2 * h]);
+            d_p += std::conj(ah) * a2h - std::conj(a0) * ah;
+            d_e += std::norm(a2h) - std::norm(a0);
+            d_since_recompute++;
+        }
+        const double half_e = 0.5 * d_e;
+        const double m = half_e > 1e-30 ? std::norm(d_p) / (half_e * half_e) : 0.0;
+        if (!d_collecting && m > d_threshold) {
+            d_collecting = true;
+            d_first = d_pos;
+            d_m.clear();
+            d_pv.clear();
+        }
+        if (d_collecting) {
+            d_m.push_back(m);
+            d_pv.push_back(d_p);
+        }
+        d_pos++;
+        if (d_collecting && d_m.size() >= span) {
+            finish();
+            return true;
+        }
+    }
+    // Bounded memory: keep lookback samples before the oldest position still needed.
+    const std::int64_t keep_from =
+        (d_collecting ? d_first : d_pos) - 1 - std::int64_t(d_lookback);
+    if (keep_from - d_base > std::int64_t(1 << 16) &&
+        keep_from - d_base > std::int64_t(d_buf.size() / 2))
+        discard_before(keep_from);
+    return false;
+}
+
+void sc_acquirer::finish()
+{
+    const std::size_t size = d_m.size();
+    const std::size_t imax = std::size_t(std::max_element(d_m.begin(), d_m.end()) - d_m.begin());
+    const double mmax = d_m[imax];
+    const std::size_t reach = d_cp + d_half / 2;
+    const std::size_t lo = imax > reach ? imax - reach : 0;
+    const std::size_t hi = std::min(size - 1, imax + reach);
+    const double level = 0.9 * mmax;
+    std::size_t first = lo;
+    while (d_m[first] < level)
+        first++;
+    std::size_t last = hi;
+    while (d_m[last] < level)
+        last--;
+    std::complex<double> psum = 0.0;
+    for (std::size_t i = first; i <= last; i++)
+        psum += d_pv[i];
+    const double centre = double(d_first) + 0.5 * double(first + last);
+    d_res.locked = true;
+    d_res.metric = mmax;
+    d_res.plateau_first = double(d_first) + double(first);
+    d_res.plateau_last = double(d_first) + double(last);
+    // Plateau [d0 + D, d0 + cp]: its centre minus cp/2 is the symbol start (+ D/2).
+    d_res.symbol_start = std::llround(centre - 0.5 * double(d_cp));
+    // P's phase is 2 pi CFO H (cycles per sample): fractional CFO, |CFO| < 1/(2H) = Delta f.
+    d_res.cfo = std::arg(psum) / (2.0 * M_PI * double(d_half));
+    d_collecting = false;
+    d_m.clear();
+    d_m.shrink_to_fit();
+    d_pv.clear();
+    d_pv.shrink_to_fit();
+}
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
