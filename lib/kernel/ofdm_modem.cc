@@ -87,7 +87,7 @@ void ofdm_demodulator::execute(const gr_complex* in, gr_complex* out)
 
 void phase_rotator::rotate(const gr_complex* in, gr_complex* out, std::size_t n)
 {
-    constexpr std::size_t block = 4096;
+    constexpr std::size_t block = 512;
     const double step = 2.0 * M_PI * d_freq;
     const gr_complex inc(float(std::cos(step)), float(std::sin(step)));
     for (std::size_t i = 0; i < n; i += block) {
@@ -209,8 +209,18 @@ void sc_acquirer::finish()
     std::size_t last = hi;
     while (d_m[last] < level)
         last--;
+    // The 0.9-points lie (1 - sqrt(0.9)) H = 0.0513 H outside the plateau, where a few
+    // pairs mix in the neighbouring data symbols: the CFO uses the inner part only.
+    const std::size_t edge = std::size_t(std::ceil(0.0514 * d_half)) + 1;
+    std::size_t in_first = first, in_last = last;
+    if (last - first > 2 * edge) {
+        in_first = first + edge;
+        in_last = last - edge;
+    } else {
+        in_first = in_last = (first + last) / 2;
+    }
     std::complex<double> psum = 0.0;
-    for (std::size_t i = first; i <= last; i++)
+    for (std::size_t i = in_first; i <= in_last; i++)
         psum += d_pv[i];
     const double centre = double(d_first) + 0.5 * double(first + last);
     d_res.locked = true;

@@ -27,8 +27,8 @@ namespace nrsar {
  *
  * With fft_start = cp_samples (default) an echo delayed by 0 .. CP gives exactly the TF
  * model of SPEC section 3. An earlier window (fft_start < cp) multiplies subcarrier n by
- * exp(+j 2 pi (n - k0) (cp - fft_start) / fft_size) (a time advance of cp - fft_start
- * samples), in exchange for tolerance of late timing.
+ * exp(-j 2 pi (n - k0) (cp - fft_start) / fft_size) (the symbol appears cp - fft_start
+ * samples late in the window), in exchange for tolerance of late timing.
  *
  * Tags: a tag on input sample s goes to output item floor(s / (cp + fft_size)) (the symbol
  * the sample falls in). NaN/Inf samples are zeroed, counted and tagged

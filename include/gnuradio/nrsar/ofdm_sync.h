@@ -39,7 +39,7 @@ namespace nrsar {
  * Nothing is output before lock. Samples before the input's first sample are zeros. The
  * backoff moves the FFT window of a downstream ofdm_demod (fft_start = cp) that many samples
  * into the CP, away from the next symbol: safe against late timing, at the price of a linear
- * phase exp(+j 2 pi (n - k0) b / fft_size) across the subcarriers (b = samples early, the
+ * phase exp(-j 2 pi (n - k0) b / fft_size) across the subcarriers (b = samples early, the
  * backoff plus the estimation error), which a per-subcarrier channel estimate absorbs.
  *
  * Tags on the output: tags::sync_key() on sample 0 of each acquisition (a dict: "cfo_hz"

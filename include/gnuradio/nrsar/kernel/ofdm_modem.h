@@ -58,8 +58,9 @@ private:
  *
  * The FFT window starts fft_start samples into the symbol (fft_start <= cp; cp means right
  * after the CP): Y[n] = (1/sqrt(fft_size)) sum_t x[fft_start + t] exp(-j 2 pi (n - k0) t /
- * fft_size). For the modulator's output Y = S exp(+j 2 pi (n - k0) (cp - fft_start) / fft_size):
- * an early window start adds that linear phase across the subcarriers (a time advance).
+ * fft_size). For the modulator's output Y = S exp(-j 2 pi (n - k0) (cp - fft_start) / fft_size):
+ * a window starting cp - fft_start samples early sees the symbol delayed by that much, a
+ * linear phase across the subcarriers.
  */
 class NRSAR_API ofdm_demodulator
 {
@@ -89,9 +90,10 @@ private:
  * \brief Frequency shifter with a double-precision phase: out[i] = in[i] exp(j phase_i),
  * phase_{i+1} = phase_i + 2 pi freq (freq in cycles per sample).
  *
- * VOLK's rotator (volk_32fc_s32fc_x2_rotator_32fc: float phase, renormalised every few hundred samples) runs over blocks of
- * at most 4096 samples; before each block the phase is set again from the double
- * accumulator (wrapped to [-pi, pi)), so the phase error stays at float rounding instead of
+ * VOLK's rotator (volk_32fc_s32fc_x2_rotator_32fc: float phasor, renormalised every few
+ * hundred samples) runs over blocks of at most 512 samples; before each block the phasor is
+ * set again from the double accumulator (wrapped to [-pi, pi)), so the phase error stays
+ * below 512 times the float rounding of the increment's angle (about 3e-5 rad) instead of
  * growing with the stream length.
  */
 class NRSAR_API phase_rotator
@@ -125,8 +127,9 @@ private:
  * within (cp + H/2) of it with M >= 0.9 Mmax; their midpoint c is the plateau centre
  * (the 0.9-points lie 0.05 H outside both plateau ends, symmetric). Estimates:
  *   symbol start d0_hat = round(c - cp/2)      (= d0 + D/2 with a delay spread D)
- *   CFO = angle(sum of P over [first, last]) / (2 pi H) cycles per sample, |CFO| < 1/(2H)
- *   (= Delta f: fractional CFO only).
+ *   CFO = angle(sum of P over [first + e, last - e]) / (2 pi H) cycles per sample, with
+ *   e = 0.0514 H + 1 (the plateau without the 0.9-point margins, where data mixes in);
+ *   |CFO| < 1/(2H) (= Delta f: fractional CFO only).
  * The acquirer keeps the samples from (d - lookback) on so that the caller can output from
  * before the detected symbol; memory is bounded by lookback + 2 fft_size + a chunk.
  */
