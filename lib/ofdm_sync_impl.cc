@@ -62,7 +62,7 @@ ofdm_sync_impl::ofdm_sync_impl(const numerology& num,
             num.cp_samples,
             threshold,
             std::size_t(dmrs.symbols.front()) * (num.cp_samples + num.fft_size) +
-                num.cp_samples + std::size_t(std::llround(backoff * num.cp_samples)) + 2)
+                num.cp_samples + num.fft_size / 2 + std::size_t(std::llround(backoff * num.cp_samples)) + 2)
 {
     set_tag_propagation_policy(TPP_DONT);
     message_port_register_in(pmt::mp("reset"));

@@ -154,7 +154,11 @@ bool sc_acquirer::push(const gr_complex* in, std::size_t n)
         return true;
     const std::int64_t end = d_base + std::int64_t(d_buf.size());
     const std::int64_t h = d_half;
-    const std::size_t span = std::size_t(h + d_cp + h / 2 + 1);
+    // M and P are kept for `back` positions before the first threshold crossing (a crossing
+    // can fall inside the plateau at low SNR) and collected for `ahead` positions after it
+    // (rising edge, plateau and falling edge).
+    const std::size_t back = d_cp + d_half / 2;
+    const std::int64_t ahead = h + d_cp + h / 2 + 1;
     // State (d_p, d_e) belongs to position d_pos - 1 once the loop has run; the update to
     // d uses samples up to d + 2H - 1, present whenever M(d) itself can be computed.
     while (d_pos + 2 * h <= end) {
@@ -169,25 +173,30 @@ bool sc_acquirer::push(const gr_complex* in, std::size_t n)
         }
         const double half_e = 0.5 * d_e;
         const double m = half_e > 1e-30 ? std::norm(d_p) / (half_e * half_e) : 0.0;
+        if (d_m.empty())
+            d_m_start = d_pos;
+        d_m.push_back(m);
+        d_pv.push_back(d_p);
         if (!d_collecting && m > d_threshold) {
             d_collecting = true;
             d_first = d_pos;
-            d_m.clear();
-            d_pv.clear();
-        }
-        if (d_collecting) {
-            d_m.push_back(m);
-            d_pv.push_back(d_p);
         }
         d_pos++;
-        if (d_collecting && d_m.size() >= span) {
+        if (d_collecting && d_pos - d_first >= ahead) {
             finish();
             return true;
         }
+        if (!d_collecting && d_m.size() >= 2 * back + 64) {
+            // Keep only the last `back` positions while searching (amortised).
+            const std::size_t drop = d_m.size() - back;
+            d_m.erase(d_m.begin(), d_m.begin() + drop);
+            d_pv.erase(d_pv.begin(), d_pv.begin() + drop);
+            d_m_start += std::int64_t(drop);
+        }
     }
     // Bounded memory: keep lookback samples before the oldest position still needed.
-    const std::int64_t keep_from =
-        (d_collecting ? d_first : d_pos) - 1 - std::int64_t(d_lookback);
+    const std::int64_t oldest = d_m.empty() ? d_pos : std::min(d_m_start, d_pos);
+    const std::int64_t keep_from = oldest - 1 - std::int64_t(d_lookback);
     if (keep_from - d_base > std::int64_t(1 << 16) &&
         keep_from - d_base > std::int64_t(d_buf.size() / 2))
         discard_before(keep_from);
@@ -196,39 +205,37 @@ bool sc_acquirer::push(const gr_complex* in, std::size_t n)
 
 void sc_acquirer::finish()
 {
+    // The plateau [d0 + D, d0 + cp] is found as the window of cp + 1 positions with the
+    // largest sum of M (a matched filter to the plateau, robust at low SNR where single
+    // values of M fluctuate); with symmetric edges the best window starts at d0 + D/2.
     const std::size_t size = d_m.size();
-    const std::size_t imax = std::size_t(std::max_element(d_m.begin(), d_m.end()) - d_m.begin());
-    const double mmax = d_m[imax];
-    const std::size_t reach = d_cp + d_half / 2;
-    const std::size_t lo = imax > reach ? imax - reach : 0;
-    const std::size_t hi = std::min(size - 1, imax + reach);
-    const double level = 0.9 * mmax;
-    std::size_t first = lo;
-    while (d_m[first] < level)
-        first++;
-    std::size_t last = hi;
-    while (d_m[last] < level)
-        last--;
-    // The 0.9-points lie (1 - sqrt(0.9)) H = 0.0513 H outside the plateau, where a few
-    // pairs mix in the neighbouring data symbols: the CFO uses the inner part only.
-    const std::size_t edge = std::size_t(std::ceil(0.0514 * d_half)) + 1;
-    std::size_t in_first = first, in_last = last;
-    if (last - first > 2 * edge) {
-        in_first = first + edge;
-        in_last = last - edge;
-    } else {
-        in_first = in_last = (first + last) / 2;
+    const std::size_t w = std::min<std::size_t>(d_cp + 1, size);
+    const std::size_t from = std::size_t(
+        std::max<std::int64_t>(0, d_first - std::int64_t(d_cp + d_half / 2) - d_m_start));
+    double sum = 0.0;
+    for (std::size_t i = from; i < from + w; i++)
+        sum += d_m[i];
+    double best = sum;
+    std::size_t jbest = from;
+    for (std::size_t j = from + 1; j + w <= size; j++) {
+        sum += d_m[j + w - 1] - d_m[j - 1];
+        if (sum > best) {
+            best = sum;
+            jbest = j;
+        }
     }
+    // CFO: P over the middle half of the window (clear of the edges, where neighbouring data
+    // symbols mix in when the delay spread shifts the window).
+    const std::size_t in_first = jbest + w / 4;
+    const std::size_t in_last = jbest + w - 1 - w / 4;
     std::complex<double> psum = 0.0;
     for (std::size_t i = in_first; i <= in_last; i++)
         psum += d_pv[i];
-    const double centre = double(d_first) + 0.5 * double(first + last);
     d_res.locked = true;
-    d_res.metric = mmax;
-    d_res.plateau_first = double(d_first) + double(first);
-    d_res.plateau_last = double(d_first) + double(last);
-    // Plateau [d0 + D, d0 + cp]: its centre minus cp/2 is the symbol start (+ D/2).
-    d_res.symbol_start = std::llround(centre - 0.5 * double(d_cp));
+    d_res.metric = *std::max_element(d_m.begin() + jbest, d_m.begin() + jbest + w);
+    d_res.plateau_first = double(d_m_start + std::int64_t(jbest));
+    d_res.plateau_last = d_res.plateau_first + double(w - 1);
+    d_res.symbol_start = d_m_start + std::int64_t(jbest);
     // P's phase is 2 pi CFO H (cycles per sample): fractional CFO, |CFO| < 1/(2H) = Delta f.
     d_res.cfo = std::arg(psum) / (2.0 * M_PI * double(d_half));
     d_collecting = false;

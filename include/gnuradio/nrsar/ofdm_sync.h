@@ -26,9 +26,10 @@ namespace nrsar {
  *   P(d) = sum_{m<H} conj(r[d+m]) r[d+m+H],  E(d) = sum_{m<2H} |r[d+m]|^2,
  *   M(d) = |P(d)|^2 / (E(d)/2)^2 in [0, 1].
  * M has a plateau over d in [d0 + D, d0 + cp] for a DMRS symbol starting at d0 (channel delay
- * spread D). Detection at the first M > threshold; the plateau is the run of M >= 0.9 Mmax
- * around the maximum; its centre c gives the symbol start d0_hat = c - cp/2 (= d0 + D/2: the
- * estimate sits D/2 after the first path), and the phase of P summed over the plateau gives
+ * spread D). Detection at the first M > threshold; the plateau is the window of cp + 1
+ * positions around it with the largest sum of M; its start is the symbol start estimate
+ * d0_hat (= d0 + D/2: the estimate sits D/2 after the first path), and the phase of P summed
+ * over the middle half of the plateau gives
  * the CFO: cfo = angle(sum P) Delta f / pi, unambiguous for |CFO| < Delta f (30 kHz =
  * 8.6 ppm at 3.5 GHz). Integer multiples of 2 Delta f are not detected.
  *
@@ -55,7 +56,7 @@ namespace nrsar {
  * Acquisition happens once per stream; reset() or any message on the `reset` port starts a
  * new one at the next input sample (output continues; the new slot 0 starts where the new
  * acquisition's output begins). Memory is bounded: before lock the block keeps
- * dmrs.symbols[0] (cp + fft_size) + cp + backoff samples of history plus the search span.
+ * dmrs.symbols[0] (cp + fft_size) + cp + fft_size / 2 + backoff samples of history plus the search span.
  * The first detected DMRS symbol must be the first DMRS symbol of a slot (bursts start at
  * slot boundaries).
  */
@@ -69,13 +70,15 @@ public:
      * \param dmrs DMRS layout of the slot; must have at least one DMRS symbol
      * \param threshold detection threshold on M, in (0, 1); the plateau value is about
      *        (snr / (1 + snr))^2 (snr: time-domain SNR of the DMRS symbol), pure noise or data
-     *        gives M of order 1/H. Default 0.3 (detects above about 1 dB)
+     *        gives M ~ Exp(mean 1/H), above t with probability exp(-t H) per independent position
+     *        (H = fft_size / 2; e^-51 for sdr20 at 0.1). Default 0.1: detects a DMRS symbol
+     *        whose time-domain SNR exceeds about -3.4 dB
      * \param backoff how far before the estimated slot start output sample 0 is placed, as a
      *        fraction of cp_samples, in [0, 1); default 0.125
      */
     static sptr make(const numerology& num,
                      const dmrs_config& dmrs,
-                     double threshold = 0.3,
+                     double threshold = 0.1,
                      double backoff = 0.125);
 
     //! True once the current acquisition has locked.

@@ -32,7 +32,7 @@ void bind_ofdm_sync(py::module& m)
         .def(py::init(&ofdm_sync::make),
              py::arg("num"),
              py::arg("dmrs"),
-             py::arg("threshold") = 0.3,
+             py::arg("threshold") = 0.1,
              py::arg("backoff") = 0.125,
              D(ofdm_sync, make))
         .def("locked", &ofdm_sync::locked, "True once the current acquisition has locked.")

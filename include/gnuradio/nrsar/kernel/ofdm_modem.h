@@ -122,13 +122,12 @@ private:
  * P and E are running sums in double, recomputed exactly every 2^16 positions.
  * On the repeated symbol starting at d0 (cyclic prefix cp), M has a plateau for d in
  * [d0 + D, d0 + cp] (D: channel delay spread) with edges falling as (1 - e/H)^2.
- * Detection: the first d with M(d) > threshold; the block then collects M and P over the
- * next H + cp + H/2 positions, takes the maximum Mmax and the first and last positions
- * within (cp + H/2) of it with M >= 0.9 Mmax; their midpoint c is the plateau centre
- * (the 0.9-points lie 0.05 H outside both plateau ends, symmetric). Estimates:
- *   symbol start d0_hat = round(c - cp/2)      (= d0 + D/2 with a delay spread D)
- *   CFO = angle(sum of P over [first + e, last - e]) / (2 pi H) cycles per sample, with
- *   e = 0.0514 H + 1 (the plateau without the 0.9-point margins, where data mixes in);
+ * Detection: the first d with M(d) > threshold; M and P are kept from cp + H/2 positions
+ * before it to H + cp + H/2 after it. The plateau is the window of cp + 1 positions with the
+ * largest sum of M (a matched filter to the plateau; with symmetric edges it starts at
+ * d0 + D/2). Estimates:
+ *   symbol start d0_hat = start of that window          (= d0 + D/2 with a delay spread D)
+ *   CFO = angle(sum of P over the middle half of the window) / (2 pi H) cycles per sample,
  *   |CFO| < 1/(2H) (= Delta f: fractional CFO only).
  * The acquirer keeps the samples from (d - lookback) on so that the caller can output from
  * before the detected symbol; memory is bounded by lookback + 2 fft_size + a chunk.
@@ -140,9 +139,9 @@ public:
         bool locked = false;
         std::int64_t symbol_start = 0; //!< d0_hat, absolute sample index
         double cfo = 0.0;              //!< cycles per sample
-        double metric = 0.0;           //!< Mmax
-        double plateau_first = 0.0;    //!< first 0.9 Mmax position
-        double plateau_last = 0.0;     //!< last 0.9 Mmax position
+        double metric = 0.0;           //!< Mmax within the plateau window
+        double plateau_first = 0.0;    //!< first position of the plateau window
+        double plateau_last = 0.0;     //!< last position (plateau_first + cp)
     };
 
     sc_acquirer(unsigned fft_size, unsigned cp, double threshold, std::size_t lookback);
@@ -187,6 +186,7 @@ private:
     double d_e = 0.0;
     bool d_collecting = false;
     std::int64_t d_first = 0; // first position above threshold
+    std::int64_t d_m_start = 0; // position of d_m[0]
     std::vector<double> d_m;
     std::vector<std::complex<double>> d_pv;
     result d_res;

@@ -18,7 +18,7 @@ from the CP start of that symbol's slot (minus backoff * cp samples), CFO-derota
 static const char* __doc_gr_nrsar_ofdm_sync_ofdm_sync = R"doc()doc";
 
 static const char* __doc_gr_nrsar_ofdm_sync_make =
-    R"doc(ofdm_sync(num, dmrs, threshold=0.3, backoff=0.125)
+    R"doc(ofdm_sync(num, dmrs, threshold=0.1, backoff=0.125)
 
 num: numerology (even fft_size); dmrs: dmrs_config with at least one symbol;
 threshold: on the metric M in (0, 1); backoff: fraction of the CP in [0, 1) by which the
