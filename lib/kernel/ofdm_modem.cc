@@ -147,6 +147,58 @@ void sc_acquirer::discard_before(std::int64_t abs)
     d_base += std::int64_t(drop);
 }
 
+bool sc_acquirer::search(std::int64_t end)
+{
+    const std::int64_t h = d_half;
+    constexpr std::int64_t chunk = 8192;
+    while (d_pos + 2 * h <= end) {
+        if (d_since_recompute < 0 || d_since_recompute >= (1 << 16)) {
+            recompute(d_pos);
+            const double half_e = 0.5 * d_e;
+            if (half_e > 1e-30 && std::norm(d_p) > d_threshold * half_e * half_e) {
+                d_first = d_pos;
+                return true;
+            }
+            d_pos++;
+            continue;
+        }
+        // Positions d_pos .. d_pos + c - 1; the state belongs to d_pos - 1. With
+        // q[i] = conj(r[i]) r[i+H] and g[i] = |r[i]|^2 (VOLK, from r = sample d_pos - 1):
+        // P(d) = P(d-1) - q[k] + q[k+H], E(d) = E(d-1) - g[k] + g[k+2H], k = d - d_pos.
+        const std::int64_t c = std::min({ end - 2 * h + 1 - d_pos,
+                                          chunk,
+                                          std::int64_t(1 << 16) - d_since_recompute });
+        const gr_complex* r = d_buf.data() + (d_pos - 1 - d_base);
+        if (d_q.size() < std::size_t(c + h))
+            d_q.resize(std::size_t(chunk + h));
+        if (d_g.size() < std::size_t(c + 2 * h))
+            d_g.resize(std::size_t(chunk + 2 * h));
+        volk_32fc_x2_multiply_conjugate_32fc(d_q.data(), r + h, r, unsigned(c + h));
+        volk_32fc_magnitude_squared_32f(d_g.data(), r, unsigned(c + 2 * h));
+        std::complex<double> p = d_p;
+        double e = d_e;
+        for (std::int64_t k = 0; k < c; k++) {
+            p += std::complex<double>(d_q[k + h]) - std::complex<double>(d_q[k]);
+            e += double(d_g[k + 2 * h]) - double(d_g[k]);
+            const double half_e = 0.5 * e;
+            // M > threshold without a division per sample.
+            if (std::norm(p) > d_threshold * half_e * half_e && half_e > 1e-30) {
+                d_p = p;
+                d_e = e;
+                d_pos += k;
+                d_since_recompute += k + 1;
+                d_first = d_pos;
+                return true;
+            }
+        }
+        d_p = p;
+        d_e = e;
+        d_pos += c;
+        d_since_recompute += c;
+    }
+    return false;
+}
+
 bool sc_acquirer::push(const gr_complex* in, std::size_t n)
 {
     d_buf.insert(d_buf.end(), in, in + n);
@@ -154,14 +206,24 @@ bool sc_acquirer::push(const gr_complex* in, std::size_t n)
         return true;
     const std::int64_t end = d_base + std::int64_t(d_buf.size());
     const std::int64_t h = d_half;
-    // M and P are kept for `back` positions before the first threshold crossing (a crossing
-    // can fall inside the plateau at low SNR) and collected for `ahead` positions after it
-    // (rising edge, plateau and falling edge).
-    const std::size_t back = d_cp + d_half / 2;
+    // After the first threshold crossing, M and P are recomputed and kept from `back`
+    // positions before it (a crossing can fall inside the plateau at low SNR) to `ahead`
+    // positions after it (rising edge, plateau and falling edge).
+    const std::int64_t back = d_cp + d_half / 2;
     const std::int64_t ahead = h + d_cp + h / 2 + 1;
-    // State (d_p, d_e) belongs to position d_pos - 1 once the loop has run; the update to
-    // d uses samples up to d + 2H - 1, present whenever M(d) itself can be computed.
     while (d_pos + 2 * h <= end) {
+        if (!d_collecting) {
+            if (!search(end))
+                break;
+            d_collecting = true;
+            d_pos = std::max(d_first - back, d_base);
+            d_since_recompute = -1;
+            d_m.clear();
+            d_pv.clear();
+            d_m_start = d_pos;
+            continue;
+        }
+        // State (d_p, d_e) belongs to position d_pos - 1 after the first step.
         if (d_since_recompute < 0 || d_since_recompute >= (1 << 16)) {
             recompute(d_pos);
         } else {
@@ -172,31 +234,19 @@ bool sc_acquirer::push(const gr_complex* in, std::size_t n)
             d_since_recompute++;
         }
         const double half_e = 0.5 * d_e;
-        const double m = half_e > 1e-30 ? std::norm(d_p) / (half_e * half_e) : 0.0;
-        if (d_m.empty())
-            d_m_start = d_pos;
-        d_m.push_back(m);
+        d_m.push_back(half_e > 1e-30 ? std::norm(d_p) / (half_e * half_e) : 0.0);
         d_pv.push_back(d_p);
-        if (!d_collecting && m > d_threshold) {
-            d_collecting = true;
-            d_first = d_pos;
-        }
         d_pos++;
-        if (d_collecting && d_pos - d_first >= ahead) {
+        if (d_pos - d_first >= ahead) {
             finish();
             return true;
         }
-        if (!d_collecting && d_m.size() >= 2 * back + 64) {
-            // Keep only the last `back` positions while searching (amortised).
-            const std::size_t drop = d_m.size() - back;
-            d_m.erase(d_m.begin(), d_m.begin() + drop);
-            d_pv.erase(d_pv.begin(), d_pv.begin() + drop);
-            d_m_start += std::int64_t(drop);
-        }
     }
-    // Bounded memory: keep lookback samples before the oldest position still needed.
-    const std::int64_t oldest = d_m.empty() ? d_pos : std::min(d_m_start, d_pos);
-    const std::int64_t keep_from = oldest - 1 - std::int64_t(d_lookback);
+    // Bounded memory: keep lookback (at least back + 1) samples before the oldest position
+    // still needed.
+    const std::int64_t oldest = d_collecting ? d_m_start : d_pos;
+    const std::int64_t keep_from =
+        oldest - 1 - std::max<std::int64_t>(std::int64_t(d_lookback), back + 1);
     if (keep_from - d_base > std::int64_t(1 << 16) &&
         keep_from - d_base > std::int64_t(d_buf.size() / 2))
         discard_before(keep_from);

@@ -122,8 +122,9 @@ private:
  * P and E are running sums in double, recomputed exactly every 2^16 positions.
  * On the repeated symbol starting at d0 (cyclic prefix cp), M has a plateau for d in
  * [d0 + D, d0 + cp] (D: channel delay spread) with edges falling as (1 - e/H)^2.
- * Detection: the first d with M(d) > threshold; M and P are kept from cp + H/2 positions
- * before it to H + cp + H/2 after it. The plateau is the window of cp + 1 positions with the
+ * Detection: the first d with M(d) > threshold (searching: VOLK products, running sums,
+ * no division); M and P are then recomputed from cp + H/2 positions before it to
+ * H + cp + H/2 after it. The plateau is the window of cp + 1 positions with the
  * largest sum of M (a matched filter to the plateau; with symmetric edges it starts at
  * d0 + D/2). Estimates:
  *   symbol start d0_hat = start of that window          (= d0 + D/2 with a delay spread D)
@@ -173,6 +174,7 @@ public:
 
 private:
     void recompute(std::int64_t d);
+    bool search(std::int64_t end);
     void finish();
 
     unsigned d_half, d_cp;
@@ -189,6 +191,8 @@ private:
     std::int64_t d_m_start = 0; // position of d_m[0]
     std::vector<double> d_m;
     std::vector<std::complex<double>> d_pv;
+    volk::vector<gr_complex> d_q; // conj(r[i]) r[i+H] of a search chunk
+    volk::vector<float> d_g;      // |r[i]|^2 of a search chunk
     result d_res;
 };
 
