@@ -72,6 +72,7 @@ def run(quick=False):
                                                        False)
             ifft = fft.fft_vcc(f, False, [], False, 1)
             cpx = digital.ofdm_cyclic_prefixer(f, L, 0, "packet_len")
+            cpx.set_min_output_buffer(2 * L)  # a tagged-stream block writes whole packets
             tb.connect(src, head, tag, alloc, ifft, cpx, blocks.null_sink(gr.sizeof_gr_complex))
 
         a = benchutil.items_per_second(mod_ours, symbols) * L
