@@ -249,6 +249,30 @@ class qa_ofdm_sync(gr_unittest.TestCase):
         self.assertEqual(len(nf), 1)
         self.assertLessEqual(nf[0], len(x) - 100 - sync.start_samples())
 
+    def test_011_reset_reacquires(self):
+        # One block in two successive flowgraphs: without reset() it keeps tracking the first
+        # lock; after reset() it acquires the second burst at its own timing.
+        sync = nrsar.ofdm_sync(self.num, nrsar.make_dmrs("pusch2"))
+
+        def run(delay):
+            tb = gr.top_block()
+            x = np.concatenate([np.zeros(delay, np.complex64), self.x])
+            snk = blocks.vector_sink_c()
+            tb.connect(blocks.vector_source_c(x.tolist()), sync, snk)
+            tb.run()
+            return snk.tags()
+
+        run(1000)
+        self.assertEqual(sync.timing_samples(), 1000 + DMRS[0] * self.L)
+        tags = run(4321)
+        self.assertEqual(sync.timing_samples(), 1000 + DMRS[0] * self.L)
+        self.assertFalse(any(pmt.symbol_to_string(t.key) == "sync" for t in tags))
+        sync.reset()
+        tags = run(4321)
+        self.assertTrue(sync.locked())
+        self.assertEqual(sync.timing_samples(), 4321 + DMRS[0] * self.L)
+        self.assertEqual([t.offset for t in tags if pmt.symbol_to_string(t.key) == "sync"], [0])
+
     def test_009_getters_and_setters(self):
         sync = nrsar.ofdm_sync(self.num, nrsar.make_dmrs("pusch2"))
         self.assertFalse(sync.locked())
