@@ -64,6 +64,12 @@ ofdm_sync_impl::ofdm_sync_impl(const numerology& num,
             std::size_t(dmrs.symbols.front()) * (num.cp_samples + num.fft_size) +
                 num.cp_samples + num.fft_size / 2 + std::size_t(std::llround(backoff * num.cp_samples)) + 2)
 {
+    // The other DMRS symbols of the slot refine the CFO estimate.
+    std::vector<std::int64_t> repeats;
+    for (std::size_t k = 1; k < dmrs.symbols.size(); k++)
+        repeats.push_back(std::int64_t(dmrs.symbols[k] - dmrs.symbols[0]) *
+                          (num.cp_samples + num.fft_size));
+    d_acq.set_repeats(repeats);
     set_tag_propagation_policy(TPP_DONT);
     message_port_register_in(pmt::mp("reset"));
     set_msg_handler(pmt::mp("reset"), [this](const pmt::pmt_t&) { this->reset(); });

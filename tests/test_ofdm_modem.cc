@@ -139,15 +139,21 @@ struct burst {
     std::int64_t d0;
 };
 
-burst make_burst(unsigned f, unsigned cp, std::int64_t lead, unsigned before, double cfo, unsigned seed)
+burst make_burst(unsigned f,
+                 unsigned cp,
+                 std::int64_t lead,
+                 unsigned before,
+                 double cfo,
+                 unsigned seed,
+                 unsigned second = 0) // a second repeated symbol, `second` symbols later
 {
     std::mt19937 rng(seed);
     std::normal_distribution<double> g(0.0, 1.0);
     burst b;
     b.x.assign(lead, gr_complex(0, 0));
-    for (unsigned sym = 0; sym < before + 3; sym++) {
-        const bool rep = sym == before;
-        if (rep)
+    for (unsigned sym = 0; sym < before + 3 + second; sym++) {
+        const bool rep = sym == before || (second > 0 && sym == before + second);
+        if (sym == before)
             b.d0 = std::int64_t(b.x.size());
         std::vector<cd> body(f);
         for (unsigned k = 0; k < f; k++) {
@@ -222,6 +228,23 @@ TEST(sc_acquirer, finds_symbol_and_cfo_without_noise)
         // The buffer still reaches back lookback samples before the detected symbol.
         EXPECT_LE(acq.buffer_start(), b.d0 - std::int64_t(2 * (f + cp)));
     }
+}
+
+TEST(sc_acquirer, further_repeated_symbols_enter_the_cfo)
+{
+    const unsigned f = 256, cp = 64;
+    const double cfo = 0.37 / f;
+    const auto b = make_burst(f, cp, 500, 2, cfo, 21, 3);
+    kernel::sc_acquirer acq(f, cp, 0.3, 3 * (f + cp));
+    acq.set_repeats({ 3 * std::int64_t(f + cp) });
+    // Not locked until the second repeated symbol (3 symbols later) is in.
+    const std::size_t cut = std::size_t(b.d0 + 3 * (f + cp) + f / 2);
+    EXPECT_FALSE(acq.push(b.x.data(), cut));
+    EXPECT_TRUE(acq.push(b.x.data() + cut, b.x.size() - cut));
+    EXPECT_EQ(acq.get().repeats_used, 2u);
+    EXPECT_NEAR(double(acq.get().symbol_start), double(b.d0), 3.0);
+    EXPECT_NEAR(acq.get().cfo * f, 0.37, 1e-5);
+    EXPECT_THROW(acq.set_repeats({ 0 }), std::invalid_argument);
 }
 
 TEST(sc_acquirer, noise_never_locks_and_memory_stays_bounded)

@@ -121,6 +121,7 @@ void sc_acquirer::reset()
     d_m.clear();
     d_pv.clear();
     d_res = result();
+    d_refining = false;
 }
 
 void sc_acquirer::recompute(std::int64_t d)
@@ -205,6 +206,8 @@ bool sc_acquirer::push(const gr_complex* in, std::size_t n)
     if (d_res.locked)
         return true;
     const std::int64_t end = d_base + std::int64_t(d_buf.size());
+    if (d_refining)
+        return try_refine(end);
     const std::int64_t h = d_half;
     // After the first threshold crossing, M and P are recomputed and kept from `back`
     // positions before it (a crossing can fall inside the plateau at low SNR) to `ahead`
@@ -239,7 +242,8 @@ bool sc_acquirer::push(const gr_complex* in, std::size_t n)
         d_pos++;
         if (d_pos - d_first >= ahead) {
             finish();
-            return true;
+            d_refining = true;
+            return try_refine(end);
         }
     }
     // Bounded memory: keep lookback (at least back + 1) samples before the oldest position
@@ -281,18 +285,60 @@ void sc_acquirer::finish()
     std::complex<double> psum = 0.0;
     for (std::size_t i = in_first; i <= in_last; i++)
         psum += d_pv[i];
-    d_res.locked = true;
     d_res.metric = *std::max_element(d_m.begin() + jbest, d_m.begin() + jbest + w);
     d_res.plateau_first = double(d_m_start + std::int64_t(jbest));
     d_res.plateau_last = d_res.plateau_first + double(w - 1);
     d_res.symbol_start = d_m_start + std::int64_t(jbest);
     // P's phase is 2 pi CFO H (cycles per sample): fractional CFO, |CFO| < 1/(2H) = Delta f.
     d_res.cfo = std::arg(psum) / (2.0 * M_PI * double(d_half));
+    d_psum = psum;
+    d_cfo_window = std::int64_t(w);
     d_collecting = false;
     d_m.clear();
     d_m.shrink_to_fit();
     d_pv.clear();
     d_pv.shrink_to_fit();
+}
+
+void sc_acquirer::set_repeats(const std::vector<std::int64_t>& offsets)
+{
+    for (auto o : offsets)
+        if (o <= 0)
+            throw_param("repeat offset", o, "must be positive");
+    d_repeats = offsets;
+}
+
+bool sc_acquirer::try_refine(std::int64_t end)
+{
+    // The same middle half of the plateau window, shifted to each further repeated symbol:
+    // P has the same phase 2 pi CFO H there, so the sums add coherently.
+    const std::int64_t h = d_half;
+    const std::int64_t w = d_cfo_window;
+    const std::int64_t first = w / 4, count = w - 2 * (w / 4);
+    std::int64_t need = 0;
+    for (auto o : d_repeats)
+        need = std::max(need, d_res.symbol_start + o + first + count - 1 + 2 * h);
+    if (end < need)
+        return false;
+    std::complex<double> psum = d_psum;
+    for (auto o : d_repeats) {
+        const gr_complex* r = d_buf.data() + (d_res.symbol_start + o + first - d_base);
+        std::complex<double> p = 0.0;
+        for (std::int64_t m = 0; m < h; m++)
+            p += std::conj(std::complex<double>(r[m])) * std::complex<double>(r[m + h]);
+        for (std::int64_t j = 0; j < count; j++) {
+            if (j > 0) {
+                const std::complex<double> a0(r[j - 1]), ah(r[j - 1 + h]), a2h(r[j - 1 + 2 * h]);
+                p += std::conj(ah) * a2h - std::conj(a0) * ah;
+            }
+            psum += p;
+        }
+    }
+    d_res.cfo = std::arg(psum) / (2.0 * M_PI * double(h));
+    d_res.repeats_used = 1 + unsigned(d_repeats.size());
+    d_res.locked = true;
+    d_refining = false;
+    return true;
 }
 
 } // namespace kernel

@@ -29,8 +29,8 @@ namespace nrsar {
  * spread D). Detection at the first M > threshold; the plateau is the window of cp + 1
  * positions around it with the largest sum of M; its start is the symbol start estimate
  * d0_hat (= d0 + D/2: the estimate sits D/2 after the first path), and the phase of P summed
- * over the middle half of the plateau gives
- * the CFO: cfo = angle(sum P) Delta f / pi, unambiguous for |CFO| < Delta f (30 kHz =
+ * over the middle half of the plateau (and over the same part of the slot's other DMRS
+ * symbols, so lock waits for the last of them) gives the CFO: cfo = angle(sum P) Delta f / pi, unambiguous for |CFO| < Delta f (30 kHz =
  * 8.6 ppm at 3.5 GHz). Integer multiples of 2 Delta f are not detected.
  *
  * Output (`out`): complex samples; output sample 0 is the first sample (CP start) of the slot

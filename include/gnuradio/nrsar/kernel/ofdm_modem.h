@@ -143,6 +143,7 @@ public:
         double metric = 0.0;           //!< Mmax within the plateau window
         double plateau_first = 0.0;    //!< first position of the plateau window
         double plateau_last = 0.0;     //!< last position (plateau_first + cp)
+        unsigned repeats_used = 1;     //!< repeated symbols whose P entered the CFO
     };
 
     sc_acquirer(unsigned fft_size, unsigned cp, double threshold, std::size_t lookback);
@@ -158,6 +159,13 @@ public:
      */
     bool push(const gr_complex* in, std::size_t n);
     const result& get() const { return d_res; }
+    /*!
+     * Further symbols with the same half-period structure at these offsets (samples, > 0)
+     * after the detected one (e.g. the other DMRS symbols of the slot): their P over the same
+     * plateau part is added before the CFO is taken (sqrt(K) less noise for K symbols). Lock
+     * then waits until those samples have arrived.
+     */
+    void set_repeats(const std::vector<std::int64_t>& offsets);
     bool locked() const { return d_res.locked; }
     //! Forgets everything: next push() starts at absolute index 0 again.
     void reset();
@@ -175,6 +183,7 @@ public:
 private:
     void recompute(std::int64_t d);
     bool search(std::int64_t end);
+    bool try_refine(std::int64_t end);
     void finish();
 
     unsigned d_half, d_cp;
@@ -194,6 +203,10 @@ private:
     volk::vector<gr_complex> d_q; // conj(r[i]) r[i+H] of a search chunk
     volk::vector<float> d_g;      // |r[i]|^2 of a search chunk
     result d_res;
+    std::vector<std::int64_t> d_repeats;
+    bool d_refining = false;
+    std::complex<double> d_psum = 0.0;
+    std::int64_t d_cfo_window = 1;
 };
 
 } // namespace kernel
