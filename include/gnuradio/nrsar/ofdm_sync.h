@@ -30,8 +30,9 @@ namespace nrsar {
  * positions around it with the largest sum of M; its start is the symbol start estimate
  * d0_hat (= d0 + D/2: the estimate sits D/2 after the first path), and the phase of P summed
  * over the middle half of the plateau (and over the same part of the slot's other DMRS
- * symbols, so lock waits for the last of them) gives the CFO: cfo = angle(sum P) Delta f / pi, unambiguous for |CFO| < Delta f (30 kHz =
- * 8.6 ppm at 3.5 GHz). Integer multiples of 2 Delta f are not detected.
+ * symbols, so lock waits for the last of them) gives the CFO: cfo = angle(sum P) Delta f / pi,
+ * unambiguous for |CFO| < Delta f (30 kHz = 8.6 ppm at 3.5 GHz). Integer multiples of
+ * 2 Delta f are not detected.
  *
  * Output (`out`): complex samples; output sample 0 is the first sample (CP start) of the slot
  * that holds the first detected DMRS symbol, moved earlier by the backoff:
@@ -56,7 +57,8 @@ namespace nrsar {
  * Acquisition happens once per stream; reset() or any message on the `reset` port starts a
  * new one at the next input sample (output continues; the new slot 0 starts where the new
  * acquisition's output begins). Memory is bounded: before lock the block keeps
- * dmrs.symbols[0] (cp + fft_size) + cp + fft_size / 2 + backoff samples of history plus the search span.
+ * dmrs.symbols[0] (cp + fft_size) + cp + fft_size / 2 + backoff samples of history plus
+ * the search span (up to the slot's last DMRS symbol while the CFO is refined).
  * The first detected DMRS symbol must be the first DMRS symbol of a slot (bursts start at
  * slot boundaries).
  */
