@@ -354,6 +354,28 @@ RULES = [
      "scene has no targets"),
     ("td_echo", "negative beam aperture", lambda: nrsar.td_echo(num(), geo(), scn(), beam=bad_beam()),
      "beam.az_aperture_m = -1"),
+    # ofdm_mod / ofdm_demod / ofdm_sync
+    ("ofdm_mod", "FFT smaller than N", lambda: nrsar.ofdm_mod(num(fft_size=32)),
+     "fft_size = 32 must be at least num_subcarriers = 64"),
+    ("ofdm_demod", "FFT window beyond the CP", lambda: nrsar.ofdm_demod(num(), 17),
+     "fft_start = 17 must be at most cp_samples = 16"),
+    ("ofdm_sync", "no DMRS", lambda: nrsar.ofdm_sync(num(), make_dmrs("none")),
+     "ofdm_sync needs at least one DMRS symbol"),
+    ("ofdm_sync", "threshold 0", lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), 0.0),
+     "threshold = 0 must be in (0, 1)"),
+    ("ofdm_sync", "threshold 1", lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), 1.0),
+     "threshold = 1 must be in (0, 1)"),
+    ("ofdm_sync", "threshold NaN", lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), NAN),
+     "threshold = nan"),
+    ("ofdm_sync", "backoff 1", lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), 0.1, 1.0),
+     "backoff = 1 must be in [0, 1)"),
+    ("ofdm_sync", "negative backoff",
+     lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), 0.1, -0.5), "backoff = -0.5"),
+    ("ofdm_sync", "odd FFT size",
+     lambda: nrsar.ofdm_sync(num(num_subcarriers=63, fft_size=65), make_dmrs("pusch2")),
+     "fft_size = 65 must be even"),
+    ("ofdm_sync", "DMRS symbol beyond the slot",
+     lambda: nrsar.ofdm_sync(num(), make_dmrs([2, 14])), "dmrs symbols = 14"),
 ]
 
 
