@@ -91,20 +91,28 @@ pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, 
         for (unsigned i = 0; i < nd; i++)
             d_ls[i] = y[2 * i] * std::conj(r[i]);
         auto& h = d_h_dmrs[j];
-        // running sum of the window, clipped at the edges (shrinking window)
+        // Moving average centred on i; near the band edges the window shrinks symmetrically
+        // (a one-sided window would shift the estimate along a phase slope).
         gr_complex acc(0.0f, 0.0f);
         int lo = 0, hi = -1; // current window [lo, hi]
-        for (int i = 0; i < static_cast<int>(nd); i++) {
-            const int want_lo = std::max(0, i - half);
-            const int want_hi = std::min(static_cast<int>(nd) - 1, i + half);
+        const int last = static_cast<int>(nd) - 1;
+        for (int i = 0; i <= last; i++) {
+            const int w = std::min(half, std::min(i, last - i));
+            const int want_lo = i - w, want_hi = i + w;
             while (hi < want_hi)
                 acc += d_ls[++hi];
             while (lo < want_lo)
                 acc -= d_ls[lo++];
+            while (lo > want_lo) // the window grows on both sides after the left edge
+                acc += d_ls[--lo];
+            while (hi > want_hi)
+                acc -= d_ls[hi--];
             h[2 * i] = acc / static_cast<float>(hi - lo + 1);
         }
+        // odd subcarriers: linear interpolation; the last one (N even) linear extrapolation
         for (unsigned k = 1; k < n; k += 2)
-            h[k] = (k + 1 < n) ? 0.5f * (h[k - 1] + h[k + 1]) : h[k - 1];
+            h[k] = (k + 1 < n) ? 0.5f * (h[k - 1] + h[k + 1])
+                               : h[k - 1] + 0.5f * (h[k - 1] - h[k - 3]);
     }
 
     // Per data symbol: channel in time, equalise, noise variance per RE, EVM.
