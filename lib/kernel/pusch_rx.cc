@@ -55,6 +55,8 @@ pusch_rx::pusch_rx(const numerology& num,
                 dmrs_values(d_dmrs.scrambling_id, s, l, dmrs_count(n)));
     d_h_dmrs.assign(d_dmrs.symbols.size(), std::vector<gr_complex>(n));
     d_ls.resize(dmrs_count(n));
+    d_s0.resize(dmrs_count(n) + 1);
+    d_s1.resize(dmrs_count(n) + 1);
     d_h.resize(n);
     d_x.resize(d_data_res);
     d_nv.resize(d_data_res);
@@ -91,23 +93,28 @@ pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, 
         for (unsigned i = 0; i < nd; i++)
             d_ls[i] = y[2 * i] * std::conj(r[i]);
         auto& h = d_h_dmrs[j];
-        // Moving average centred on i; near the band edges the window shrinks symmetrically
-        // (a one-sided window would shift the estimate along a phase slope).
-        gr_complex acc(0.0f, 0.0f);
-        int lo = 0, hi = -1; // current window [lo, hi]
-        const int last = static_cast<int>(nd) - 1;
-        for (int i = 0; i <= last; i++) {
-            const int w = std::min(half, std::min(i, last - i));
-            const int want_lo = i - w, want_hi = i + w;
-            while (hi < want_hi)
-                acc += d_ls[++hi];
-            while (lo < want_lo)
-                acc -= d_ls[lo++];
-            while (lo > want_lo) // the window grows on both sides after the left edge
-                acc += d_ls[--lo];
-            while (hi > want_hi)
-                acc -= d_ls[hi--];
-            h[2 * i] = acc / static_cast<float>(hi - lo + 1);
+        // Straight-line least-squares fit over a window of d_window DMRS REs, evaluated at
+        // i. Inside the band the window is centred (the fit is the moving average); at the
+        // edges it is shifted, not shrunk, so the estimate keeps its noise averaging and
+        // stays unbiased on a phase slope. Prefix sums of ls(j) and j ls(j) in double.
+        d_s0[0] = d_s1[0] = std::complex<double>(0.0, 0.0);
+        for (unsigned i = 0; i < nd; i++) {
+            const std::complex<double> v(d_ls[i]);
+            d_s0[i + 1] = d_s0[i] + v;
+            d_s1[i + 1] = d_s1[i] + static_cast<double>(i) * v;
+        }
+        const int w = static_cast<int>(std::min<unsigned>(d_window, nd));
+        const double sxx = w * (static_cast<double>(w) * w - 1.0) / 12.0;
+        for (int i = 0; i < static_cast<int>(nd); i++) {
+            const int lo = std::max(0, std::min(i - half, static_cast<int>(nd) - w));
+            const int hi = lo + w; // exclusive
+            const std::complex<double> s0 = d_s0[hi] - d_s0[lo];
+            const std::complex<double> s1 = d_s1[hi] - d_s1[lo];
+            const double xm = 0.5 * (lo + hi - 1);
+            const std::complex<double> mean = s0 / static_cast<double>(w);
+            const std::complex<double> slope = sxx > 0 ? (s1 - xm * s0) / sxx : 0.0;
+            const std::complex<double> v = mean + slope * (i - xm);
+            h[2 * i] = gr_complex(static_cast<float>(v.real()), static_cast<float>(v.imag()));
         }
         // odd subcarriers: linear interpolation; the last one (N even) linear extrapolation
         for (unsigned k = 1; k < n; k += 2)

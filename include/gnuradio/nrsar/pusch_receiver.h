@@ -55,7 +55,7 @@ public:
                      const dmrs_config& dmrs = dmrs_config::preset("pusch2"),
                      const std::string& ldpc_alist = "",
                      unsigned scrambling_id = 0,
-                     unsigned freq_window = 5,
+                     unsigned freq_window = 3,
                      unsigned max_iterations = 25);
 
     virtual std::uint64_t blocks_ok() const = 0;       //!< TBs with CRC ok (filler included)

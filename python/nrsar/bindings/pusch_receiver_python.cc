@@ -40,7 +40,7 @@ void bind_pusch_receiver(py::module& m)
              py::arg("dmrs") = gr::nrsar::dmrs_config::preset("pusch2"),
              py::arg("ldpc_alist") = "",
              py::arg("scrambling_id") = 0,
-             py::arg("freq_window") = 5,
+             py::arg("freq_window") = 3,
              py::arg("max_iterations") = 25,
              D(pusch_receiver, make))
         .def("blocks_ok", &pusch_receiver::blocks_ok, "TBs with CRC ok (filler included)")

@@ -36,9 +36,10 @@ struct NRSAR_API pusch_slot_result {
  * vectors of N): channel estimation on the DMRS, zero-forcing equalisation, max-log soft
  * demapping and transport block decoding.
  *
- * Per DMRS symbol l_d: LS estimate h(2i) = Y(2i, l_d) conj(r(i)) (|r| = 1), averaged over
- * freq_window neighbouring DMRS REs (window shrinks at the band edges), linear interpolation
- * to the odd subcarriers. In time: linear interpolation between the DMRS symbols and linear
+ * Per DMRS symbol l_d: LS estimate h(2i) = Y(2i, l_d) conj(r(i)) (|r| = 1), smoothed by a
+ * straight-line least-squares fit over freq_window neighbouring DMRS REs (centred: the moving
+ * average; shifted inside the band at the edges), linear interpolation to the odd
+ * subcarriers (extrapolation for the last one). In time: linear interpolation between the DMRS symbols and linear
  * extrapolation outside them (tracks a residual CFO / common phase drift); one DMRS symbol
  * = constant. Noise: sigma^2 = mean |Y|^2 over the odd subcarriers of the DMRS symbols, which
  * the transmitter leaves empty. Equalisation x = y / h, per-RE noise variance sigma^2 / |h|^2
@@ -60,7 +61,7 @@ public:
              const dmrs_config& dmrs,
              const std::string& ldpc_alist = "",
              unsigned scrambling_id = 0,
-             unsigned freq_window = 5,
+             unsigned freq_window = 3,
              unsigned max_iterations = 25);
     pusch_rx(pusch_rx&&) = default;
     pusch_rx& operator=(pusch_rx&&) = default;
@@ -92,6 +93,7 @@ private:
     std::vector<std::vector<gr_complex>> d_dmrs_values;
     std::vector<std::vector<gr_complex>> d_h_dmrs; // channel per DMRS symbol, all N subcarriers
     std::vector<gr_complex> d_ls;
+    std::vector<std::complex<double>> d_s0, d_s1; // prefix sums of ls(j), j ls(j)
     volk::vector<gr_complex> d_h;   // channel of one data symbol
     volk::vector<gr_complex> d_x;   // equalised data REs of the slot
     volk::vector<float> d_nv;       // per-RE noise variance after equalisation
