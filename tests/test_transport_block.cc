@@ -137,13 +137,21 @@ TEST(transport_block, roundtrip_uncoded_and_ldpc)
     }
 }
 
+TEST(transport_block, scrambling_c_init)
+{
+    EXPECT_EQ(transport_block_codec::scrambling_c_init(0, 0), 0x2545F491u);
+    EXPECT_EQ(transport_block_codec::scrambling_c_init(3, 70000),
+              static_cast<std::uint32_t>((((3ull << 15) + 70000 % 32768) * 0x9E3779B1ull +
+                                          0x2545F491ull) % (1ull << 31)));
+}
+
 TEST(transport_block, zero_payload_looks_random)
 {
     // 38.211 6.3.1.1: scrambled bits of an all-zero filler TB are balanced and differ per slot.
     transport_block_codec codec(6000, "", 0);
     std::vector<std::uint8_t> a(6000), b(6000);
-    codec.encode(tb_header{}, nullptr, 0, 1, a.data());
-    codec.encode(tb_header{}, nullptr, 0, 2, b.data());
+    codec.encode(tb_header{}, nullptr, 0, 0, a.data());
+    codec.encode(tb_header{}, nullptr, 0, 1, b.data());
     int ones = 0, diff = 0;
     for (int i = 0; i < 6000; i++) {
         ones += a[i];
