@@ -9,6 +9,7 @@ textbook error rates, PDU helpers and reassembly of the receiver's PDUs."""
 
 import math
 
+import numpy as np
 import pmt
 
 #: Metadata keys of a pusch_receiver PDU.
@@ -93,3 +94,21 @@ def reassemble(messages):
     if current is not None:
         out.append((bytes(current), False))
     return out
+
+
+def transmit_grid(num, mod, dmrs, alist, pdus, nslots, scrambling_id=5):
+    """Runs pusch_encoder -> nr_isac_tx(dmrs) for nslots slots with the PDUs (bytes) queued
+    first; returns (grid as a (symbols x N) complex64 array, the encoder block)."""
+    from gnuradio import blocks, gr
+    from gnuradio import nrsar
+    enc = nrsar.pusch_encoder(num, mod, dmrs, alist, scrambling_id, 1 << 30)
+    tx = nrsar.nr_isac_tx(num, mod, nrsar.make_tx_mode("data"), nrsar.srs_config(), 0, dmrs)
+    n = num.num_subcarriers
+    head = blocks.head(gr.sizeof_gr_complex * n, num.symbols_per_slot * nslots)
+    snk = blocks.vector_sink_c(n)
+    tb = gr.top_block()
+    tb.connect(enc, tx, head, snk)
+    for p in pdus:
+        enc.to_basic_block()._post(pmt.intern("pdus"), make_pdu(p))
+    tb.run()
+    return np.array(snk.data(), np.complex64).reshape(-1, n), enc

@@ -37,19 +37,7 @@ def qam_points(order):
 
 
 def transmit(num, mod, dmrs, alist, pdus, nslots, scrambling_id=5):
-    """Runs encoder -> nr_isac_tx for nslots slots; returns the grid (symbols x N) and
-    the encoder."""
-    enc = nrsar.pusch_encoder(num, mod, dmrs, alist, scrambling_id, 1 << 20)
-    tx = nrsar.nr_isac_tx(num, mod, nrsar.make_tx_mode("data"), nrsar.srs_config(), 0, dmrs)
-    n = num.num_subcarriers
-    head = blocks.head(gr.sizeof_gr_complex * n, num.symbols_per_slot * nslots)
-    snk = blocks.vector_sink_c(n)
-    tb = gr.top_block()
-    tb.connect(enc, tx, head, snk)
-    for p in pdus:
-        enc.to_basic_block()._post(pmt.intern("pdus"), backhaul.make_pdu(p))
-    tb.run()
-    return np.array(snk.data(), np.complex64).reshape(-1, n), enc
+    return backhaul.transmit_grid(num, mod, dmrs, alist, pdus, nslots, scrambling_id)
 
 
 def channel(grid, num, esn0_db, seed, selective=True, drift=0.0):
