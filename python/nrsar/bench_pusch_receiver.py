@@ -66,12 +66,13 @@ def run(quick=False):
     nslots = 1 if quick else 3
     alist = backhaul.DEFAULT_ALIST
     grid, enc = backhaul.transmit_grid(num, mod, dmrs, alist, [], 1)
+    grid = grid + (0.003 * np.random.default_rng(3).standard_normal(grid.shape)).astype(np.complex64)
     sym_rate = _receiver_rate(num, mod, dmrs, alist, grid, nslots)
     slot_rate = sym_rate / sps
     cw = enc.slot_bits() // 1800
-    # the all-zero codeword (gr-fec convention: bit 0 -> -1) with noise of sigma 0.3, so the
-    # decoder converges as it does inside pusch_receiver at high SNR
-    soft = (-1.0 + 0.3 * np.random.default_rng(2).standard_normal(1800 * 4)).astype(np.float32)
+    # the all-zero codeword (gr-fec convention: bit 0 -> -1) at high SNR (sigma 0.05), as the
+    # codewords inside the receiver's grid (noise 0.003 per RE): both converge at once
+    soft = (-1.0 + 0.05 * np.random.default_rng(2).standard_normal(1800 * 4)).astype(np.float32)
 
     def build_fec(tb, items):
         src = blocks.vector_source_f(soft.tolist(), True)
