@@ -12,6 +12,7 @@
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/params.h>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace gr {
@@ -55,6 +56,10 @@ private:
     unsigned d_levels; // PAM levels per axis
     std::vector<float> d_level;          // PAM level values
     std::vector<unsigned> d_level_bits;  // axis bits of each level, first axis bit = MSB
+    std::vector<float> d_sorted;         // levels in increasing order
+    std::vector<unsigned> d_sorted_bits; // their axis bits
+    std::vector<std::int8_t> d_flip;     // [(pos * axis_bits + j) * 2 + side]
+    float d_step = 1.0f;
     template <bool PerSymbol>
     void demap_impl(const gr_complex* y, const float* nv, std::size_t nsym, float* llr) const;
 };
