@@ -10,6 +10,7 @@
 #include <gnuradio/nrsar/kernel/transport_block.h>
 #include <gtest/gtest.h>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <stdexcept>
 
@@ -110,4 +111,20 @@ TEST(pusch_rx, bad_parameters)
                  std::invalid_argument);
     EXPECT_THROW(pusch_rx(num, modulation::QAM16, dmrs_config::preset("pusch2"), "", 0, 2),
                  std::invalid_argument);
+}
+
+TEST(pusch_rx, garbage_slot_is_a_clean_failure)
+{
+    // Huge, infinite and NaN samples (the block zeroes non-finite ones first; the kernel must
+    // still not misbehave): every case is a CRC failure with an empty payload.
+    const auto num = numerology::preset("tiny");
+    pusch_rx rx(num, modulation::QAM256, dmrs_config::preset("pusch2"));
+    const float vals[] = { 3e38f, -3e38f, std::numeric_limits<float>::infinity(),
+                           std::numeric_limits<float>::quiet_NaN(), 1e-38f, 0.0f };
+    for (float v : vals) {
+        std::vector<gr_complex> y(14 * 64, gr_complex(v, -v));
+        const auto r = rx.process(y.data(), 0);
+        EXPECT_FALSE(r.tb.crc_ok);
+        EXPECT_TRUE(r.tb.payload.empty());
+    }
 }

@@ -147,6 +147,13 @@ pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, 
             const float g = std::max(std::norm(d_h[k]), 1e-20f);
             x[k] = y[k] * std::conj(d_h[k]) / g;
             nv[k] = static_cast<float>(sigma2) / g;
+            if (!std::isfinite(x[k].real()) || !std::isfinite(x[k].imag()) ||
+                !std::isfinite(nv[k])) {
+                // overflow on garbage input: an erasure (LLRs ~ 0), never NaN downstream
+                // (found by fuzz_transport_block: NaN reached the hard slicer)
+                x[k] = gr_complex(0.0f, 0.0f);
+                nv[k] = 1e30f;
+            }
             gain += g;
             const gr_complex p = d_const.map(d_const.demap(x[k]));
             evm += std::norm(x[k] - p);

@@ -99,7 +99,9 @@ void soft_demapper::demap_impl(const gr_complex* y,
         for (unsigned axis = 0; axis < 2; axis++) {
             const float v = axis == 0 ? y[i].real() : y[i].imag();
             float t = std::nearbyint((v - lo) * inv_step);
-            t = std::min(std::max(t, 0.0f), static_cast<float>(last));
+            if (!(t > 0.0f)) // also catches NaN (the LLRs then come out NaN, never UB)
+                t = 0.0f;
+            t = std::min(t, static_cast<float>(last));
             const auto p = static_cast<unsigned>(t);
             const float dp = v - d_sorted[p];
             const float d2p = dp * dp;

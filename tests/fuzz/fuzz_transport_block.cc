@@ -9,8 +9,10 @@
 //   clang++ -std=c++17 -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Ilib \
 //     tests/fuzz/fuzz_transport_block.cc lib/kernel/transport_block.cc \
 //     lib/kernel/gold_sequence.cc lib/kernel/constellation.cc lib/params.cc \
+//     lib/kernel/soft_demapper.cc lib/kernel/pusch_rx.cc lib/kernel/dmrs.cc \
 //     -lgnuradio-digital -lgnuradio-fec -lgnuradio-runtime -lfmt -o fuzz_transport_block
 
+#include <gnuradio/nrsar/kernel/pusch_rx.h>
 #include <gnuradio/nrsar/kernel/transport_block.h>
 #include <cstdint>
 #include <cstring>
@@ -48,5 +50,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto r = codec.decode(llr.data(), mode >> 2);
     if (r.header_ok && r.payload.size() > codec.payload_bytes())
         __builtin_trap();
+    // 3) bytes as a received slot (raw float bits: NaN, inf, huge values) into the whole
+    //    receiver kernel: channel estimate, equaliser, soft demapper, decoder
+    if (mode & 4) {
+        static gr::nrsar::kernel::pusch_rx rx(gr::nrsar::numerology::preset("tiny"),
+                                              gr::nrsar::modulation::QAM256,
+                                              gr::nrsar::dmrs_config::preset("pusch2"));
+        std::vector<gr_complex> grid(14 * 64, gr_complex(0.0f, 0.0f));
+        std::memcpy(grid.data(), data, std::min(size, grid.size() * sizeof(gr_complex)));
+        const auto s = rx.process(grid.data(), mode >> 3);
+        if (s.tb.header_ok && s.tb.payload.size() > rx.codec().payload_bytes())
+            __builtin_trap();
+    }
     return 0;
 }
