@@ -10,7 +10,8 @@
 //     tests/fuzz/fuzz_transport_block.cc lib/kernel/transport_block.cc \
 //     lib/kernel/gold_sequence.cc lib/kernel/constellation.cc lib/params.cc \
 //     lib/kernel/soft_demapper.cc lib/kernel/pusch_rx.cc lib/kernel/dmrs.cc \
-//     -lgnuradio-digital -lgnuradio-fec -lgnuradio-runtime -lfmt -o fuzz_transport_block
+//     -lgnuradio-digital -lgnuradio-fec -lgnuradio-runtime -lfmt -lvolk -o fuzz_transport_block
+//   ./fuzz_transport_block -max_total_time=60 -max_len=8192 corpus/
 
 #include <gnuradio/nrsar/kernel/pusch_rx.h>
 #include <gnuradio/nrsar/kernel/transport_block.h>
