@@ -18,10 +18,9 @@ using gr::nrsar::focuser_config;
 using gr::nrsar::kernel::rd_block;
 using gr::nrsar::kernel::rd_focuser;
 
-static void run(benchmark::State& state, doppler_band band, bool rcmc)
+// K range bins x M lines at the presummed paper rate, a 10 % band.
+static rd_block paper_block(unsigned K, unsigned M)
 {
-    const unsigned K = static_cast<unsigned>(state.range(0));
-    const unsigned M = static_cast<unsigned>(state.range(1));
     rd_block b;
     b.num_range_bins = K;
     b.num_lines = M;
@@ -33,6 +32,14 @@ static void run(benchmark::State& state, doppler_band band, bool rcmc)
     b.band_lo_hz = -20.0;
     b.band_hi_hz = 220.0; // 10 % of the PRF
     b.range_centre_cycles = 0.4;
+    return b;
+}
+
+static void run(benchmark::State& state, doppler_band band, bool rcmc)
+{
+    const unsigned K = static_cast<unsigned>(state.range(0));
+    const unsigned M = static_cast<unsigned>(state.range(1));
+    const rd_block b = paper_block(K, M);
     focuser_config cfg;
     cfg.band = band;
     cfg.rcmc = rcmc;
@@ -67,17 +74,7 @@ static void run_range_major(benchmark::State& state, bool map)
 {
     const unsigned K = static_cast<unsigned>(state.range(0));
     const unsigned M = static_cast<unsigned>(state.range(1));
-    rd_block b;
-    b.num_range_bins = K;
-    b.num_lines = M;
-    b.pulse_interval_s = 1.0 / 2400.0;
-    b.velocity_mps = 50.0;
-    b.wavelength_m = 0.0857;
-    b.first_range_m = 1000.0;
-    b.range_bin_m = 1.5;
-    b.band_lo_hz = -20.0;
-    b.band_hi_hz = 220.0;
-    b.range_centre_cycles = 0.4;
+    const rd_block b = paper_block(K, M);
     focuser_config cfg;
     cfg.rcmc_skip_below_bins = 0.0;
     rd_focuser f(cfg, b);

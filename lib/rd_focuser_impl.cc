@@ -391,24 +391,35 @@ void rd_focuser_impl::process_block()
     }
 }
 
+void rd_focuser_impl::add_aperture_tags(int port,
+                                        uint64_t item,
+                                        uint64_t index,
+                                        const pmt::pmt_t& axis_key,
+                                        double first,
+                                        double step,
+                                        uint64_t lines)
+{
+    add_item_tag(port, item, tags::aperture_key(), pmt::from_uint64(index));
+    add_item_tag(port,
+                 item,
+                 axis_key,
+                 pmt::make_tuple(
+                     pmt::from_double(first), pmt::from_double(step), pmt::from_uint64(lines)));
+    add_item_tag(port,
+                 item,
+                 tags::range_axis_key(),
+                 pmt::make_tuple(pmt::from_double(d_first_range),
+                                 pmt::from_double(d_range_bin),
+                                 pmt::from_uint64(d_K)));
+}
+
 int rd_focuser_impl::drain(gr_complex* out, int noutput, int produced)
 {
     while (d_out_pos < d_out_len && produced < noutput) {
         const uint64_t item = nitems_written(0) + produced;
         if (d_out_tags_due && d_out_pos == 0) {
-            add_item_tag(0, item, tags::aperture_key(), pmt::from_uint64(d_apertures));
-            add_item_tag(0,
-                         item,
-                         tags::azimuth_axis_key(),
-                         pmt::make_tuple(pmt::from_double(d_out_y0),
-                                         pmt::from_double(d_out_dy),
-                                         pmt::from_uint64(d_out_len)));
-            add_item_tag(0,
-                         item,
-                         tags::range_axis_key(),
-                         pmt::make_tuple(pmt::from_double(d_first_range),
-                                         pmt::from_double(d_range_bin),
-                                         pmt::from_uint64(d_K)));
+            add_aperture_tags(
+                0, item, d_apertures, tags::azimuth_axis_key(), d_out_y0, d_out_dy, d_out_len);
             if (d_nonfinite_pending) {
                 add_item_tag(0, item, tags::nonfinite_key(), pmt::from_uint64(d_nonfinite_pending));
                 d_nonfinite_pending = 0;
@@ -432,19 +443,8 @@ int rd_focuser_impl::drain_rd(gr_complex* out, int noutput, int produced)
     while (d_rd_pos < d_rd_len && produced < noutput) {
         if (d_rd_tags_due && d_rd_pos == 0) {
             const uint64_t item = nitems_written(1) + produced;
-            add_item_tag(1, item, tags::aperture_key(), pmt::from_uint64(d_rd_apertures));
-            add_item_tag(1,
-                         item,
-                         tags::doppler_axis_key(),
-                         pmt::make_tuple(pmt::from_double(d_rd_f0),
-                                         pmt::from_double(d_rd_df),
-                                         pmt::from_uint64(d_rd_len)));
-            add_item_tag(1,
-                         item,
-                         tags::range_axis_key(),
-                         pmt::make_tuple(pmt::from_double(d_first_range),
-                                         pmt::from_double(d_range_bin),
-                                         pmt::from_uint64(d_K)));
+            add_aperture_tags(
+                1, item, d_rd_apertures, tags::doppler_axis_key(), d_rd_f0, d_rd_df, d_rd_len);
             d_rd_tags_due = false;
             ++d_rd_apertures;
         }

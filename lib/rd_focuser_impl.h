@@ -84,6 +84,14 @@ private:
     void ingest(const gr_complex* lines, unsigned n);
     void process_block(); // focus the full block, queue the aperture, shift history
     void handle_tag(const tag_t& tag);
+    //! aperture, the given axis tuple (first, step, lines) and range_axis on one item.
+    void add_aperture_tags(int port,
+                           uint64_t item,
+                           uint64_t index,
+                           const pmt::pmt_t& axis_key,
+                           double first,
+                           double step,
+                           uint64_t lines);
     int drain(gr_complex* out, int noutput, int produced);
     int drain_rd(gr_complex* out, int noutput, int produced);
     bool queues_empty() const

@@ -124,6 +124,17 @@ std::vector<gr_complex> echo(const scenario& s)
     return out;
 }
 
+// Range-major copy by a direct loop (independent of kernel::transpose): bin k's lines at
+// k * stride.
+std::vector<gr_complex> range_major(const std::vector<gr_complex>& in, const scenario& s, size_t stride)
+{
+    std::vector<gr_complex> rm(stride * s.K);
+    for (unsigned m = 0; m < s.M; ++m)
+        for (unsigned k = 0; k < s.K; ++k)
+            rm[k * stride + m] = in[static_cast<size_t>(m) * s.K + k];
+    return rm;
+}
+
 rd_block block_of(const scenario& s)
 {
     rd_block b;
@@ -223,10 +234,7 @@ TEST(rd_focuser, range_major_input_gives_the_same_image)
     f.focus(in.data(), a.data());
     // Range-major copy by a direct loop (independent of kernel::transpose), row stride M + 3.
     const size_t stride = s.M + 3;
-    rm.resize(stride * s.K);
-    for (unsigned m = 0; m < s.M; ++m)
-        for (unsigned k = 0; k < s.K; ++k)
-            rm[k * stride + m] = in[static_cast<size_t>(m) * s.K + k];
+    rm = range_major(in, s, stride);
     f.focus_range_major(rm.data(), stride, b.data(), 0, s.M);
     for (size_t i = 0; i < a.size(); ++i)
         ASSERT_EQ(a[i], b[i]) << i;
@@ -312,10 +320,7 @@ TEST(rd_focuser, range_doppler_map_output)
     std::vector<gr_complex> a(in.size()), b(in.size());
     f.focus(in.data(), a.data());
     // Range-major copy, as the block stores it.
-    std::vector<gr_complex> rm(in.size());
-    for (unsigned m = 0; m < s.M; ++m)
-        for (unsigned k = 0; k < s.K; ++k)
-            rm[static_cast<size_t>(k) * s.M + m] = in[static_cast<size_t>(m) * s.K + k];
+    const auto rm = range_major(in, s, s.M);
     const unsigned B = f.band_bins();
     std::vector<gr_complex> map(static_cast<size_t>(B) * s.K);
     f.focus_range_major(rm.data(), s.M, b.data(), 0, s.M, map.data());
