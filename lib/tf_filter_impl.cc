@@ -56,6 +56,18 @@ void tf_filter_impl::set_estimate_snr(bool estimate)
     d_kernel.set_estimate_snr(estimate);
 }
 
+void tf_filter_impl::set_constant_modulus_path(bool on)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_kernel.set_constant_modulus_path(on);
+}
+
+bool tf_filter_impl::constant_modulus_path() const { return d_kernel.constant_modulus_path(); }
+std::uint64_t tf_filter_impl::constant_modulus_items() const
+{
+    return d_kernel.constant_modulus_vectors();
+}
+
 gr::nrsar::filter_type tf_filter_impl::filter_type() const { return d_kernel.type(); }
 double tf_filter_impl::snr_db() const { return d_kernel.snr_db(); }
 bool tf_filter_impl::estimate_snr() const { return d_kernel.estimate_snr(); }

@@ -28,6 +28,9 @@ public:
     void set_filter_type(gr::nrsar::filter_type type) override;
     void set_snr_db(double snr_db) override;
     void set_estimate_snr(bool estimate) override;
+    void set_constant_modulus_path(bool on) override;
+    bool constant_modulus_path() const override;
+    std::uint64_t constant_modulus_items() const override;
 
     gr::nrsar::filter_type filter_type() const override;
     double snr_db() const override;

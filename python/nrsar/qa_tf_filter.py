@@ -247,6 +247,34 @@ class qa_tf_filter(gr_unittest.TestCase):
             blk.set_snr_db(float("inf"))
         self.assertEqual(blk.snr_db(), 10.0)
 
+    def test_012_constant_modulus_shortcut(self):
+        # QPSK and 8-PSK references (every non-empty RE the same |s|^2, some empty REs):
+        # the shortcut must give eq. (25) in float64 and the general path's output within
+        # float rounding; a 256-QAM symbol in the stream takes the general path.
+        rng = np.random.default_rng(12)
+        vlen, m = 101, 12
+        for name, ftype in FILTERS.items():
+            ph = rng.integers(0, 8, size=(m, vlen)) * np.pi / 4 + 0.1
+            s = 0.8 * np.exp(1j * ph)
+            s[5] = qam256(rng, vlen)  # one non-constant-modulus symbol
+            s[:, ::7] = 0
+            y = rng.normal(size=(m, vlen)) + 1j * rng.normal(size=(m, vlen))
+            outs = []
+            for on in (True, False):
+                self.tb = gr.top_block()
+                blk = nrsar.tf_filter(vlen, ftype, -20.0, False)
+                blk.set_constant_modulus_path(on)
+                self.assertEqual(blk.constant_modulus_path(), on)
+                out, _ = self.run_block(blk, y, s, vlen)
+                # MF is conj(s) already: it never takes (or needs) the shortcut
+                self.assertEqual(blk.constant_modulus_items(),
+                                 m - 1 if on and name != "mf" else 0)
+                outs.append(out)
+            ref = ref_filter(name, y, s.astype(np.complex64), -20.0)
+            np.testing.assert_allclose(outs[0], ref, rtol=2e-6, atol=1e-7, err_msg=name)
+            np.testing.assert_allclose(outs[0], outs[1], rtol=2e-6, atol=1e-7, err_msg=name)
+            self.assertTrue(np.all(outs[0][:, ::7] == 0))
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_tf_filter)
