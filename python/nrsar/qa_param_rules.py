@@ -327,6 +327,8 @@ RULES = [
     ("cheby_presum", "passband NaN", lambda: presum(passband_hz=NAN), "passband_hz = nan"),
     ("cheby_presum", "stopband above PRF / 2", lambda: presum(stopband_hz=1e6),
      "stopband_hz"),
+    # perf
+    ("tf_filter", "threads 3", lambda: tf_filter(64).set_threads(3), "threads = 3"),
 ]
 
 

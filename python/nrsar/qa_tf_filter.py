@@ -275,6 +275,39 @@ class qa_tf_filter(gr_unittest.TestCase):
             np.testing.assert_allclose(outs[0], outs[1], rtol=2e-6, atol=1e-7, err_msg=name)
             self.assertTrue(np.all(outs[0][:, ::7] == 0))
 
+    def test_013_two_threads_same_output(self):
+        # set_threads(2) filters the second half of each work() call on another thread:
+        # same output as eq. (25) in float64 and as one thread; tags and counts kept.
+        rng = np.random.default_rng(13)
+        vlen, m = 67, 600
+        s = qam256(rng, vlen * m).reshape(m, vlen)
+        s[:, ::9] = 0
+        y = rng.normal(size=(m, vlen)) + 1j * rng.normal(size=(m, vlen))
+        y[100, 3] = np.nan
+        outs = []
+        for threads in (1, 2):
+            self.tb = gr.top_block()
+            blk = nrsar.tf_filter(vlen, nrsar.filter_type.WF, 3.0, False)
+            blk.set_threads(threads)
+            self.assertEqual(blk.threads(), threads)
+            out, tags = self.run_block(blk, y, s, vlen)
+            self.assertEqual(blk.empty_re_count(), m * len(range(0, vlen, 9)))
+            self.assertEqual(blk.nonfinite_count(), 1)
+            self.assertEqual([t.offset for t in tags
+                              if pmt.eq(t.key, pmt.intern(nrsar.tag_keys.nonfinite))], [100])
+            outs.append(out)
+        y0 = y.copy()
+        y0[100, 3] = 0
+        np.testing.assert_allclose(outs[1], ref_filter("wf", y0, s.astype(np.complex64), 3.0),
+                                   rtol=2e-5, atol=2e-6)
+        np.testing.assert_array_equal(outs[0], outs[1])
+
+    def test_014_invalid_threads(self):
+        blk = nrsar.tf_filter(8)
+        with self.assertRaisesRegex(ValueError, r"threads = 3 must be in"):
+            blk.set_threads(3)
+        self.assertEqual(blk.threads(), 1)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_tf_filter)

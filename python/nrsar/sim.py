@@ -251,7 +251,8 @@ def build_chain(tb, num, geo, scn, args, symbols):
     tb.connect(foc_ref, (probe, 1))
     return {"tx": tx, "echo": echo, "filter": tff, "range_ifft": rif, "focuser": foc,
             "probe": probe, "range_sink": range_sink, "image_sink": image_sink,
-            "presum": presummers[0] if presummers else None}
+            "presum": presummers[0] if presummers else None,
+            "head": head}  # perf: nrsar-soak streams many apertures by resetting its length
 
 
 # stress: run-time split and memory of a run

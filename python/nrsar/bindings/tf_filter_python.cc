@@ -62,6 +62,12 @@ void bind_tf_filter(py::module& m)
         .def("constant_modulus_items",
              &tf_filter::constant_modulus_items,
              "Items filtered by the constant-modulus shortcut so far.")
+        .def("set_threads",
+             &tf_filter::set_threads,
+             py::arg("threads"),
+             "1 (default) or 2: filter the second half of each work() call's items on a "
+             "second thread.")
+        .def("threads", &tf_filter::threads, "Threads per work() call.")
         .def("filter_type", &tf_filter::filter_type, "The filter in use.")
         .def("snr_db", &tf_filter::snr_db, "The given SNR_in [dB].")
         .def("estimate_snr", &tf_filter::estimate_snr, "Whether SNR_in is estimated.")
