@@ -329,6 +329,8 @@ RULES = [
      "stopband_hz"),
     # perf
     ("tf_filter", "threads 3", lambda: tf_filter(64).set_threads(3), "threads = 3"),
+    ("range_ifft", "threads 0",
+     lambda: range_ifft(make_numerology("tiny")).set_threads(0), "threads = 0"),
 ]
 
 
