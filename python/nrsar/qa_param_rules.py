@@ -436,6 +436,10 @@ RULES = [
     ("image_sink", "keep 0 files", lambda: nrsar.image_sink(8, "/tmp/nrsar_rule", keep=0), "keep = 0"),
     ("image_sink", "no range bins", lambda: nrsar.image_sink(0, "/tmp/nrsar_rule"),
      "num_range_bins = 0"),
+    # perf
+    ("tf_filter", "threads 3", lambda: tf_filter(64).set_threads(3), "threads = 3"),
+    ("range_ifft", "threads 0",
+     lambda: range_ifft(make_numerology("tiny")).set_threads(0), "threads = 0"),
 ]
 
 
