@@ -41,10 +41,21 @@ class qa_params(gr_unittest.TestCase):
         self.assertEqual([(t.x_m, t.y_m) for t in paper.targets],
                          [(300.0, 100.0), (250.0, 100.0), (300.0, 140.0)])
         self.assertEqual(len(nrsar.make_scene([(1, 2), "3,4,5"]).targets), 2)
-        with self.assertRaisesRegex(ValueError, "X,Y or X,Y,RCS"):
-            nrsar.make_scene("1,2,3,4")
-        with self.assertRaisesRegex(ValueError, "not a number"):
-            nrsar.make_scene("a,b")
+        # fuzz: a fourth field is the phase in degrees; five fields are refused
+        phased = nrsar.make_scene("1,2,3,90")
+        self.assertAlmostEqual(phased.targets[0].phase_rad, math.pi / 2, places=15)
+        with self.assertRaisesRegex(ValueError, r"target 0 '1,2,3,4,5': has 5 fields; "
+                                    r"must be X,Y\[,RCS\[,PHASE_DEG\]\]"):
+            nrsar.make_scene("1,2,3,4,5")
+        with self.assertRaisesRegex(ValueError, "target 1 'a,b': x_m 'a' is not a number"):
+            nrsar.make_scene("1,2;a,b")
+        with self.assertRaisesRegex(ValueError, "target 1 '3,x': y_m 'x' is not a number"):
+            nrsar.make_scene([(1, 2), "3,x"])
+        # the fields are read as Python's float() reads them
+        for text in ("+1e3, 1_0.5", " inf ,-NaN", ".5,5."):
+            x, y = (float(v) for v in text.split(","))
+            t = nrsar.parse_target(text)
+            self.assertEqual((repr(t.x_m), repr(t.y_m)), (repr(x), repr(y)), text)
         with self.assertRaisesRegex(ValueError, "no targets"):
             nrsar.make_scene([])
 
