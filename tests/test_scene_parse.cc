@@ -7,6 +7,7 @@
 // scene::parse / point_target::parse: the scene text grammar of GRC, the apps and
 // Python's make_scene ("X,Y[,RCS[,PHASE_DEG]];...", fields as Python's float() reads them).
 
+#include "test_util.h"
 #include <gnuradio/nrsar/params.h>
 #include <gtest/gtest.h>
 #include <cmath>
@@ -18,12 +19,7 @@ namespace {
 
 std::string error_of(const std::string& text)
 {
-    try {
-        scene::parse(text);
-    } catch (const std::invalid_argument& e) {
-        return e.what();
-    }
-    return "";
+    return nrsar_test::error_of([&] { scene::parse(text); });
 }
 
 } // namespace
