@@ -9,6 +9,10 @@
 #include "param_check.h"
 #include <algorithm>
 #include <charconv>
+#include <clocale>
+#include <cstdlib>
+#include <locale.h>
+#include <stdlib.h>
 #include <cmath>
 #include <sstream>
 #include <system_error>
@@ -305,8 +309,18 @@ bool parse_number(const std::string& field, double& value, bool& out_of_range)
     // Hexadecimal is not a Python float literal; from_chars(general) refuses "0x" anyway.
     const auto res = std::from_chars(first, last, value, std::chars_format::general);
     if (res.ec == std::errc::result_out_of_range && res.ptr == last) {
-        out_of_range = true;
-        return false;
+        // Python's float() reads an underflow as 0 or a denormal, as strtod does (in the
+        // "C" locale, whatever the process's LC_NUMERIC); an overflow (Python: inf, which
+        // validate() refuses) is refused here already, naming the text.
+        static const locale_t c_locale = newlocale(LC_ALL_MASK, "C", locale_t(0));
+        const std::string text(first, last);
+        const double v = strtod_l(text.c_str(), nullptr, c_locale);
+        if (std::isinf(v)) {
+            out_of_range = true;
+            return false;
+        }
+        value = v;
+        return true;
     }
     return res.ec == std::errc() && res.ptr == last;
 }

@@ -11,6 +11,7 @@
 #include <gnuradio/nrsar/params.h>
 #include <gtest/gtest.h>
 #include <cmath>
+#include <limits>
 #include <string>
 
 using namespace gr::nrsar;
@@ -63,6 +64,11 @@ TEST(SceneParse, NumbersAsPythonFloatReadsThem)
     EXPECT_NEAR(scn.targets[0].phase_rad, 5.0 * std::acos(-1.0) / 180.0, 1e-15);
     EXPECT_TRUE(std::isinf(scn.targets[1].x_m) && scn.targets[1].x_m < 0);
     EXPECT_TRUE(std::isnan(scn.targets[1].y_m));
+    // Underflow reads as 0 or a denormal (Python: float("1e-400") == 0.0,
+    // float("-5e-324") == -5e-324), overflow is refused (Python's inf, which validate refuses).
+    const auto tiny = scene::parse("1e-400,-5e-324");
+    EXPECT_EQ(tiny.targets[0].x_m, 0.0);
+    EXPECT_EQ(tiny.targets[0].y_m, -std::numeric_limits<double>::denorm_min());
     // ... and refuses what Python refuses.
     for (const char* bad : { "0x10,1", "1__0,1", "_1,1", "1_,1", "+-1,1", "++1,1", "1 0,1",
                              "nan(1),1", "1e,1", ",1", "1,", "+,1", "1.2.3,1" })
