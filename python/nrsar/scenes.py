@@ -414,7 +414,7 @@ def extended_echo(num, geo, scene_file="", points="", beam=None, snr_db=float("i
                   taps=8, oversampling=2.0):
     """extended_scene_echo from a YAML scene file (its targets, maps and beam; its numerology
     and geometry are ignored here: the block's num and geo rule) and/or point targets
-    ('X,Y[,RCS];...' or a preset). beam (an antenna_beam) replaces the file's. Used by GRC."""
+    ('X,Y[,RCS[,PHASE_DEG]];...' or a preset). beam (an antenna_beam) replaces the file's. Used by GRC."""
     from .nrsar_python import extended_scene_echo
     pts, maps, fbeam = [], [], None
     if scene_file:
