@@ -299,7 +299,11 @@ def load_scene_file(path):
             line = mark.line + 1
         else:  # ReaderError: a character position
             line = data[:max(0, getattr(e, "position", 0))].count(b"\n") + 1
-        what = getattr(e, "problem", None) or getattr(e, "reason", None) or str(e)
+        what = getattr(e, "problem", None) or str(e)
+        if isinstance(e, yaml.reader.ReaderError):  # undecodable or non-printable input
+            char = e.character
+            char = f"0x{char:02x}" if isinstance(char, int) else repr(char)
+            what = f"character {char} at byte {e.position}: {e.reason}"
         raise SceneFileError(f"{path}:{line}: YAML syntax: {_printable(what)}") from None
     except RecursionError:  # scene_file_fuzz: thousands of nested [ or {
         raise SceneFileError(f"{path}:1: YAML syntax: nesting too deep") from None
