@@ -28,7 +28,8 @@ import numpy as np
 import pmt
 from gnuradio import blocks, fft, gr
 
-from . import params, progress
+from . import params
+from . import progress
 from .nrsar_python import (constellation, focuser_config, doppler_band, nmse_probe, nr_isac_tx,
                            range_ifft, rd_focuser, scene_echo, srs_config, tag_keys, tf_filter)
 from .nrsar_python import cheby_presum, presum_domain, presum_method
