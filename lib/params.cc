@@ -123,9 +123,13 @@ void srs_config::validate(const numerology& num) const
         throw_param("srs symbol_in_slot",
                     symbol_in_slot,
                     "must be below symbols_per_slot = " + std::to_string(num.symbols_per_slot));
-    if (start_subcarrier + num_subcarriers() > num.num_subcarriers) {
+    // In 64 bits: start + num_rb * 12 wraps around in unsigned (found by
+    // tests/fuzz/fuzz_params_validate: start 4294967048 with 255 RBs passed, ending at 2812).
+    const std::uint64_t band_end =
+        std::uint64_t(start_subcarrier) + std::uint64_t(num_rb) * 12u;
+    if (band_end > num.num_subcarriers) {
         std::ostringstream msg;
-        msg << "srs band [" << start_subcarrier << ", " << start_subcarrier + num_subcarriers()
+        msg << "srs band [" << start_subcarrier << ", " << band_end
             << ") does not fit the " << num.num_subcarriers << " subcarriers of the grid";
         throw std::invalid_argument(msg.str());
     }

@@ -347,6 +347,9 @@ RULES = [
     ("scene file", "map seed beyond 64 bits",
      lambda: _scene_file(b"maps:\n  - {file: m.npy, dx: 1, dy: 1, seed: 1e30}\n"),
      "scene.yaml:2: maps[0].seed: 1e30 must be an integer from 0 to 18446744073709551615"),
+    ("srs_config", "band end beyond 2^32 (wrapped around before)",
+     lambda: make_srs(start_subcarrier=4294967048, num_rb=255).validate(num()),
+     "srs band [4294967048, 4294970108) does not fit the 64 subcarriers"),
 ]
 
 
