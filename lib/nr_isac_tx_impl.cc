@@ -35,23 +35,31 @@ int checked_itemsize(const numerology& num, std::uint64_t seed)
 }
 } // namespace
 
-nr_isac_tx::sptr nr_isac_tx::make(
-    const numerology& num, modulation mod, tx_mode mode, const srs_config& srs, std::uint64_t seed)
+nr_isac_tx::sptr nr_isac_tx::make(const numerology& num,
+                                  modulation mod,
+                                  tx_mode mode,
+                                  const srs_config& srs,
+                                  std::uint64_t seed,
+                                  const dmrs_config& dmrs)
 {
-    return gnuradio::make_block_sptr<nr_isac_tx_impl>(num, mod, mode, srs, seed);
+    return gnuradio::make_block_sptr<nr_isac_tx_impl>(num, mod, mode, srs, seed, dmrs);
 }
 
-nr_isac_tx_impl::nr_isac_tx_impl(
-    const numerology& num, modulation mod, tx_mode mode, const srs_config& srs, std::uint64_t seed)
+nr_isac_tx_impl::nr_isac_tx_impl(const numerology& num,
+                                 modulation mod,
+                                 tx_mode mode,
+                                 const srs_config& srs,
+                                 std::uint64_t seed,
+                                 const dmrs_config& dmrs)
     : gr::block("nr_isac_tx",
                 gr::io_signature::make(0, 1, sizeof(std::uint8_t)),
                 gr::io_signature::make(1, 1, checked_itemsize(num, seed))),
-      d_grid(num, mod, mode, srs),
+      d_grid(num, mod, mode, srs, dmrs),
       d_prbs(static_cast<std::uint32_t>(seed))
 {
     // Input bytes have no per-symbol meaning: their tags are not carried to the grid.
     set_tag_propagation_policy(TPP_DONT);
-    d_stage.reserve(d_grid.data_bits(0) / 8 + 16);
+    d_stage.reserve(d_grid.num_subcarriers() * d_grid.mapper().bits_per_symbol() / 8 + 16);
     message_port_register_in(pdus_port());
     set_msg_handler(pdus_port(), [this](const pmt::pmt_t& msg) { handle_pdu(msg); });
 }

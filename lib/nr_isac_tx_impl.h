@@ -53,7 +53,8 @@ public:
                     modulation mod,
                     tx_mode mode,
                     const srs_config& srs,
-                    std::uint64_t seed);
+                    std::uint64_t seed,
+                    const dmrs_config& dmrs);
 
     bool check_topology(int ninputs, int noutputs) override;
     void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;

@@ -8,6 +8,9 @@
 #ifndef INCLUDED_NRSAR_OFDM_DEMOD_IMPL_H
 #define INCLUDED_NRSAR_OFDM_DEMOD_IMPL_H
 
+#include "nonfinite_reporter.h"
+#include <gnuradio/nrsar/kernel/finite_guard.h>
+#include <gnuradio/nrsar/kernel/ofdm_modem.h>
 #include <gnuradio/nrsar/ofdm_demod.h>
 
 namespace gr {
@@ -16,19 +19,20 @@ namespace nrsar {
 class ofdm_demod_impl : public ofdm_demod
 {
 private:
-    // Nothing to declare in this block.
+    kernel::ofdm_demodulator d_kernel;
+    kernel::finite_guard d_guard;
+    nonfinite_reporter d_nonfinite;
 
 public:
-    ofdm_demod_impl();
-    ~ofdm_demod_impl();
+    explicit ofdm_demod_impl(kernel::ofdm_demodulator&& kern);
 
-    // Where all the action really happens
-    void forecast(int noutput_items, gr_vector_int& ninput_items_required);
+    unsigned fft_start() const override { return d_kernel.fft_start(); }
+    unsigned symbol_length() const override { return d_kernel.symbol_length(); }
+    std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
 
-    int general_work(int noutput_items,
-                     gr_vector_int& ninput_items,
-                     gr_vector_const_void_star& input_items,
-                     gr_vector_void_star& output_items);
+    int work(int noutput_items,
+             gr_vector_const_void_star& input_items,
+             gr_vector_void_star& output_items) override;
 };
 
 } // namespace nrsar

@@ -7,58 +7,61 @@
 
 #include "ofdm_mod_impl.h"
 #include <gnuradio/io_signature.h>
+#include <gnuradio/nrsar/tags.h>
 
 namespace gr {
 namespace nrsar {
 
-#pragma message("set the following appropriately and remove this warning")
-using input_type = float;
-#pragma message("set the following appropriately and remove this warning")
-using output_type = float;
-ofdm_mod::sptr ofdm_mod::make() { return gnuradio::make_block_sptr<ofdm_mod_impl>(); }
-
-
-/*
- * The private constructor
- */
-ofdm_mod_impl::ofdm_mod_impl()
-    : gr::block("ofdm_mod",
-                gr::io_signature::make(
-                    1 /* min inputs */, 1 /* max inputs */, sizeof(input_type)),
-                gr::io_signature::make(
-                    1 /* min outputs */, 1 /*max outputs */, sizeof(output_type)))
+ofdm_mod::sptr ofdm_mod::make(const numerology& num)
 {
+    num.validate();
+    return gnuradio::make_block_sptr<ofdm_mod_impl>(kernel::ofdm_modulator(
+        num.num_subcarriers, num.fft_size, num.cp_samples, num.dc_subcarrier()));
 }
 
-/*
- * Our virtual destructor.
- */
-ofdm_mod_impl::~ofdm_mod_impl() {}
-
-void ofdm_mod_impl::forecast(int noutput_items, gr_vector_int& ninput_items_required)
+ofdm_mod_impl::ofdm_mod_impl(kernel::ofdm_modulator&& kern)
+    : gr::sync_interpolator("ofdm_mod",
+                            gr::io_signature::make(1, 1, sizeof(gr_complex) * kern.n()),
+                            gr::io_signature::make(1, 1, sizeof(gr_complex)),
+                            kern.symbol_length()),
+      d_kernel(std::move(kern))
 {
-#pragma message( \
-    "implement a forecast that fills in how many items on each input you need to produce noutput_items and remove this warning")
-    /* <+forecast+> e.g. ninput_items_required[0] = noutput_items */
+    // Tags are moved by hand (exactly to the symbol's first sample), not by the scheduler.
+    set_tag_propagation_policy(TPP_DONT);
 }
 
-int ofdm_mod_impl::general_work(int noutput_items,
-                                gr_vector_int& ninput_items,
-                                gr_vector_const_void_star& input_items,
-                                gr_vector_void_star& output_items)
+int ofdm_mod_impl::work(int noutput_items,
+                        gr_vector_const_void_star& input_items,
+                        gr_vector_void_star& output_items)
 {
-    auto in = static_cast<const input_type*>(input_items[0]);
-    auto out = static_cast<output_type*>(output_items[0]);
+    gr::thread::scoped_lock guard(d_setlock);
+    const auto in = static_cast<const gr_complex*>(input_items[0]);
+    auto out = static_cast<gr_complex*>(output_items[0]);
+    const std::size_t n = d_kernel.n();
+    const std::uint64_t len = d_kernel.symbol_length();
+    const int nsym = noutput_items / int(len);
 
-#pragma message("Implement the signal processing in your block and remove this warning")
-    // Do <+signal processing+>
-    // Tell runtime system how many input items we consumed on
-    // each input stream.
-    consume_each(noutput_items);
-
-    // Tell runtime system how many output items we produced.
-    return noutput_items;
+    std::vector<gr::tag_t> tags;
+    get_tags_in_range(tags, 0, nitems_read(0), nitems_read(0) + nsym);
+    for (auto t : tags) {
+        t.offset *= len; // the first sample (CP start) of the tagged symbol
+        add_item_tag(0, t);
+    }
+    for (int i = 0; i < nsym; i++) {
+        std::size_t bad = 0;
+        const gr_complex* x = d_guard.guard(in + i * n, n, bad);
+        d_kernel.execute(x, out + i * len);
+        if (bad > 0) {
+            const std::uint64_t sample = (nitems_read(0) + i) * len;
+            add_item_tag(0,
+                         sample,
+                         tags::nonfinite_key(),
+                         d_nonfinite.note(d_logger, bad, nitems_read(0) + i),
+                         alias_pmt());
+        }
+    }
+    return nsym * int(len);
 }
 
-} /* namespace nrsar */
-} /* namespace gr */
+} // namespace nrsar
+} // namespace gr

@@ -8,6 +8,9 @@
 #ifndef INCLUDED_NRSAR_OFDM_MOD_IMPL_H
 #define INCLUDED_NRSAR_OFDM_MOD_IMPL_H
 
+#include "nonfinite_reporter.h"
+#include <gnuradio/nrsar/kernel/finite_guard.h>
+#include <gnuradio/nrsar/kernel/ofdm_modem.h>
 #include <gnuradio/nrsar/ofdm_mod.h>
 
 namespace gr {
@@ -16,19 +19,19 @@ namespace nrsar {
 class ofdm_mod_impl : public ofdm_mod
 {
 private:
-    // Nothing to declare in this block.
+    kernel::ofdm_modulator d_kernel;
+    kernel::finite_guard d_guard;
+    nonfinite_reporter d_nonfinite;
 
 public:
-    ofdm_mod_impl();
-    ~ofdm_mod_impl();
+    explicit ofdm_mod_impl(kernel::ofdm_modulator&& kern);
 
-    // Where all the action really happens
-    void forecast(int noutput_items, gr_vector_int& ninput_items_required);
+    unsigned symbol_length() const override { return d_kernel.symbol_length(); }
+    std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
 
-    int general_work(int noutput_items,
-                     gr_vector_int& ninput_items,
-                     gr_vector_const_void_star& input_items,
-                     gr_vector_void_star& output_items);
+    int work(int noutput_items,
+             gr_vector_const_void_star& input_items,
+             gr_vector_void_star& output_items) override;
 };
 
 } // namespace nrsar

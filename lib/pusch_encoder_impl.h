@@ -8,7 +8,11 @@
 #ifndef INCLUDED_NRSAR_PUSCH_ENCODER_IMPL_H
 #define INCLUDED_NRSAR_PUSCH_ENCODER_IMPL_H
 
+#include <gnuradio/nrsar/kernel/transport_block.h>
 #include <gnuradio/nrsar/pusch_encoder.h>
+#include <atomic>
+#include <deque>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -16,19 +20,52 @@ namespace nrsar {
 class pusch_encoder_impl : public pusch_encoder
 {
 private:
-    // Nothing to declare in this block.
+    numerology d_num;
+    kernel::transport_block_codec d_codec;
+    std::uint64_t d_max_queued;
+
+    std::deque<std::vector<std::uint8_t>> d_pdus;
+    std::size_t d_pdu_offset = 0;
+    std::uint64_t d_slot = 0;
+    std::uint16_t d_seq = 0;
+
+    std::vector<std::uint8_t> d_tb_bits;   // G unpacked bits of the current slot
+    std::deque<std::uint8_t> d_out;        // packed bytes ready for the output
+    std::uint8_t d_acc = 0;                // partial byte
+    unsigned d_acc_bits = 0;
+
+    std::atomic<std::uint64_t> d_tbs{ 0 };
+    std::atomic<std::uint64_t> d_filler{ 0 };
+    std::atomic<std::uint64_t> d_payload_bytes{ 0 };
+    std::atomic<std::uint64_t> d_dropped{ 0 };
+    std::atomic<std::uint64_t> d_queued_bytes{ 0 };
+
+    void handle_pdu(const pmt::pmt_t& msg);
+    void drop_pdu(const std::string& why);
+    void encode_slot();
 
 public:
-    pusch_encoder_impl();
-    ~pusch_encoder_impl();
-
-    // Where all the action really happens
-    void forecast(int noutput_items, gr_vector_int& ninput_items_required);
+    pusch_encoder_impl(const numerology& num,
+                       modulation mod,
+                       const dmrs_config& dmrs,
+                       const std::string& ldpc_alist,
+                       unsigned scrambling_id,
+                       std::uint64_t max_queued_bytes);
 
     int general_work(int noutput_items,
                      gr_vector_int& ninput_items,
                      gr_vector_const_void_star& input_items,
-                     gr_vector_void_star& output_items);
+                     gr_vector_void_star& output_items) override;
+
+    std::uint64_t tbs_sent() const override { return d_tbs; }
+    std::uint64_t filler_tbs_sent() const override { return d_filler; }
+    std::uint64_t payload_bytes_sent() const override { return d_payload_bytes; }
+    std::uint64_t pdus_dropped() const override { return d_dropped; }
+    std::uint64_t queued_bytes() const override { return d_queued_bytes; }
+    double code_rate() const override { return d_codec.code_rate(); }
+    std::uint64_t payload_bits_per_slot() const override { return 8 * d_codec.payload_bytes(); }
+    std::uint64_t slot_bits() const override { return d_codec.slot_bits(); }
+    double throughput_bps() const override;
 };
 
 } // namespace nrsar

@@ -6,44 +6,112 @@
  */
 
 #include "pusch_receiver_impl.h"
+#include "param_check.h"
 #include <gnuradio/io_signature.h>
+#include <gnuradio/nrsar/tags.h>
+#include <algorithm>
+#include <cmath>
 
 namespace gr {
 namespace nrsar {
 
-#pragma message("set the following appropriately and remove this warning")
-using input_type = float;
-#pragma message("set the following appropriately and remove this warning")
-using output_type = float;
-pusch_receiver::sptr pusch_receiver::make()
+namespace {
+const pmt::pmt_t& pdus_port()
 {
-    return gnuradio::make_block_sptr<pusch_receiver_impl>();
+    static const pmt::pmt_t port = pmt::mp("pdus");
+    return port;
 }
 
+int checked_itemsize(const numerology& num)
+{
+    num.validate();
+    return static_cast<int>(num.num_subcarriers * sizeof(gr_complex));
+}
+} // namespace
 
-/*
- * The private constructor
- */
-pusch_receiver_impl::pusch_receiver_impl()
+pusch_receiver::sptr pusch_receiver::make(const numerology& num,
+                                          modulation mod,
+                                          const dmrs_config& dmrs,
+                                          const std::string& ldpc_alist,
+                                          unsigned scrambling_id,
+                                          unsigned freq_window,
+                                          unsigned max_iterations)
+{
+    return gnuradio::make_block_sptr<pusch_receiver_impl>(
+        num, mod, dmrs, ldpc_alist, scrambling_id, freq_window, max_iterations);
+}
+
+pusch_receiver_impl::pusch_receiver_impl(const numerology& num,
+                                         modulation mod,
+                                         const dmrs_config& dmrs,
+                                         const std::string& ldpc_alist,
+                                         unsigned scrambling_id,
+                                         unsigned freq_window,
+                                         unsigned max_iterations)
     : gr::block("pusch_receiver",
-                gr::io_signature::make(
-                    1 /* min inputs */, 1 /* max inputs */, sizeof(input_type)),
-                gr::io_signature::make(
-                    1 /* min outputs */, 1 /*max outputs */, sizeof(output_type)))
+                gr::io_signature::make(1, 1, checked_itemsize(num)),
+                gr::io_signature::make(0, 1, sizeof(gr_complex))),
+      d_num(num),
+      d_rx(num, mod, dmrs, ldpc_alist, scrambling_id, freq_window, max_iterations)
 {
+    set_tag_propagation_policy(TPP_DONT);
+    d_slot_buf.resize(static_cast<std::size_t>(num.symbols_per_slot) * num.num_subcarriers);
+    message_port_register_out(pdus_port());
 }
 
-/*
- * Our virtual destructor.
- */
-pusch_receiver_impl::~pusch_receiver_impl() {}
-
-void pusch_receiver_impl::forecast(int noutput_items,
-                                   gr_vector_int& ninput_items_required)
+bool pusch_receiver_impl::check_topology(int /*ninputs*/, int noutputs)
 {
-#pragma message( \
-    "implement a forecast that fills in how many items on each input you need to produce noutput_items and remove this warning")
-    /* <+forecast+> e.g. ninput_items_required[0] = noutput_items */
+    gr::thread::scoped_lock guard(d_setlock);
+    d_eq_output = noutputs > 0;
+    return true;
+}
+
+void pusch_receiver_impl::forecast(int /*noutput_items*/, gr_vector_int& ninput_items_required)
+{
+    // Output 0 runs behind the input by up to one slot: any input symbol makes progress.
+    ninput_items_required[0] = 1;
+}
+
+
+void pusch_receiver_impl::finish_slot()
+{
+    const auto res = d_rx.process(d_slot_buf.data(), d_slot, d_eq_output ? d_eq.data() : nullptr);
+    if (d_eq_output)
+        d_eq_pos = 0;
+    const auto& tb = res.tb;
+    const bool ok = tb.header_ok;
+    const bool filler = ok && (tb.header.flags & kernel::tb_header::filler);
+    if (ok) {
+        d_ok++;
+        if (filler)
+            d_filler++;
+        d_bytes += tb.payload.size();
+    } else {
+        d_failed++;
+    }
+    d_snr = res.snr_db;
+    d_evm = res.evm_db;
+
+    pmt::pmt_t meta = pmt::make_dict();
+    meta = pmt::dict_add(meta, pmt::mp("slot"), pmt::from_uint64(d_slot));
+    meta = pmt::dict_add(meta, pmt::mp("seq"), pmt::from_long(ok ? tb.header.seq : -1));
+    meta = pmt::dict_add(meta, pmt::mp("crc_ok"), pmt::from_bool(ok));
+    meta = pmt::dict_add(meta, pmt::mp("filler"), pmt::from_bool(filler));
+    meta = pmt::dict_add(
+        meta, pmt::mp("payload_len"), pmt::from_long(ok ? static_cast<long>(tb.payload.size()) : 0));
+    meta = pmt::dict_add(meta,
+                         pmt::mp("pdu_start"),
+                         pmt::from_bool(ok && (tb.header.flags & kernel::tb_header::pdu_start)));
+    meta = pmt::dict_add(meta,
+                         pmt::mp("pdu_end"),
+                         pmt::from_bool(ok && (tb.header.flags & kernel::tb_header::pdu_end)));
+    meta = pmt::dict_add(meta, pmt::mp("snr_db"), pmt::from_double(res.snr_db));
+    meta = pmt::dict_add(meta, pmt::mp("evm_db"), pmt::from_double(res.evm_db));
+    const pmt::pmt_t data = ok ? pmt::init_u8vector(tb.payload.size(), tb.payload)
+                               : pmt::make_u8vector(0, 0);
+    message_port_pub(pdus_port(), pmt::cons(meta, data));
+    d_slot++;
+    d_fill = 0;
 }
 
 int pusch_receiver_impl::general_work(int noutput_items,
@@ -51,17 +119,81 @@ int pusch_receiver_impl::general_work(int noutput_items,
                                       gr_vector_const_void_star& input_items,
                                       gr_vector_void_star& output_items)
 {
-    auto in = static_cast<const input_type*>(input_items[0]);
-    auto out = static_cast<output_type*>(output_items[0]);
+    gr::thread::scoped_lock guard(d_setlock);
+    const unsigned n = d_num.num_subcarriers;
+    const unsigned sps = d_num.symbols_per_slot;
+    int produced = 0;
 
-#pragma message("Implement the signal processing in your block and remove this warning")
-    // Do <+signal processing+>
-    // Tell runtime system how many input items we consumed on
-    // each input stream.
-    consume_each(noutput_items);
+    // Drain equalised REs of the last slot first.
+    auto drain = [&]() {
+        if (!d_eq_output)
+            return;
+        auto out = static_cast<gr_complex*>(output_items[0]);
+        const std::size_t take = std::min<std::size_t>(
+            static_cast<std::size_t>(noutput_items - produced), d_eq.size() - d_eq_pos);
+        std::copy(d_eq.begin() + static_cast<std::ptrdiff_t>(d_eq_pos),
+                  d_eq.begin() + static_cast<std::ptrdiff_t>(d_eq_pos + take),
+                  out + produced);
+        d_eq_pos += take;
+        produced += static_cast<int>(take);
+    };
+    if (d_eq_output && d_eq.empty()) {
+        d_eq.resize(d_rx.data_res());
+        d_eq_pos = d_eq.size();
+    }
+    drain();
 
-    // Tell runtime system how many output items we produced.
-    return noutput_items;
+    const auto in = static_cast<const gr_complex*>(input_items[0]);
+    const int avail = ninput_items[0];
+    const std::uint64_t base = nitems_read(0);
+    std::vector<gr::tag_t> slot_tags;
+    get_tags_in_window(slot_tags, 0, 0, static_cast<std::uint64_t>(avail), tags::slot_key());
+    std::size_t next_tag = 0;
+
+    int used = 0;
+    while (used < avail) {
+        if (d_eq_output && d_eq_pos < d_eq.size())
+            break; // output 0 must take the previous slot first
+        const std::uint64_t abs = base + static_cast<std::uint64_t>(used);
+        while (next_tag < slot_tags.size() && slot_tags[next_tag].offset < abs)
+            next_tag++;
+        if (next_tag < slot_tags.size() && slot_tags[next_tag].offset == abs &&
+            (pmt::is_uint64(slot_tags[next_tag].value) ||
+             pmt::is_integer(slot_tags[next_tag].value))) {
+            if (d_fill != 0) {
+                d_partial++;
+                d_logger->warn("slot tag at item {} inside slot {}: {} symbols discarded",
+                               abs,
+                               d_slot,
+                               d_fill);
+            }
+            d_fill = 0;
+            d_slot = pmt::to_uint64(slot_tags[next_tag].value);
+        }
+        gr_complex* dst = d_slot_buf.data() + static_cast<std::size_t>(d_fill) * n;
+        const gr_complex* src = in + static_cast<std::size_t>(used) * n;
+        std::uint64_t bad = 0;
+        for (unsigned k = 0; k < n; k++) {
+            const gr_complex v = src[k];
+            if (std::isfinite(v.real()) && std::isfinite(v.imag())) {
+                dst[k] = v;
+            } else {
+                dst[k] = gr_complex(0.0f, 0.0f);
+                bad++;
+            }
+        }
+        if (bad) {
+            d_nonfinite.note(d_logger, bad, abs);
+            d_nonfinite_count += bad;
+        }
+        used++;
+        if (++d_fill == sps) {
+            finish_slot();
+            drain();
+        }
+    }
+    consume(0, used);
+    return produced;
 }
 
 } /* namespace nrsar */

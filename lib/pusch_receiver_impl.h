@@ -8,7 +8,11 @@
 #ifndef INCLUDED_NRSAR_PUSCH_RECEIVER_IMPL_H
 #define INCLUDED_NRSAR_PUSCH_RECEIVER_IMPL_H
 
+#include "nonfinite_reporter.h"
+#include <gnuradio/nrsar/kernel/pusch_rx.h>
 #include <gnuradio/nrsar/pusch_receiver.h>
+#include <atomic>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -16,19 +20,56 @@ namespace nrsar {
 class pusch_receiver_impl : public pusch_receiver
 {
 private:
-    // Nothing to declare in this block.
+    numerology d_num;
+    kernel::pusch_rx d_rx;
+    std::vector<gr_complex> d_slot_buf; // symbols_per_slot * N
+    unsigned d_fill = 0;                // symbols of the current slot buffered
+    std::uint64_t d_slot = 0;           // slot index of the buffered slot
+    std::vector<gr_complex> d_eq;       // equalised REs not yet written to output 0
+    std::size_t d_eq_pos = 0;
+    bool d_eq_output = false;
+    nonfinite_reporter d_nonfinite;
+
+    std::atomic<std::uint64_t> d_ok{ 0 };
+    std::atomic<std::uint64_t> d_failed{ 0 };
+    std::atomic<std::uint64_t> d_filler{ 0 };
+    std::atomic<std::uint64_t> d_bytes{ 0 };
+    std::atomic<std::uint64_t> d_partial{ 0 };
+    std::atomic<std::uint64_t> d_nonfinite_count{ 0 };
+    std::atomic<double> d_snr{ 0.0 };
+    std::atomic<double> d_evm{ 0.0 };
+
+    void finish_slot();
 
 public:
-    pusch_receiver_impl();
-    ~pusch_receiver_impl();
+    pusch_receiver_impl(const numerology& num,
+                        modulation mod,
+                        const dmrs_config& dmrs,
+                        const std::string& ldpc_alist,
+                        unsigned scrambling_id,
+                        unsigned freq_window,
+                        unsigned max_iterations);
 
-    // Where all the action really happens
-    void forecast(int noutput_items, gr_vector_int& ninput_items_required);
-
+    bool check_topology(int ninputs, int noutputs) override;
+    void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
     int general_work(int noutput_items,
                      gr_vector_int& ninput_items,
                      gr_vector_const_void_star& input_items,
-                     gr_vector_void_star& output_items);
+                     gr_vector_void_star& output_items) override;
+
+    std::uint64_t blocks_ok() const override { return d_ok; }
+    std::uint64_t blocks_failed() const override { return d_failed; }
+    std::uint64_t filler_blocks() const override { return d_filler; }
+    std::uint64_t payload_bytes_ok() const override { return d_bytes; }
+    double last_snr_db() const override { return d_snr; }
+    double last_evm_db() const override { return d_evm; }
+    std::uint64_t partial_slots() const override { return d_partial; }
+    std::uint64_t nonfinite_samples() const override { return d_nonfinite_count; }
+    double code_rate() const override { return d_rx.codec().code_rate(); }
+    std::uint64_t payload_bits_per_slot() const override
+    {
+        return 8 * d_rx.codec().payload_bytes();
+    }
 };
 
 } // namespace nrsar

@@ -27,6 +27,9 @@ NRSAR_DEFINE_KEY(aperture_key, "aperture")
 NRSAR_DEFINE_KEY(azimuth_axis_key, "azimuth_axis")
 NRSAR_DEFINE_KEY(pulse_interval_key, "pulse_interval")
 
+// ofdm_sync
+NRSAR_DEFINE_KEY(sync_key, "sync")
+
 #undef NRSAR_DEFINE_KEY
 
 } // namespace tags

@@ -6,46 +6,144 @@
  */
 
 #include "td_echo_impl.h"
+#include "param_check.h"
 #include <gnuradio/io_signature.h>
+#include <gnuradio/nrsar/tags.h>
+#include <algorithm>
+#include <cmath>
 
 namespace gr {
 namespace nrsar {
 
-#pragma message("set the following appropriately and remove this warning")
-using input_type = float;
-#pragma message("set the following appropriately and remove this warning")
-using output_type = float;
-td_echo::sptr td_echo::make() { return gnuradio::make_block_sptr<td_echo_impl>(); }
-
-
-/*
- * The private constructor
- */
-td_echo_impl::td_echo_impl()
-    : gr::sync_block("td_echo",
-                     gr::io_signature::make(
-                         1 /* min inputs */, 1 /* max inputs */, sizeof(input_type)),
-                     gr::io_signature::make(
-                         1 /* min outputs */, 1 /*max outputs */, sizeof(output_type)))
+td_echo::sptr td_echo::make(const numerology& num,
+                            const geometry& geo,
+                            const scene& scn,
+                            double snr_db,
+                            std::uint64_t seed,
+                            unsigned taps,
+                            double kaiser_beta,
+                            const kernel::antenna_beam& beam)
 {
+    return gnuradio::make_block_sptr<td_echo_impl>(
+        num, geo, scn, snr_db, seed, taps, kaiser_beta, beam);
 }
 
-/*
- * Our virtual destructor.
- */
-td_echo_impl::~td_echo_impl() {}
+td_echo_impl::td_echo_impl(const numerology& num,
+                           const geometry& geo,
+                           const scene& scn,
+                           double snr_db,
+                           std::uint64_t seed,
+                           unsigned taps,
+                           double kaiser_beta,
+                           const kernel::antenna_beam& beam)
+    : gr::sync_block("td_echo",
+                     gr::io_signature::make(1, 1, sizeof(gr_complex)),
+                     gr::io_signature::make(1, 1, sizeof(gr_complex))),
+      d_num(num),
+      d_geo(geo),
+      d_echo(num, geo, scn, taps, kaiser_beta, beam), // validates everything
+      d_noise(seed),
+      d_snr_db(snr_db)
+{
+    check_and_log(scn);
+    check_snr_db(snr_db);
+    update_sigma();
+    set_history(d_echo.history() + 1); // the delay line; zeros before the stream start
+    if (d_echo.band_edge() >= 0.5)
+        d_logger->warn("the numerology fills the whole FFT band (num_subcarriers = {} of "
+                       "fft_size = {}): fractional delays of the band-edge subcarriers are "
+                       "not representable at this sample rate; the echo is accurate only "
+                       "well inside the band",
+                       num.num_subcarriers,
+                       num.fft_size);
+}
+
+void td_echo_impl::check_and_log(const scene& scn) const
+{
+    for (const auto& warning : check_scenario(d_num, d_geo, scn))
+        d_logger->warn("{}", warning);
+}
+
+void td_echo_impl::update_sigma()
+{
+    // SNR per RE = sum of RCS powers / sigma^2 (SPEC section 2); the unitary FFT of the
+    // demodulator maps a time-domain variance sigma^2 per sample to sigma^2 per RE.
+    d_variance = std::isinf(d_snr_db)
+                     ? 0.0
+                     : d_echo.get_scene().total_rcs() / std::pow(10.0, d_snr_db / 10.0);
+    d_sigma = static_cast<float>(std::sqrt(d_variance));
+}
+
+void td_echo_impl::set_snr_db(double snr_db)
+{
+    check_snr_db(snr_db);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_snr_db = snr_db;
+    update_sigma();
+}
+
+void td_echo_impl::set_scene(const scene& scn)
+{
+    scn.validate();
+    check_and_log(scn);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_echo.set_scene(scn);
+    update_sigma();
+}
+
+scene td_echo_impl::get_scene() const { return d_echo.get_scene(); }
 
 int td_echo_impl::work(int noutput_items,
                        gr_vector_const_void_star& input_items,
                        gr_vector_void_star& output_items)
 {
-    auto in = static_cast<const input_type*>(input_items[0]);
-    auto out = static_cast<output_type*>(output_items[0]);
+    gr::thread::scoped_lock guard(d_setlock);
+    const auto* in = static_cast<const gr_complex*>(input_items[0]);
+    auto* out = static_cast<gr_complex*>(output_items[0]);
+    const std::size_t n = static_cast<std::size_t>(noutput_items);
+    const std::size_t hist = d_echo.history();
 
-#pragma message("Implement the signal processing in your block and remove this warning")
-    // Do <+signal processing+>
+    // input_items[0] starts hist samples before the current ones (set_history; the
+    // scheduler fills the history with zeros at the stream start).
+    const std::uint64_t k0 = nitems_read(0);
+    std::size_t zeroed = 0;
+    d_guard.guard(in + hist, n, zeroed);
+    if (zeroed) {
+        std::size_t first = 0, last = 0;
+        for (std::size_t i = 0; i < n; i++) {
+            if (!(std::isfinite(in[hist + i].real()) && std::isfinite(in[hist + i].imag()))) {
+                if (!last)
+                    first = i;
+                last = i + 1;
+            }
+        }
+        add_item_tag(0,
+                     nitems_written(0) + first,
+                     tags::nonfinite_key(),
+                     d_nonfinite.note(d_logger, zeroed, k0 + first));
+        d_bad_end = k0 + last; // the history holds non-finite samples until d_bad_end + hist
+    }
+    const gr_complex* x = in + hist;
+    if (d_bad_end > 0 && d_bad_end + hist > k0) {
+        // Rare path: a non-finite sample in this call or in the history it reads: filter a
+        // zeroed copy of history + input.
+        d_line.resize(hist + n);
+        for (std::size_t i = 0; i < hist + n; i++) {
+            const bool ok = std::isfinite(in[i].real()) && std::isfinite(in[i].imag());
+            d_line[i] = ok ? in[i] : gr_complex(0.0f, 0.0f);
+        }
+        x = d_line.data() + hist;
+    }
 
-    // Tell runtime system how many output items we produced.
+    const std::uint64_t before = d_echo.dropped_paths();
+    d_echo.process(k0, x, out, n, &d_noise, d_sigma);
+    if (d_echo.dropped_paths() > before && !d_dropped_logged) {
+        d_logger->warn("a target's delay exceeds one OFDM symbol ({} samples) at sample {}: "
+                       "left out (see dropped_paths())",
+                       d_echo.max_delay_samples(),
+                       k0);
+        d_dropped_logged = true;
+    }
     return noutput_items;
 }
 

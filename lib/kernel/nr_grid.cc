@@ -6,6 +6,7 @@
  */
 
 #include "param_check.h"
+#include <gnuradio/nrsar/kernel/dmrs.h>
 #include <gnuradio/nrsar/kernel/low_papr_sequence.h>
 #include <gnuradio/nrsar/kernel/nr_grid.h>
 #include <algorithm>
@@ -24,13 +25,30 @@ int checked_mode(tx_mode mode)
 }
 } // namespace
 
-nr_grid::nr_grid(const numerology& num, modulation mod, tx_mode mode, const srs_config& srs)
-    : d_num(num), d_mode(mode), d_srs(srs), d_const(mod)
+nr_grid::nr_grid(const numerology& num,
+                 modulation mod,
+                 tx_mode mode,
+                 const srs_config& srs,
+                 const dmrs_config& dmrs)
+    : d_num(num), d_mode(mode), d_srs(srs), d_const(mod), d_dmrs(dmrs)
 {
     d_num.validate();
     checked_mode(mode);
+    d_dmrs.validate(d_num);
+    d_dmrs_in_slot.assign(d_num.symbols_per_slot, -1);
+    for (std::size_t i = 0; i < d_dmrs.symbols.size(); i++)
+        d_dmrs_in_slot[d_dmrs.symbols[i]] = static_cast<int>(i);
+    const unsigned n_dmrs = dmrs_count(d_num.num_subcarriers);
+    for (unsigned slot = 0; d_dmrs.enabled() && slot < d_num.slots_per_frame; slot++)
+        for (unsigned l : d_dmrs.symbols)
+            d_dmrs_table.push_back(
+                kernel::dmrs_values(d_dmrs.scrambling_id, slot, l, n_dmrs));
     if (mode == tx_mode::DATA)
         return;
+    if (d_dmrs.is_dmrs_symbol(d_srs.symbol_in_slot))
+        throw_param("srs symbol_in_slot",
+                    d_srs.symbol_in_slot,
+                    "must not be a DMRS symbol of the slot");
     d_srs.validate(d_num);
     if (d_srs.comb_offset >= d_srs.num_subcarriers())
         throw_param("srs comb_offset",
@@ -50,8 +68,20 @@ bool nr_grid::is_srs_symbol(std::uint64_t m) const
     return (m % sps) == d_srs.symbol_in_slot && ((m / sps) % d_srs.period_slots) == 0;
 }
 
+const std::vector<gr_complex>& nr_grid::dmrs_values(std::uint64_t m) const
+{
+    const std::uint64_t sps = d_num.symbols_per_slot;
+    const int idx = d_dmrs_in_slot[m % sps];
+    if (idx < 0)
+        return d_no_dmrs;
+    const std::uint64_t slot = (m / sps) % d_num.slots_per_frame;
+    return d_dmrs_table[slot * d_dmrs.symbols.size() + static_cast<std::size_t>(idx)];
+}
+
 unsigned nr_grid::data_res(std::uint64_t m) const
 {
+    if (is_dmrs_symbol(m))
+        return 0;
     switch (d_mode) {
     case tx_mode::DATA:
         return d_num.num_subcarriers;
@@ -70,6 +100,14 @@ std::size_t nr_grid::fill(std::uint64_t m,
                           gr_complex* out) const
 {
     const unsigned n_sc = d_num.num_subcarriers;
+    if (is_dmrs_symbol(m)) {
+        // type 1, CDM group 0: r(i) on subcarrier 2 i, odd subcarriers empty
+        const auto& r = dmrs_values(m);
+        std::fill(out, out + n_sc, gr_complex(0.0f, 0.0f));
+        for (std::size_t i = 0; i < r.size(); i++)
+            out[2 * i] = r[i];
+        return first_bit;
+    }
     const bool srs_here = is_srs_symbol(m);
     if (d_mode == tx_mode::SRS) {
         std::fill(out, out + n_sc, gr_complex(0.0f, 0.0f));

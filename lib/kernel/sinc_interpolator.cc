@@ -6,29 +6,13 @@
  */
 
 #include "../param_check.h"
+#include "bessel_i0.h"
 #include <gnuradio/nrsar/kernel/sinc_interpolator.h>
 #include <cmath>
 
 namespace gr {
 namespace nrsar {
 namespace kernel {
-
-namespace {
-// Modified Bessel function of the first kind, order 0 (power series; converges fast for
-// the beta < 50 a Kaiser window uses).
-double bessel_i0(double x)
-{
-    double sum = 1.0, term = 1.0;
-    const double q = x * x / 4.0;
-    for (int k = 1; k < 200; ++k) {
-        term *= q / (double(k) * k);
-        sum += term;
-        if (term < 1e-17 * sum)
-            break;
-    }
-    return sum;
-}
-} // namespace
 
 sinc_interpolator::sinc_interpolator(unsigned taps,
                                      gr::fft::window::win_type win,

@@ -121,6 +121,14 @@ def connect_mismatch():
 
 
 # (subject, rule, call, fragment that the message must contain)
+def bad_beam():
+    """An antenna_beam built field by field (make_beam would refuse it already)."""
+    b = nrsar.antenna_beam()
+    b.mode = nrsar.beam_mode.AZIMUTH
+    b.az_aperture_m = -1.0
+    return b
+
+
 RULES = [
     # shared types
     ("numerology", "subcarrier spacing zero", lambda: num(subcarrier_spacing_hz=0.0).validate(),
@@ -350,6 +358,92 @@ RULES = [
     ("srs_config", "band end beyond 2^32 (wrapped around before)",
      lambda: make_srs(start_subcarrier=4294967048, num_rb=255).validate(num()),
      "srs band [4294967048, 4294970108) does not fit the 64 subcarriers"),
+    # td_echo
+    ("td_echo", "odd delay-filter taps", lambda: nrsar.td_echo(num(), geo(), scn(), taps=7),
+     "taps = 7"),
+    ("td_echo", "delay-filter taps 0", lambda: nrsar.td_echo(num(), geo(), scn(), taps=0),
+     "taps = 0"),
+    ("td_echo", "delay-filter taps above 256",
+     lambda: nrsar.td_echo(num(), geo(), scn(), taps=258), "taps = 258"),
+    ("td_echo", "Kaiser beta above 50",
+     lambda: nrsar.td_echo(num(), geo(), scn(), kaiser_beta=60.0), "kaiser_beta = 60"),
+    ("td_echo", "SNR NaN", lambda: nrsar.td_echo(num(), geo(), scn(), NAN), "snr_db = nan"),
+    ("td_echo", "set_snr_db -inf", lambda: nrsar.td_echo(num(), geo(), scn()).set_snr_db(-INF),
+     "snr_db = -inf"),
+    ("td_echo", "round trip beyond the CP",
+     lambda: nrsar.td_echo(num(cp_samples=4), geo(), scn()), "cyclic prefix too short"),
+    ("td_echo", "set_scene with an empty scene",
+     lambda: nrsar.td_echo(num(), geo(), scn()).set_scene(nrsar.scene([])),
+     "scene has no targets"),
+    ("td_echo", "negative beam aperture", lambda: nrsar.td_echo(num(), geo(), scn(), beam=bad_beam()),
+     "beam.az_aperture_m = -1"),
+    # ofdm_mod / ofdm_demod / ofdm_sync
+    ("ofdm_mod", "FFT smaller than N", lambda: nrsar.ofdm_mod(num(fft_size=32)),
+     "fft_size = 32 must be at least num_subcarriers = 64"),
+    ("ofdm_demod", "FFT window beyond the CP", lambda: nrsar.ofdm_demod(num(), 17),
+     "fft_start = 17 must be at most cp_samples = 16"),
+    ("ofdm_sync", "no DMRS", lambda: nrsar.ofdm_sync(num(), make_dmrs("none")),
+     "ofdm_sync needs at least one DMRS symbol"),
+    ("ofdm_sync", "threshold 0", lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), 0.0),
+     "threshold = 0 must be in (0, 1)"),
+    ("ofdm_sync", "threshold 1", lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), 1.0),
+     "threshold = 1 must be in (0, 1)"),
+    ("ofdm_sync", "threshold NaN", lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), NAN),
+     "threshold = nan"),
+    ("ofdm_sync", "backoff 1", lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), 0.1, 1.0),
+     "backoff = 1 must be in [0, 1)"),
+    ("ofdm_sync", "negative backoff",
+     lambda: nrsar.ofdm_sync(num(), make_dmrs("pusch2"), 0.1, -0.5), "backoff = -0.5"),
+    ("ofdm_sync", "odd FFT size",
+     lambda: nrsar.ofdm_sync(num(num_subcarriers=63, fft_size=65), make_dmrs("pusch2")),
+     "fft_size = 65 must be even"),
+    ("ofdm_sync", "DMRS symbol beyond the slot",
+     lambda: nrsar.ofdm_sync(num(), make_dmrs([2, 14])), "dmrs symbols = 14"),
+    # pusch_encoder
+    ("pusch_encoder", "queue size 0",
+     lambda: nrsar.pusch_encoder(num(), make_modulation("qam16"), make_dmrs("pusch2"), "", 0, 0),
+     "max_queued_bytes = 0"),
+    ("pusch_encoder", "modulation without soft demapper",
+     lambda: nrsar.pusch_encoder(num(), make_modulation("psk8"), make_dmrs("pusch2")),
+     "is not decodable by pusch_receiver"),
+    ("pusch_encoder", "alist path that does not exist",
+     lambda: nrsar.pusch_encoder(num(), make_modulation("qam16"), make_dmrs("pusch2"),
+                                 "/nonexistent.alist"),
+     "ldpc_alist = /nonexistent.alist is not a readable alist file"),
+    ("pusch_encoder", "scrambling id beyond 16 bits",
+     lambda: nrsar.pusch_encoder(num(), make_modulation("qam16"), make_dmrs("pusch2"), "", 65536),
+     "scrambling_id = 65536"),
+    ("pusch_encoder", "LDPC codeword longer than the slot",
+     lambda: nrsar.pusch_encoder(num(num_subcarriers=8), make_modulation("qpsk"),
+                                 make_dmrs("pusch4"),
+                                 "/usr/share/gnuradio/fec/ldpc/n_1800_k_0902_gap_28.alist"),
+     "must hold one LDPC codeword of n = 1800 bits"),
+    ("nr_isac_tx", "SRS symbol on a DMRS symbol",
+     lambda: nr_isac_tx(num(), make_modulation("qpsk"), make_tx_mode("data_srs"),
+                        srs(symbol_in_slot=2), 0, make_dmrs("pusch2")),
+     "srs symbol_in_slot = 2 must not be a DMRS symbol"),
+    # pusch_receiver
+    ("pusch_receiver", "dmrs none",
+     lambda: nrsar.pusch_receiver(num(), make_modulation("qam16"), make_dmrs("none")),
+     "dmrs symbols = 0 must list at least one DMRS symbol"),
+    ("pusch_receiver", "modulation without soft demapper",
+     lambda: nrsar.pusch_receiver(num(), make_modulation("psk16"), make_dmrs("pusch2")),
+     "has no soft demapper"),
+    ("pusch_receiver", "alist path that does not exist",
+     lambda: nrsar.pusch_receiver(num(), make_modulation("qam16"), make_dmrs("pusch2"),
+                                  "/nonexistent.alist"),
+     "ldpc_alist = /nonexistent.alist"),
+    ("pusch_receiver", "even frequency window",
+     lambda: nrsar.pusch_receiver(num(), make_modulation("qam16"), make_dmrs("pusch2"), "", 0, 4),
+     "freq_window = 4 must be odd and >= 1"),
+    ("pusch_receiver", "zero LDPC iterations",
+     lambda: nrsar.pusch_receiver(num(), make_modulation("qam16"), make_dmrs("pusch2"), "", 0, 3,
+                                  0),
+     "max_iterations = 0"),
+    ("pusch_receiver", "fewer than 6 subcarriers",
+     lambda: nrsar.pusch_receiver(num(num_subcarriers=4, fft_size=64), make_modulation("qpsk"),
+                                  make_dmrs("pusch2")),
+     "num_subcarriers = 4"),
 ]
 
 

@@ -29,6 +29,7 @@ namespace nrsar {
  *   one continuous sequence across symbols.
  * Bits carry over between symbols (bits per symbol need not be a multiple of 8).
  * Data REs are mapped with kernel::constellation (TS 38.211 5.1, unit average power);
+ * DMRS symbols (dmrs) carry the PUSCH DMRS of TS 38.211 6.4.1.1 (kernel::nr_grid).
  * SRS REs (tx_mode SRS, DATA_SRS) carry the low-PAPR Zadoff-Chu sequence of TS 38.211
  * 5.2.2 (u = v = 0, alpha = 0) on the comb of srs; in SRS mode every other RE is 0.
  *
@@ -51,12 +52,16 @@ public:
      * \param srs   SRS comb layout (validated against num when mode is SRS or DATA_SRS;
      *              comb_offset must also lie inside the num_rb * 12 band).
      * \param seed  c_init of the PRBS, 0 .. 2^31 - 1.
+     * \param dmrs  PUSCH DMRS layout (kernel/dmrs.h): its symbols carry the DMRS on the even
+     *              subcarriers, 0 on the odd ones, and no data. Default: none (bit-identical
+     *              to the grid without DMRS).
      */
     static sptr make(const numerology& num = numerology(),
                      modulation mod = modulation::QAM256,
                      tx_mode mode = tx_mode::DATA,
                      const srs_config& srs = srs_config(),
-                     std::uint64_t seed = 0);
+                     std::uint64_t seed = 0,
+                     const dmrs_config& dmrs = dmrs_config());
 
     //! Payload bytes (stream or PDU) taken into the grid so far.
     virtual std::uint64_t payload_bytes_sent() const = 0;

@@ -37,6 +37,11 @@ NRSAR_API const pmt::pmt_t& nonfinite_key();
 NRSAR_API const pmt::pmt_t& aperture_key();
 NRSAR_API const pmt::pmt_t& azimuth_axis_key();
 NRSAR_API const pmt::pmt_t& pulse_interval_key();
+
+// ofdm_sync
+//! "sync": dict ("cfo_hz" double, "timing" int64, "start" int64, "metric" double) that
+//! ofdm_sync puts on output sample 0 of every acquisition.
+NRSAR_API const pmt::pmt_t& sync_key();
 } // namespace tags
 
 } // namespace nrsar

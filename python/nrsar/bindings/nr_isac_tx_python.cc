@@ -41,6 +41,7 @@ void bind_nr_isac_tx(py::module& m)
              py::arg("mode") = gr::nrsar::tx_mode::DATA,
              py::arg("srs") = gr::nrsar::srs_config(),
              py::arg("seed") = 0,
+             py::arg("dmrs") = gr::nrsar::dmrs_config(),
              D(nr_isac_tx, make))
         .def("payload_bytes_sent",
              &nr_isac_tx::payload_bytes_sent,

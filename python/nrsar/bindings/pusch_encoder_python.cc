@@ -1,7 +1,5 @@
 /*
- * Copyright 2026 Free Software Foundation, Inc.
- *
- * This file is part of GNU Radio
+ * Copyright 2026 gr-nrsar authors.
  *
  * SPDX-License-Identifier: GPL-3.0-or-later
  *
@@ -14,7 +12,7 @@
 /* BINDTOOL_GEN_AUTOMATIC(0)                                                       */
 /* BINDTOOL_USE_PYGCCXML(0)                                                        */
 /* BINDTOOL_HEADER_FILE(pusch_encoder.h)                                        */
-/* BINDTOOL_HEADER_FILE_HASH(f2be7fc98e9508fd5f61a212b817a798)                     */
+/* BINDTOOL_HEADER_FILE_HASH(0)                     */
 /***********************************************************************************/
 
 #include <pybind11/complex.h>
@@ -23,37 +21,53 @@
 
 namespace py = pybind11;
 
+#include <gnuradio/nrsar/kernel/dmrs.h>
+#include <gnuradio/nrsar/kernel/transport_block.h>
 #include <gnuradio/nrsar/pusch_encoder.h>
 // pydoc.h is automatically generated in the build directory
 #include <pusch_encoder_pydoc.h>
 
 void bind_pusch_encoder(py::module& m)
 {
+    using pusch_encoder = gr::nrsar::pusch_encoder;
+    namespace k = gr::nrsar::kernel;
 
-    using pusch_encoder    = gr::nrsar::pusch_encoder;
-
-
-    py::class_<pusch_encoder, gr::block, gr::basic_block,
-        std::shared_ptr<pusch_encoder>>(m, "pusch_encoder", D(pusch_encoder))
-
+    py::class_<pusch_encoder, gr::block, gr::basic_block, std::shared_ptr<pusch_encoder>>(
+        m, "pusch_encoder", D(pusch_encoder))
         .def(py::init(&pusch_encoder::make),
-           D(pusch_encoder,make)
-        )
-        
+             py::arg("num") = gr::nrsar::numerology(),
+             py::arg("mod") = gr::nrsar::modulation::QAM256,
+             py::arg("dmrs") = gr::nrsar::dmrs_config::preset("pusch2"),
+             py::arg("ldpc_alist") = "",
+             py::arg("scrambling_id") = 0,
+             py::arg("max_queued_bytes") = 1u << 20,
+             D(pusch_encoder, make))
+        .def("tbs_sent", &pusch_encoder::tbs_sent, "TBs (slots) encoded, filler included")
+        .def("filler_tbs_sent", &pusch_encoder::filler_tbs_sent, "Filler TBs encoded")
+        .def("payload_bytes_sent", &pusch_encoder::payload_bytes_sent, "PDU bytes encoded")
+        .def("pdus_dropped", &pusch_encoder::pdus_dropped, "PDUs refused (queue full, malformed)")
+        .def("queued_bytes", &pusch_encoder::queued_bytes, "PDU bytes waiting")
+        .def("code_rate", &pusch_encoder::code_rate, "LDPC k/n (1 when uncoded)")
+        .def("payload_bits_per_slot",
+             &pusch_encoder::payload_bits_per_slot,
+             "Payload bits of one TB")
+        .def("slot_bits", &pusch_encoder::slot_bits, "G, data bits of one slot")
+        .def("throughput_bps",
+             &pusch_encoder::throughput_bps,
+             "Payload bits per second at the numerology's slot rate");
 
-
-
-        ;
-
-
-
-
+    m.def("dmrs_values",
+          &k::dmrs_values,
+          py::arg("scrambling_id"),
+          py::arg("slot_in_frame"),
+          py::arg("symbol"),
+          py::arg("count"),
+          "PUSCH DMRS r(0..count-1) of TS 38.211 6.4.1.1.1 (on subcarriers 0, 2, 4, ...)");
+    m.def("dmrs_c_init", &k::dmrs_c_init, py::arg("scrambling_id"), py::arg("slot_in_frame"),
+          py::arg("symbol"), "c_init of the PUSCH DMRS (TS 38.211 6.4.1.1.1.1)");
+    m.def("pusch_slot_bits", &k::pusch_slot_bits, py::arg("num"), py::arg("mod"),
+          py::arg("dmrs"), "G: data bits of one PUSCH slot");
+    m.def("tb_scrambling_c_init", &k::transport_block_codec::scrambling_c_init,
+          py::arg("scrambling_id"), py::arg("slot"),
+          "c_init of the TB scrambling: 2^15 scrambling_id + (slot mod 2^15)");
 }
-
-
-
-
-
-
-
-

@@ -1,7 +1,5 @@
 /*
- * Copyright 2026 Free Software Foundation, Inc.
- *
- * This file is part of GNU Radio
+ * Copyright 2026 gr-nrsar authors.
  *
  * SPDX-License-Identifier: GPL-3.0-or-later
  *
@@ -14,46 +12,64 @@
 /* BINDTOOL_GEN_AUTOMATIC(0)                                                       */
 /* BINDTOOL_USE_PYGCCXML(0)                                                        */
 /* BINDTOOL_HEADER_FILE(pusch_receiver.h)                                        */
-/* BINDTOOL_HEADER_FILE_HASH(4e01eba2f3b1c8e69195f5fbab6c115a)                     */
+/* BINDTOOL_HEADER_FILE_HASH(0)                     */
 /***********************************************************************************/
 
 #include <pybind11/complex.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 namespace py = pybind11;
 
+#include <gnuradio/nrsar/kernel/soft_demapper.h>
 #include <gnuradio/nrsar/pusch_receiver.h>
 // pydoc.h is automatically generated in the build directory
 #include <pusch_receiver_pydoc.h>
 
 void bind_pusch_receiver(py::module& m)
 {
+    using pusch_receiver = gr::nrsar::pusch_receiver;
+    using gr::nrsar::kernel::soft_demapper;
 
-    using pusch_receiver    = gr::nrsar::pusch_receiver;
-
-
-    py::class_<pusch_receiver, gr::block, gr::basic_block,
-        std::shared_ptr<pusch_receiver>>(m, "pusch_receiver", D(pusch_receiver))
-
+    py::class_<pusch_receiver, gr::block, gr::basic_block, std::shared_ptr<pusch_receiver>>(
+        m, "pusch_receiver", D(pusch_receiver))
         .def(py::init(&pusch_receiver::make),
-           D(pusch_receiver,make)
-        )
-        
+             py::arg("num") = gr::nrsar::numerology(),
+             py::arg("mod") = gr::nrsar::modulation::QAM256,
+             py::arg("dmrs") = gr::nrsar::dmrs_config::preset("pusch2"),
+             py::arg("ldpc_alist") = "",
+             py::arg("scrambling_id") = 0,
+             py::arg("freq_window") = 3,
+             py::arg("max_iterations") = 25,
+             D(pusch_receiver, make))
+        .def("blocks_ok", &pusch_receiver::blocks_ok, "TBs with CRC ok (filler included)")
+        .def("blocks_failed", &pusch_receiver::blocks_failed, "TBs with CRC/header failure")
+        .def("filler_blocks", &pusch_receiver::filler_blocks, "CRC-ok filler TBs")
+        .def("payload_bytes_ok", &pusch_receiver::payload_bytes_ok, "Payload bytes delivered")
+        .def("last_snr_db", &pusch_receiver::last_snr_db, "SNR estimate of the last slot [dB]")
+        .def("last_evm_db", &pusch_receiver::last_evm_db, "EVM of the last slot [dB]")
+        .def("partial_slots", &pusch_receiver::partial_slots, "Slots cut short by a slot tag")
+        .def("nonfinite_samples", &pusch_receiver::nonfinite_samples, "Non-finite inputs zeroed")
+        .def("code_rate", &pusch_receiver::code_rate, "LDPC k/n (1 when uncoded)")
+        .def("payload_bits_per_slot", &pusch_receiver::payload_bits_per_slot, "Payload bits of a TB");
 
-
-
-        ;
-
-
-
-
+    py::class_<soft_demapper>(m, "soft_demapper", "Max-log LLRs of the 38.211 QAM constellations")
+        .def(py::init<gr::nrsar::modulation>(), py::arg("mod") = gr::nrsar::modulation::QAM256)
+        .def("bits_per_symbol", &soft_demapper::bits_per_symbol)
+        .def_static("supported", &soft_demapper::supported, py::arg("mod"))
+        .def("demap",
+             [](const soft_demapper& d, const std::vector<gr_complex>& y, const std::vector<float>& nv) {
+                 if (nv.size() != y.size() && nv.size() != 1)
+                     throw std::invalid_argument("noise_var must have 1 or len(symbols) entries");
+                 std::vector<float> llr(y.size() * d.bits_per_symbol());
+                 if (nv.size() == 1)
+                     d.demap(y.data(), nv[0], y.size(), llr.data());
+                 else
+                     d.demap(y.data(), nv.data(), y.size(), llr.data());
+                 return llr;
+             },
+             py::arg("symbols"),
+             py::arg("noise_var"),
+             "LLRs (positive = bit 0), b(0) of the first symbol first");
 }
-
-
-
-
-
-
-
-

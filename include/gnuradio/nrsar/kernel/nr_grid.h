@@ -29,13 +29,22 @@ namespace kernel {
  * 0. DATA_SRS: data everywhere except those SRS REs. Symbol m is an SRS symbol when
  * (m / symbols_per_slot) % period_slots == 0 and m % symbols_per_slot == symbol_in_slot.
  *
+ * DMRS (dmrs.enabled()): the symbols dmrs.symbols of every slot carry the PUSCH DMRS of
+ * kernel/dmrs.h on the even subcarriers (slot_in_frame = (m / symbols_per_slot) %
+ * slots_per_frame) and 0 on the odd ones; they carry no data (data_res() = 0). A DMRS
+ * symbol may not also be an SRS symbol.
+ *
  * Data symbols are taken in subcarrier order from a packed MSB-first bit stream.
  */
 class NRSAR_API nr_grid
 {
 public:
     //! Validates num (and srs when mode uses SRS); throws std::invalid_argument.
-    nr_grid(const numerology& num, modulation mod, tx_mode mode, const srs_config& srs);
+    nr_grid(const numerology& num,
+            modulation mod,
+            tx_mode mode,
+            const srs_config& srs,
+            const dmrs_config& dmrs = dmrs_config());
     nr_grid(nr_grid&&) = default;
     nr_grid& operator=(nr_grid&&) = default;
     nr_grid(const nr_grid&) = delete;
@@ -47,7 +56,15 @@ public:
     const srs_config& srs() const { return d_srs; }
     const constellation& mapper() const { return d_const; }
 
+    const dmrs_config& dmrs() const { return d_dmrs; }
+
     bool is_srs_symbol(std::uint64_t m) const;
+    bool is_dmrs_symbol(std::uint64_t m) const
+    {
+        return d_dmrs_in_slot[m % d_num.symbols_per_slot] >= 0;
+    }
+    //! DMRS values of symbol m (on subcarriers 0, 2, 4, ...); empty when m carries none.
+    const std::vector<gr_complex>& dmrs_values(std::uint64_t m) const;
     //! Data REs of symbol m.
     unsigned data_res(std::uint64_t m) const;
     //! Bits symbol m consumes: data_res(m) * bits_per_symbol.
@@ -75,6 +92,11 @@ private:
     constellation d_const;
     std::vector<unsigned> d_srs_sc;
     std::vector<gr_complex> d_srs_seq;
+    dmrs_config d_dmrs;
+    std::vector<int> d_dmrs_in_slot; // per symbol of the slot: index into dmrs.symbols or -1
+    // [slot_in_frame * dmrs.symbols.size() + index]: values of that DMRS symbol
+    std::vector<std::vector<gr_complex>> d_dmrs_table;
+    std::vector<gr_complex> d_no_dmrs;
 };
 
 } // namespace kernel

@@ -1,27 +1,22 @@
 /*
- * Copyright 2026 Free Software Foundation, Inc.
- *
- * This file is part of GNU Radio
+ * Copyright 2026 gr-nrsar authors.
  *
  * SPDX-License-Identifier: GPL-3.0-or-later
- *
  */
 #include "pydoc_macros.h"
 #define D(...) DOC(gr, nrsar, __VA_ARGS__)
 /*
-  This file contains placeholders for docstrings for the Python bindings.
-  Do not edit! These were automatically extracted during the binding process
-  and will be overwritten during the build process
+  Docstrings of the hand-written ofdm_mod bindings.
  */
 
+static const char* __doc_gr_nrsar_ofdm_mod =
+    R"doc(CP-OFDM modulator: one grid column of N REs per input item -> cp + fft_size samples.
+Subcarrier n at FFT bin (n - k0) mod fft_size (k0 = num.dc_subcarrier()), unitary
+1/sqrt(fft_size) scaling; input tags move to the first sample (CP start) of their symbol.)doc";
 
+static const char* __doc_gr_nrsar_ofdm_mod_ofdm_mod = R"doc()doc";
 
- static const char *__doc_gr_nrsar_ofdm_mod = R"doc()doc";
+static const char* __doc_gr_nrsar_ofdm_mod_make =
+    R"doc(ofdm_mod(num)
 
-
- static const char *__doc_gr_nrsar_ofdm_mod_ofdm_mod = R"doc()doc";
-
-
- static const char *__doc_gr_nrsar_ofdm_mod_make = R"doc()doc";
-
-  
+num: numerology (N, fft_size, cp_samples).)doc";

@@ -1,0 +1,75 @@
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include "test_util.h"
+#include <gnuradio/nrsar/kernel/constellation.h>
+#include <gnuradio/nrsar/kernel/soft_demapper.h>
+#include <gtest/gtest.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+using namespace gr::nrsar;
+using namespace gr::nrsar::kernel;
+
+// Brute force max-log over every constellation point, in double.
+TEST(soft_demapper, matches_bruteforce_maxlog)
+{
+    for (auto mod : { modulation::QPSK, modulation::QAM16, modulation::QAM64, modulation::QAM256 }) {
+        const constellation c(mod);
+        const soft_demapper d(mod);
+        const unsigned k = c.bits_per_symbol();
+        const auto noise = nrsar_test::gaussian_samples(500, 11);
+        std::vector<gr_complex> y(500);
+        std::vector<float> nv(500);
+        for (int i = 0; i < 500; i++) {
+            y[i] = c.map(static_cast<unsigned>(i * 37) % c.size()) + 0.3f * noise[i];
+            nv[i] = 0.01f + 0.002f * static_cast<float>(i % 50);
+        }
+        std::vector<float> llr(500 * k);
+        d.demap(y.data(), nv.data(), 500, llr.data());
+        for (int i = 0; i < 500; i++)
+            for (unsigned j = 0; j < k; j++) {
+                double m0 = std::numeric_limits<double>::infinity(), m1 = m0;
+                for (unsigned p = 0; p < c.size(); p++) {
+                    const std::complex<double> s(c.points()[p].real(), c.points()[p].imag());
+                    const double dist =
+                        std::norm(std::complex<double>(y[i].real(), y[i].imag()) - s);
+                    if ((p >> (k - 1 - j)) & 1u)
+                        m1 = std::min(m1, dist);
+                    else
+                        m0 = std::min(m0, dist);
+                }
+                const double ref = (m1 - m0) / nv[i];
+                EXPECT_NEAR(llr[i * k + j], ref, 1e-3 * (1.0 + std::abs(ref)))
+                    << "mod " << static_cast<int>(mod) << " sym " << i << " bit " << j;
+            }
+        // scalar noise variance overload gives the same values for equal variances
+        std::vector<float> a(500 * k), b(500 * k);
+        std::vector<float> same(500, 0.05f);
+        d.demap(y.data(), same.data(), 500, a.data());
+        d.demap(y.data(), 0.05f, 500, b.data());
+        EXPECT_EQ(a, b);
+    }
+}
+
+TEST(soft_demapper, hard_decision_of_llr_signs_is_the_mapper)
+{
+    const constellation c(modulation::QAM256);
+    const soft_demapper d(modulation::QAM256);
+    std::vector<float> llr(8 * 256);
+    d.demap(c.points().data(), 1.0f, 256, llr.data());
+    for (unsigned p = 0; p < 256; p++)
+        for (unsigned j = 0; j < 8; j++)
+            EXPECT_EQ(llr[p * 8 + j] < 0, ((p >> (7 - j)) & 1u) != 0);
+}
+
+TEST(soft_demapper, refuses_psk)
+{
+    EXPECT_THROW(soft_demapper(modulation::PSK8), std::invalid_argument);
+    EXPECT_FALSE(soft_demapper::supported(modulation::PSK16));
+}
