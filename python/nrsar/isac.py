@@ -50,7 +50,7 @@ def add_arguments(parser):
                         help="alist of a gr-fec LDPC code, or 'none' = uncoded (default; LDPC "
                              "costs ~43 ms CPU per paper slot), 'default' = "
                              + backhaul.DEFAULT_ALIST)
-    parser.add_argument("--bs-snr-db", type=float, default=40.0,
+    parser.add_argument("--bs-snr-db", type=float, default=50.0,
                         help="per-RE SNR at the base station [dB] (taps normalised to unit "
                              "energy); default %(default)s")
     parser.add_argument("--cfo-hz", type=float, default=9000.0,
@@ -187,7 +187,8 @@ def backhaul_results(num, enc, bs, chunks, payload, out_path):
         "backhaul_bler": bad / float(ok + bad) if ok + bad else None,
         "blocks_ok": ok,
         "blocks_failed": bad,
-        "failed_slots": failed_slots[:32],
+        "failed_slots": failed_slots[:32],  # the first 32
+        "failed_payload_slots": [s for s in failed_slots if 0 <= s < len(chunks)],
         "payload_slots": len(chunks),
         # delivered payload bits over the air time of the slots that carried the payload
         "throughput_mbps": good_bits / (len(chunks) * slot_s) / 1e6 if chunks else 0.0,
