@@ -129,25 +129,14 @@ def build_base_station(tb, num, args, dmrs, source):
                                   parse_taps(args.taps), args.seed + 2)
     sync = ofdm_sync(num, dmrs)
     demod = ofdm_demod(num)
-    deslope = blocks.multiply_const_vcc(backoff_ramp(num, sync.backoff()))
+    # ofdm_sync's backoff puts a phase slope across the subcarriers; pusch_receiver's
+    # channel estimate removes it before its fit (docs/isac.md, "Backoff slope")
     rx = pusch_receiver(num, mod, dmrs, ldpc_alist(args.ldpc), 0)
     store = blocks.message_debug()
-    tb.connect(source, delay, chan, sync, demod, deslope, rx)
+    tb.connect(source, delay, chan, sync, demod, rx)
     tb.msg_connect((rx, "pdus"), (store, "store"))
-    return {"delay": delay, "channel": chan, "sync": sync, "demod": demod, "deslope": deslope,
-            "receiver": rx, "store": store}
-
-
-def backoff_ramp(num, backoff):
-    """exp(+j 2 pi (n - k0) b / F), b = round(backoff cp): undoes the linear phase that
-    ofdm_sync's backoff puts across the subcarriers (the FFT window sits b samples inside
-    the CP; docs/blocks/ofdm_sync.md). Without it the phase turns 4 pi b / F between
-    neighbouring DMRS REs (0.44 rad at sdr20), and pusch_receiver's straight-line fit over
-    freq_window = 3 complex LS estimates shrinks the channel by (1 + 2 cos) / 3: measured
-    EVM -23.7 dB at 40 dB SNR, every 256-QAM TB failed; with it, the EVM follows the SNR."""
-    b = round(backoff * num.cp_samples)
-    n = np.arange(num.num_subcarriers) - num.dc_subcarrier()
-    return [complex(v) for v in np.exp(2j * np.pi * n * b / num.fft_size)]
+    return {"delay": delay, "channel": chan, "sync": sync, "demod": demod, "receiver": rx,
+            "store": store}
 
 
 def backhaul_results(num, enc, bs, chunks, payload, out_path):
@@ -234,12 +223,12 @@ def run(args):
     result.update(backhaul_results(num, enc, bs, chunks, payload,
                                    os.path.join(args.out, "decoded.bin")))
     bs_times = {name: bs[name].pc_work_time_total() / 1e9
-                for name in ("sync", "demod", "deslope", "receiver")}
+                for name in ("sync", "demod", "receiver")}
     # CPU time in work() of every block we hold (channel_model is a hier block: not counted)
     named = {"pusch_encoder": enc, "nr_isac_tx": tx, "ofdm_mod": mod, "delay": bs["delay"],
              "radar_echo": chain["echo"], **{f"radar_{k}": chain[k] for k in
                                              ("filter", "range_ifft", "focuser", "probe")},
-             **{f"bs_{k}": bs[k] for k in ("sync", "demod", "deslope", "receiver")}}
+             **{f"bs_{k}": bs[k] for k in ("sync", "demod", "receiver")}}
     if args.radar_domain == "time":
         named["radar_ofdm_demod"] = chain["radar_demod"]
     result.update({
