@@ -20,11 +20,8 @@ The image, its metrics and the JSON keys are nrsar-sim's (SPEC 9); the backhaul 
 payload_identical, backhaul_ber, backhaul_bler, throughput_mbps and the receiver's numbers.
 """
 
-import argparse
-import json
 import math
 import os
-import sys
 import time
 
 import numpy as np
@@ -250,19 +247,5 @@ def run(args):
 
 
 def main(argv=None):
-    sim.quiet_gnuradio_logs()
-    parser = add_arguments(argparse.ArgumentParser(
-        prog="nrsar-isac", description=__doc__,
-        formatter_class=argparse.RawDescriptionHelpFormatter))
-    args = parser.parse_args(argv)
-    try:
-        result = run(args)
-    except (ValueError, RuntimeError, OSError) as err:
-        print(f"nrsar-isac: {err}", file=sys.stderr)
-        return 2
-    if args.json:
-        print(json.dumps(result))
-    else:
-        for key, value in result.items():
-            print(f"{key:28s} {value}")
-    return 0
+    return sim.main(argv, "nrsar-isac", add_arguments, run, __doc__,
+                    (ValueError, RuntimeError, OSError))

@@ -456,16 +456,18 @@ def quiet_gnuradio_logs():
     gr.logging().set_default_level(gr.log_levels.err)
 
 
-def main(argv=None):
+def main(argv=None, prog="nrsar-sim", add=None, runner=None, doc=__doc__,
+         errors=(ValueError, RuntimeError)):
+    """The command line of nrsar-sim; nrsar-isac passes its own parser, run and doc."""
     quiet_gnuradio_logs()
-    parser = add_arguments(argparse.ArgumentParser(
-        prog="nrsar-sim", description=__doc__,
+    parser = (add or add_arguments)(argparse.ArgumentParser(
+        prog=prog, description=doc,
         formatter_class=argparse.RawDescriptionHelpFormatter))
     args = parser.parse_args(argv)
     try:
-        result = run(args)
-    except (ValueError, RuntimeError) as err:
-        print(f"nrsar-sim: {err}", file=sys.stderr)
+        result = (runner or run)(args)
+    except errors as err:
+        print(f"{prog}: {err}", file=sys.stderr)
         return 2
     if args.json:
         print(json.dumps(result))
