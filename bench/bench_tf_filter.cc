@@ -98,3 +98,31 @@ void BM_wf_fused_loop(benchmark::State& state)
 
 BENCHMARK(BM_wf_apply_only)->Arg(3333);
 BENCHMARK(BM_wf_fused_loop)->Arg(3333);
+
+// Constant-modulus reference (QPSK, |s|^2 = 1): the shortcut (one conj multiply + one real
+// scale) against the general per-RE weights on the same data (range(1) = 1: shortcut on).
+namespace {
+void BM_tf_filter_qpsk(benchmark::State& state, filter_type type)
+{
+    const std::size_t n = state.range(0);
+    std::vector<gr_complex> y, s, out(n);
+    random_pair(n, y, s);
+    const float a = 0.70710678f;
+    for (auto& v : s)
+        v = gr_complex(v.real() < 0 ? -a : a, v.imag() < 0 ? -a : a);
+    kernel::tf_filter f(n, type, 5.0, false);
+    f.set_constant_modulus_path(state.range(1) != 0);
+    for (auto _ : state) {
+        f.process(y.data(), s.data(), out.data());
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+void BM_tf_filter_qpsk_wf(benchmark::State& s) { BM_tf_filter_qpsk(s, filter_type::WF); }
+void BM_tf_filter_qpsk_rf(benchmark::State& s) { BM_tf_filter_qpsk(s, filter_type::RF); }
+void BM_tf_filter_qpsk_mf(benchmark::State& s) { BM_tf_filter_qpsk(s, filter_type::MF); }
+} // namespace
+
+BENCHMARK(BM_tf_filter_qpsk_wf)->Args({ 3333, 0 })->Args({ 3333, 1 });
+BENCHMARK(BM_tf_filter_qpsk_rf)->Args({ 3333, 0 })->Args({ 3333, 1 });
+BENCHMARK(BM_tf_filter_qpsk_mf)->Args({ 3333, 0 })->Args({ 3333, 1 });

@@ -11,6 +11,7 @@
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
 #include <sstream>
+#include <thread>
 
 namespace gr {
 namespace nrsar {
@@ -96,7 +97,23 @@ void range_ifft_impl::set_window(gr::fft::window::win_type window, double window
     check_finite("window_param", window_param);
     gr::thread::scoped_lock guard(d_setlock);
     d_kernel.set_window(window, window_param);
+    if (d_helper)
+        d_helper->set_window(window, window_param);
     d_tag_pending = true;
+}
+
+void range_ifft_impl::set_threads(unsigned threads)
+{
+    check_range("threads", threads, 1u, 2u);
+    gr::thread::scoped_lock guard(d_setlock);
+    if (threads == 2 && !d_helper) // planned here, never in work()
+        d_helper = std::make_unique<kernel::range_ifft>(d_kernel.n(),
+                                                        d_kernel.fft_size(),
+                                                        d_kernel.window(),
+                                                        d_kernel.window_param(),
+                                                        d_kernel.first_bin(),
+                                                        d_kernel.num_bins());
+    d_threads = threads;
 }
 
 bool range_ifft_impl::start()
@@ -123,16 +140,31 @@ int range_ifft_impl::work(int noutput_items,
         add_item_tag(0, nitems_written(0), tags::range_axis_key(), axis, alias_pmt());
         d_tag_pending = false;
     }
-    for (int i = 0; i < noutput_items; i++) {
-        std::size_t bad = 0;
-        const gr_complex* x = d_guard.guard(in + i * n, n, bad);
+    d_bad.assign(noutput_items, 0);
+    int split = noutput_items;
+    std::thread helper;
+    if (d_threads == 2 && d_helper && noutput_items >= 4) {
+        split = noutput_items / 2;
+        helper = std::thread([this, in, out, n, k, split, noutput_items] {
+            for (int i = split; i < noutput_items; i++) {
+                const gr_complex* x = d_helper_guard.guard(in + i * n, n, d_bad[i]);
+                d_helper->execute(x, out + i * k);
+            }
+        });
+    }
+    for (int i = 0; i < split; i++) {
+        const gr_complex* x = d_guard.guard(in + i * n, n, d_bad[i]);
         d_kernel.execute(x, out + i * k);
-        if (bad > 0) {
+    }
+    if (helper.joinable())
+        helper.join();
+    for (int i = 0; i < noutput_items; i++) {
+        if (d_bad[i] > 0) {
             const std::uint64_t item = nitems_written(0) + i;
             add_item_tag(0,
                          item,
                          tags::nonfinite_key(),
-                         d_nonfinite.note(d_logger, bad, item),
+                         d_nonfinite.note(d_logger, d_bad[i], item),
                          alias_pmt());
         }
     }

@@ -12,6 +12,8 @@
 #include <gnuradio/nrsar/kernel/range_ifft.h>
 #include <gnuradio/nrsar/range_ifft.h>
 #include "nonfinite_reporter.h"
+#include <memory>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -24,6 +26,12 @@ private:
     double d_bin_m;
     bool d_tag_pending = true;
     nonfinite_reporter d_nonfinite;
+    // Two-core split (set_threads(2)): the second half of each work() call's symbols on a
+    // std::thread with its own kernel (own FFTW plan) and guard.
+    unsigned d_threads = 1;
+    std::unique_ptr<kernel::range_ifft> d_helper;
+    kernel::finite_guard d_helper_guard;
+    std::vector<std::size_t> d_bad;
 
 public:
     range_ifft_impl(const numerology& num, kernel::range_ifft&& kern);
@@ -41,6 +49,8 @@ public:
     unsigned fft_size() const override { return d_kernel.fft_size(); }
     double coherent_gain() const override { return d_kernel.coherent_gain(); }
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
+    void set_threads(unsigned threads) override;
+    unsigned threads() const override { return d_threads; }
 
     int work(int noutput_items,
              gr_vector_const_void_star& input_items,

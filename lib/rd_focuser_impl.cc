@@ -66,7 +66,8 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
                                  const focuser_config& cfg)
     : gr::block("rd_focuser",
                 gr::io_signature::make(1, 1, sizeof(gr_complex) * checked_vlen(num_range_bins)),
-                gr::io_signature::make(1, 1, sizeof(gr_complex) * num_range_bins)),
+                // out: the image; optional rd_map: the range-Doppler map after RCMC.
+                gr::io_signature::make(1, 2, sizeof(gr_complex) * num_range_bins)),
       d_num(num),
       d_geo(geo),
       d_scn(scn),
@@ -159,10 +160,8 @@ void rd_focuser_impl::configure(double T, double first_range, double range_bin)
     d_kernel.reset(); // rebuilt lazily for the new block
 }
 
-void rd_focuser_impl::ensure_kernel()
+kernel::rd_block rd_focuser_impl::make_block() const
 {
-    if (d_kernel)
-        return;
     kernel::rd_block blk;
     blk.num_range_bins = d_K;
     blk.num_lines = d_before + d_M + d_after;
@@ -182,6 +181,14 @@ void rd_focuser_impl::ensure_kernel()
                                                        d_range_bin / speed_of_light,
                                                    1.0)
                                   : d_cfg.range_centre_cycles;
+    return blk;
+}
+
+void rd_focuser_impl::ensure_kernel()
+{
+    if (d_kernel)
+        return;
+    const kernel::rd_block blk = make_block();
     // Aperture buffer, output queue and the band matrix (at most the FFT size); ESTIMATE
     // also keeps every spectrum.
     const double fft = kernel::fast_fft_size(blk.num_lines);
@@ -350,7 +357,18 @@ void rd_focuser_impl::process_block()
                   &d_block[static_cast<size_t>(k) * P] + P,
                   gr_complex(0.0f, 0.0f));
     // Only lines [before, before + M) of the block are valid output (overlap-save).
-    d_kernel->focus_range_major(d_block.data(), P, d_out.data(), d_before, d_M);
+    if (d_want_rd) {
+        // The map of this block: band bins x K (at most the FFT size), queued for port 1.
+        d_rd.resize(static_cast<size_t>(d_kernel->fft_size()) * d_K);
+        d_kernel->focus_range_major(d_block.data(), P, d_out.data(), d_before, d_M, d_rd.data());
+        d_rd_pos = 0;
+        d_rd_len = d_kernel->band_bins();
+        d_rd_tags_due = true;
+        d_rd_f0 = d_kernel->rd_doppler_first_hz();
+        d_rd_df = 1.0 / (d_kernel->fft_size() * d_T);
+    } else {
+        d_kernel->focus_range_major(d_block.data(), P, d_out.data(), d_before, d_M);
+    }
     d_out_pos = 0;
     d_out_len = d_M;
     d_out_tags_due = true;
@@ -373,24 +391,35 @@ void rd_focuser_impl::process_block()
     }
 }
 
+void rd_focuser_impl::add_aperture_tags(int port,
+                                        uint64_t item,
+                                        uint64_t index,
+                                        const pmt::pmt_t& axis_key,
+                                        double first,
+                                        double step,
+                                        uint64_t lines)
+{
+    add_item_tag(port, item, tags::aperture_key(), pmt::from_uint64(index));
+    add_item_tag(port,
+                 item,
+                 axis_key,
+                 pmt::make_tuple(
+                     pmt::from_double(first), pmt::from_double(step), pmt::from_uint64(lines)));
+    add_item_tag(port,
+                 item,
+                 tags::range_axis_key(),
+                 pmt::make_tuple(pmt::from_double(d_first_range),
+                                 pmt::from_double(d_range_bin),
+                                 pmt::from_uint64(d_K)));
+}
+
 int rd_focuser_impl::drain(gr_complex* out, int noutput, int produced)
 {
     while (d_out_pos < d_out_len && produced < noutput) {
         const uint64_t item = nitems_written(0) + produced;
         if (d_out_tags_due && d_out_pos == 0) {
-            add_item_tag(0, item, tags::aperture_key(), pmt::from_uint64(d_apertures));
-            add_item_tag(0,
-                         item,
-                         tags::azimuth_axis_key(),
-                         pmt::make_tuple(pmt::from_double(d_out_y0),
-                                         pmt::from_double(d_out_dy),
-                                         pmt::from_uint64(d_out_len)));
-            add_item_tag(0,
-                         item,
-                         tags::range_axis_key(),
-                         pmt::make_tuple(pmt::from_double(d_first_range),
-                                         pmt::from_double(d_range_bin),
-                                         pmt::from_uint64(d_K)));
+            add_aperture_tags(
+                0, item, d_apertures, tags::azimuth_axis_key(), d_out_y0, d_out_dy, d_out_len);
             if (d_nonfinite_pending) {
                 add_item_tag(0, item, tags::nonfinite_key(), pmt::from_uint64(d_nonfinite_pending));
                 d_nonfinite_pending = 0;
@@ -404,6 +433,26 @@ int rd_focuser_impl::drain(gr_complex* out, int noutput, int produced)
                     &d_out[static_cast<size_t>(d_out_pos) * d_K],
                     sizeof(gr_complex) * n * d_K);
         d_out_pos += n;
+        produced += n;
+    }
+    return produced;
+}
+
+int rd_focuser_impl::drain_rd(gr_complex* out, int noutput, int produced)
+{
+    while (d_rd_pos < d_rd_len && produced < noutput) {
+        if (d_rd_tags_due && d_rd_pos == 0) {
+            const uint64_t item = nitems_written(1) + produced;
+            add_aperture_tags(
+                1, item, d_rd_apertures, tags::doppler_axis_key(), d_rd_f0, d_rd_df, d_rd_len);
+            d_rd_tags_due = false;
+            ++d_rd_apertures;
+        }
+        const unsigned n = std::min<unsigned>(d_rd_len - d_rd_pos, noutput - produced);
+        std::memcpy(out + static_cast<size_t>(produced) * d_K,
+                    &d_rd[static_cast<size_t>(d_rd_pos) * d_K],
+                    sizeof(gr_complex) * n * d_K);
+        d_rd_pos += n;
         produced += n;
     }
     return produced;
@@ -429,14 +478,18 @@ int rd_focuser_impl::general_work(int noutput_items,
     const uint64_t nread = nitems_read(0);
     const int navail = ninput_items[0];
     ensure_kernel();
+    // The map is computed only while its port is connected (otherwise no extra work).
+    d_want_rd = output_items.size() > 1;
+    auto* rd_out = d_want_rd ? static_cast<gr_complex*>(output_items[1]) : nullptr;
 
     int produced = drain(out, noutput_items, 0);
+    int produced_rd = d_want_rd ? drain_rd(rd_out, noutput_items, 0) : 0;
     // The tags of everything not yet ingested, in offset order.
     std::vector<tag_t> tags;
     get_tags_in_range(tags, 0, d_lines_in, nread + navail);
     std::sort(tags.begin(), tags.end(), tag_t::offset_compare);
     size_t next_tag = 0;
-    while (produced < noutput_items && d_out_pos >= d_out_len) {
+    while (produced < noutput_items && queues_empty()) {
         const uint64_t next = d_lines_in; // absolute index of the next line to ingest
         const int i = static_cast<int>(next - nread);
         if (i < navail) {
@@ -464,15 +517,21 @@ int rd_focuser_impl::general_work(int noutput_items,
             break;
         }
         produced = drain(out, noutput_items, produced);
+        if (d_want_rd)
+            produced_rd = drain_rd(rd_out, noutput_items, produced_rd);
     }
 
     // Consume what was ingested, holding the last item back until the stream ends and
     // everything is flushed.
     int consume = static_cast<int>(d_lines_in - nread);
-    if (!(upstream_done && d_flush_done && d_out_pos >= d_out_len))
+    if (!(upstream_done && d_flush_done && queues_empty()))
         consume = std::min(consume, navail - 1);
     consume_each(std::max(consume, 0));
-    return produced;
+    if (!d_want_rd)
+        return produced;
+    produce(0, produced);
+    produce(1, produced_rd);
+    return WORK_CALLED_PRODUCE;
 }
 
 bool rd_focuser_impl::stop()
@@ -508,7 +567,14 @@ double rd_focuser_impl::band_hi_hz() const
 {
     return d_kernel ? d_kernel->band_hi_hz() : d_scene_hi_hz;
 }
-unsigned rd_focuser_impl::band_bins() const { return d_kernel ? d_kernel->band_bins() : 0; }
+unsigned rd_focuser_impl::band_bins() const
+{
+    if (d_kernel)
+        return d_kernel->band_bins();
+    // Before the first block (e.g. to size a display of the rd_map port): the band of a
+    // kernel built for the current parameters (ESTIMATE: the scene band it falls back to).
+    return kernel::rd_focuser(d_cfg, make_block()).band_bins();
+}
 double rd_focuser_impl::max_migration_bins() const
 {
     return d_kernel ? d_kernel->max_migration_bins() : 0.0;

@@ -59,6 +59,16 @@ private:
     double d_out_y0 = 0.0;
     double d_out_dy = 0.0;
 
+    // Optional range-Doppler map output (port 1): filled only while the port is connected.
+    bool d_want_rd = false;
+    volk::vector<gr_complex> d_rd; // band bins x K, ascending Doppler
+    unsigned d_rd_pos = 0;
+    unsigned d_rd_len = 0;
+    bool d_rd_tags_due = false;
+    double d_rd_f0 = 0.0;
+    double d_rd_df = 0.0;
+    std::uint64_t d_rd_apertures = 0;
+
     std::uint64_t d_lines_in = 0;       // input lines ingested
     std::uint64_t d_aperture_start = 0; // absolute line of the next aperture
     std::uint64_t d_apertures = 0;
@@ -69,11 +79,25 @@ private:
     std::uint64_t d_nonfinite_pending = 0;
 
     void configure(double T, double first_range, double range_bin);
+    kernel::rd_block make_block() const; // the kernel's block for the current parameters
     void ensure_kernel();
     void ingest(const gr_complex* lines, unsigned n);
     void process_block(); // focus the full block, queue the aperture, shift history
     void handle_tag(const tag_t& tag);
+    //! aperture, the given axis tuple (first, step, lines) and range_axis on one item.
+    void add_aperture_tags(int port,
+                           uint64_t item,
+                           uint64_t index,
+                           const pmt::pmt_t& axis_key,
+                           double first,
+                           double step,
+                           uint64_t lines);
     int drain(gr_complex* out, int noutput, int produced);
+    int drain_rd(gr_complex* out, int noutput, int produced);
+    bool queues_empty() const
+    {
+        return d_out_pos >= d_out_len && (!d_want_rd || d_rd_pos >= d_rd_len);
+    }
 
 public:
     rd_focuser_impl(const numerology& num,

@@ -26,6 +26,7 @@ NRSAR_DEFINE_KEY(nonfinite_key, "nonfinite")
 NRSAR_DEFINE_KEY(aperture_key, "aperture")
 NRSAR_DEFINE_KEY(azimuth_axis_key, "azimuth_axis")
 NRSAR_DEFINE_KEY(pulse_interval_key, "pulse_interval")
+NRSAR_DEFINE_KEY(doppler_axis_key, "doppler_axis")
 
 // ofdm_sync
 NRSAR_DEFINE_KEY(sync_key, "sync")

@@ -10,6 +10,7 @@
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
+#include <thread>
 
 namespace gr {
 namespace nrsar {
@@ -56,11 +57,34 @@ void tf_filter_impl::set_estimate_snr(bool estimate)
     d_kernel.set_estimate_snr(estimate);
 }
 
+void tf_filter_impl::set_constant_modulus_path(bool on)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_kernel.set_constant_modulus_path(on);
+}
+
+void tf_filter_impl::set_threads(unsigned threads)
+{
+    check_range("threads", threads, 1u, 2u);
+    gr::thread::scoped_lock guard(d_setlock);
+    d_threads = threads;
+}
+
+bool tf_filter_impl::constant_modulus_path() const { return d_kernel.constant_modulus_path(); }
+std::uint64_t tf_filter_impl::constant_modulus_items() const
+{
+    return d_kernel.constant_modulus_vectors() +
+           (d_helper ? d_helper->constant_modulus_vectors() : 0);
+}
+
 gr::nrsar::filter_type tf_filter_impl::filter_type() const { return d_kernel.type(); }
 double tf_filter_impl::snr_db() const { return d_kernel.snr_db(); }
 bool tf_filter_impl::estimate_snr() const { return d_kernel.estimate_snr(); }
 double tf_filter_impl::estimated_snr_db() const { return d_kernel.estimated_snr_db(); }
-std::uint64_t tf_filter_impl::empty_re_count() const { return d_kernel.empty_re_count(); }
+std::uint64_t tf_filter_impl::empty_re_count() const
+{
+    return d_kernel.empty_re_count() + (d_helper ? d_helper->empty_re_count() : 0);
+}
 std::uint64_t tf_filter_impl::nonfinite_count() const { return d_nonfinite.count(); }
 
 int tf_filter_impl::work(int noutput_items,
@@ -79,9 +103,31 @@ int tf_filter_impl::work(int noutput_items,
     for (const auto& tag : d_tags)
         add_item_tag(0, tag);
 
+    d_bad.assign(noutput_items, 0);
+    int split = noutput_items;
+    std::thread helper;
+    if (d_threads == 2 && noutput_items >= 4 && !d_kernel.estimate_snr()) {
+        // second kernel, same settings (WF's SNR_in as the first kernel uses it now)
+        if (!d_helper)
+            d_helper = std::make_unique<kernel::tf_filter>(
+                unsigned(vlen), d_kernel.type(), d_kernel.effective_snr_db(), false);
+        if (d_helper->type() != d_kernel.type())
+            d_helper->set_filter_type(d_kernel.type());
+        if (d_helper->snr_db() != d_kernel.effective_snr_db())
+            d_helper->set_snr_db(d_kernel.effective_snr_db());
+        d_helper->set_constant_modulus_path(d_kernel.constant_modulus_path());
+        split = noutput_items / 2;
+        helper = std::thread([this, y, s, out, vlen, split, noutput_items] {
+            for (int i = split; i < noutput_items; i++)
+                d_bad[i] = d_helper->process(y + i * vlen, s + i * vlen, out + i * vlen);
+        });
+    }
+    for (int i = 0; i < split; i++)
+        d_bad[i] = d_kernel.process(y + i * vlen, s + i * vlen, out + i * vlen);
+    if (helper.joinable())
+        helper.join();
     for (int i = 0; i < noutput_items; i++) {
-        const std::size_t bad =
-            d_kernel.process(y + i * vlen, s + i * vlen, out + i * vlen);
+        const std::size_t bad = d_bad[i];
         if (bad > 0) {
             const std::uint64_t item = nitems_written(0) + i;
             add_item_tag(0,

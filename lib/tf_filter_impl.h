@@ -11,6 +11,8 @@
 #include <gnuradio/nrsar/kernel/tf_filter.h>
 #include <gnuradio/nrsar/tf_filter.h>
 #include "nonfinite_reporter.h"
+#include <memory>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -21,6 +23,11 @@ private:
     kernel::tf_filter d_kernel;
     nonfinite_reporter d_nonfinite;
     std::vector<gr::tag_t> d_tags; // tags of input 0 in the current work() call
+    // Two-core split (set_threads(2)): the second half of each work() call's items runs
+    // on a std::thread with this second kernel (settings mirrored from d_kernel).
+    unsigned d_threads = 1;
+    std::unique_ptr<kernel::tf_filter> d_helper;
+    std::vector<std::size_t> d_bad; // non-finite count per item of the current call
 
 public:
     tf_filter_impl(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool estimate_snr);
@@ -28,6 +35,11 @@ public:
     void set_filter_type(gr::nrsar::filter_type type) override;
     void set_snr_db(double snr_db) override;
     void set_estimate_snr(bool estimate) override;
+    void set_constant_modulus_path(bool on) override;
+    bool constant_modulus_path() const override;
+    std::uint64_t constant_modulus_items() const override;
+    void set_threads(unsigned threads) override;
+    unsigned threads() const override { return d_threads; }
 
     gr::nrsar::filter_type filter_type() const override;
     double snr_db() const override;

@@ -237,3 +237,95 @@ TEST(SnrEstimator, WindowForgetsOldData)
         EXPECT_NEAR(est.snr_db(), snr_db, 0.5);
     }
 }
+
+// ------------------------------------------------ constant-modulus shortcut
+
+namespace {
+
+// 8-PSK points of modulus a (cos/sin in float: |s|^2 differs by float rounding between
+// points), every `every_empty`-th RE empty (exactly 0).
+grid psk_grid(std::size_t n, unsigned seed, float a, std::size_t every_empty = 0)
+{
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> g(0.0f, 1.0f);
+    std::uniform_int_distribution<int> pick(0, 7);
+    grid d;
+    for (std::size_t i = 0; i < n; i++) {
+        d.y.emplace_back(g(rng), g(rng));
+        const float ph = float(M_PI / 4) * float(pick(rng)) + 0.3f;
+        const bool empty = every_empty && (i % every_empty == 0);
+        d.s.push_back(empty ? gr_complex(0, 0) : gr_complex(a * std::cos(ph), a * std::sin(ph)));
+    }
+    return d;
+}
+
+} // namespace
+
+class ConstantModulus : public ::testing::TestWithParam<filter_type>
+{
+};
+
+TEST_P(ConstantModulus, ShortcutMatchesGeneralPathAndFormula)
+{
+    const filter_type type = GetParam();
+    const std::size_t n = 1001;
+    const double snr_db = -20.0, snr = std::pow(10.0, snr_db / 10.0);
+    for (std::size_t every_empty : { std::size_t(0), std::size_t(4) }) {
+        const auto d = psk_grid(n, 11, 0.7f, every_empty);
+        kernel::tf_filter fast(n, type, snr_db, false), slow(n, type, snr_db, false);
+        slow.set_constant_modulus_path(false);
+        std::vector<gr_complex> a(n), b(n);
+        fast.process(d.y.data(), d.s.data(), a.data());
+        slow.process(d.y.data(), d.s.data(), b.data());
+        EXPECT_EQ(fast.constant_modulus_vectors(), type == filter_type::MF ? 0u : 1u);
+        EXPECT_EQ(slow.constant_modulus_vectors(), 0u);
+        for (std::size_t i = 0; i < n; i++) {
+            const cd ref = cd(d.y[i]) * reference_g(type, cd(d.s[i]), snr); // eq. (25), double
+            EXPECT_NEAR(std::abs(cd(a[i]) - ref), 0.0, 1e-6 * (1.0 + std::abs(ref))) << i;
+            // shortcut vs per-RE weights: float rounding apart (relative 1e-6)
+            EXPECT_NEAR(std::abs(cd(a[i]) - cd(b[i])), 0.0, 1e-6 * (1e-30 + std::abs(cd(b[i]))))
+                << i;
+            if (d.s[i] == gr_complex(0, 0))
+                EXPECT_EQ(a[i], gr_complex(0, 0));
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllFilters,
+                         ConstantModulus,
+                         ::testing::Values(filter_type::RF, filter_type::MF, filter_type::WF));
+
+TEST(ConstantModulusDetect, OnlyConstantModulusTakesTheShortcut)
+{
+    const std::size_t n = 512;
+    kernel::tf_filter f(n, filter_type::WF, 0.0, false);
+    std::vector<gr_complex> out(n);
+    auto qam = random_grid(n, 3); // 256-QAM: not constant modulus
+    f.process(qam.y.data(), qam.s.data(), out.data());
+    EXPECT_EQ(f.constant_modulus_vectors(), 0u);
+    auto psk = psk_grid(n, 3, 1.0f);
+    psk.s[17] *= 1.0001f; // one point off by 2e-4 in |s|^2: general path
+    f.process(psk.y.data(), psk.s.data(), out.data());
+    EXPECT_EQ(f.constant_modulus_vectors(), 0u);
+    psk = psk_grid(n, 3, 1.0f);
+    psk.s[17] = gr_complex(1e-20f, 0.0f); // |s|^2 = 1e-40 (subnormal): empty, not 0: general
+    f.process(psk.y.data(), psk.s.data(), out.data());
+    // (where the process flushes subnormals to zero, |s|^2 is 0 and the case below applies)
+    const bool ftz = std::norm(psk.s[17]) == 0.0f;
+    EXPECT_EQ(f.constant_modulus_vectors(), ftz ? 1u : 0u);
+    // Below |s| ~ 1e-23 |s|^2 is exactly 0 in float, so such an RE cannot be told from an
+    // empty one and the shortcut runs: its output is y conj(s) / m0, below 1e-22 |y| (the
+    // general WF gives the same; RF gives 0): far below the float rounding of the vector.
+    psk.s[17] = gr_complex(1e-25f, 0.0f);
+    f.process(psk.y.data(), psk.s.data(), out.data());
+    EXPECT_EQ(f.constant_modulus_vectors(), ftz ? 2u : 1u);
+    EXPECT_LT(std::abs(out[17]), 1e-22f * (1.0f + std::abs(psk.y[17])));
+    psk = psk_grid(n, 3, 1.0f, 2);
+    f.process(psk.y.data(), psk.s.data(), out.data());
+    EXPECT_EQ(f.constant_modulus_vectors(), ftz ? 3u : 2u);
+    std::vector<gr_complex> zeros(n, gr_complex(0, 0)); // all empty: general path, zeros
+    f.process(psk.y.data(), zeros.data(), out.data());
+    EXPECT_EQ(f.constant_modulus_vectors(), ftz ? 3u : 2u);
+    for (const auto& v : out)
+        EXPECT_EQ(v, gr_complex(0, 0));
+}

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 namespace gr {
 namespace nrsar {
@@ -291,6 +292,7 @@ void rd_focuser::build_filter()
         }
     }
     d_filter_bins = d_band_bins;
+    d_rd_row.clear(); // the map order follows the bins
 }
 
 void rd_focuser::focus(const gr_complex* in, gr_complex* out)
@@ -312,6 +314,24 @@ void rd_focuser::focus_range_major(const gr_complex* in,
                                    gr_complex* out,
                                    unsigned first_line,
                                    unsigned count)
+{
+    focus_range_major(in, row_stride, out, first_line, count, nullptr);
+}
+
+double rd_focuser::rd_doppler_first_hz() const
+{
+    double lo = std::numeric_limits<double>::infinity();
+    for (unsigned p : d_band_bins)
+        lo = std::min(lo, doppler_hz(p));
+    return lo;
+}
+
+void rd_focuser::focus_range_major(const gr_complex* in,
+                                   size_t row_stride,
+                                   gr_complex* out,
+                                   unsigned first_line,
+                                   unsigned count,
+                                   gr_complex* rd_map)
 {
     if (first_line > d_blk.num_lines || count > d_blk.num_lines - first_line)
         throw_param("first_line + count", first_line + count, "must be at most num_lines");
@@ -352,14 +372,33 @@ void rd_focuser::focus_range_major(const gr_complex* in,
     }
     const size_t nb = d_band_bins.size();
 
-    // 3. RCMC, eq. (41), and azimuth compression, eq. (47), on the band bins only.
+    // 3. RCMC, eq. (41), and azimuth compression, eq. (47), on the band bins only; the
+    //    optional range-Doppler map is copied between the two (one K-sample copy per bin).
+    if (rd_map && d_rd_row.size() != nb) {
+        // Band bins are ascending in FFT index; their Doppler wraps once at most.
+        std::vector<unsigned> order(nb);
+        for (size_t b = 0; b < nb; ++b)
+            order[b] = static_cast<unsigned>(b);
+        std::stable_sort(order.begin(), order.end(), [this](unsigned a, unsigned c) {
+            return doppler_hz(d_band_bins[a]) < doppler_hz(d_band_bins[c]);
+        });
+        d_rd_row.assign(nb, 0);
+        for (size_t r = 0; r < nb; ++r)
+            d_rd_row[order[r]] = static_cast<unsigned>(r);
+    }
     for (size_t b = 0; b < nb; ++b) {
         gr_complex* col = &d_band[b * K];
         if (d_rcmc_applied) {
             volk_32fc_x2_multiply_32fc(d_col.data(), col, d_demod.data(), K);
             d_interp.resample(d_col.data(), static_cast<int>(K), &d_shift[b * K], d_col2.data());
+            if (rd_map)
+                std::memcpy(rd_map + static_cast<size_t>(d_rd_row[b]) * K,
+                            d_col2.data(),
+                            sizeof(gr_complex) * K);
             volk_32fc_x2_multiply_32fc(col, d_col2.data(), &d_filter[b * K], K);
         } else {
+            if (rd_map)
+                std::memcpy(rd_map + static_cast<size_t>(d_rd_row[b]) * K, col, sizeof(gr_complex) * K);
             volk_32fc_x2_multiply_32fc(col, col, &d_filter[b * K], K);
         }
     }

@@ -421,6 +421,25 @@ RULES = [
      lambda: nrsar.pusch_receiver(num(num_subcarriers=4, fft_size=64), make_modulation("qpsk"),
                                   make_dmrs("pusch2")),
      "num_subcarriers = 4"),
+    # image_sink
+    ("image_sink", "empty file prefix", lambda: nrsar.image_sink(8, ""), "prefix = ''"),
+    ("image_sink", "prefix folder missing",
+     lambda: nrsar.image_sink(8, "/nonexistent_nrsar_folder/img"), "does not exist"),
+    ("image_sink", "prefix ends with /", lambda: nrsar.image_sink(8, "/tmp/"), "add a file name"),
+    ("image_sink", "neither npy nor png",
+     lambda: nrsar.image_sink(8, "/tmp/nrsar_rule", write_npy=False, write_png=False),
+     "nothing to write"),
+    ("image_sink", "dynamic range 0",
+     lambda: nrsar.image_sink(8, "/tmp/nrsar_rule", dynamic_range_db=0.0), "dynamic_range_db = 0"),
+    ("image_sink", "dynamic range NaN",
+     lambda: nrsar.image_sink(8, "/tmp/nrsar_rule", dynamic_range_db=NAN), "dynamic_range_db = nan"),
+    ("image_sink", "keep 0 files", lambda: nrsar.image_sink(8, "/tmp/nrsar_rule", keep=0), "keep = 0"),
+    ("image_sink", "no range bins", lambda: nrsar.image_sink(0, "/tmp/nrsar_rule"),
+     "num_range_bins = 0"),
+    # perf
+    ("tf_filter", "threads 3", lambda: tf_filter(64).set_threads(3), "threads = 3"),
+    ("range_ifft", "threads 0",
+     lambda: range_ifft(make_numerology("tiny")).set_threads(0), "threads = 0"),
 ]
 
 

@@ -230,6 +230,36 @@ class qa_range_ifft(gr_unittest.TestCase):
         with self.assertRaisesRegex(ValueError, r"subcarrier_spacing_hz = -1"):
             nrsar.range_ifft(num)
 
+    def test_019_two_threads_same_output(self):
+        # set_threads(2): second half of each work() call on another thread with its own
+        # plan: eq. (29) in float64 as with one thread, non-finite tags at the same items.
+        x = self.noise(700, 64, 19)
+        x[500, 3] = np.nan
+        outs = []
+        for threads in (1, 2):
+            self.tb = gr.top_block()
+            blk = nrsar.range_ifft(self.num, 100, WIN.WIN_HANN, -1, 1000.0, 2000.0)
+            blk.set_threads(threads)
+            self.assertEqual(blk.threads(), threads)
+            out, tags = self.run_block(blk, x, 64)
+            self.assertEqual(blk.nonfinite_count(), 1)
+            nf = [t.offset for t in tags
+                  if pmt.eq(t.key, pmt.intern(nrsar.tag_keys.nonfinite))]
+            self.assertEqual(nf, [500])
+            outs.append(out)
+        x[500, 3] = 0
+        w = np.asarray(WIN.build(WIN.WIN_HANN, 64, -1, False))
+        np.testing.assert_allclose(outs[1], reference(x.astype(np.complex64), 100,
+                                                      blk.first_bin(), blk.num_bins(), w),
+                                   rtol=1e-5, atol=1e-5)
+        np.testing.assert_array_equal(outs[0], outs[1])
+
+    def test_020_invalid_threads(self):
+        blk = nrsar.range_ifft(self.num)
+        with self.assertRaisesRegex(ValueError, r"threads = 0 must be in"):
+            blk.set_threads(0)
+        self.assertEqual(blk.threads(), 1)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_range_ifft)

@@ -422,6 +422,48 @@ class qa_rd_focuser(gr_unittest.TestCase):
             self.assertAlmostEqual(20 * math.log10(seg.max() / pred), 0.0, delta=0.6,
                                    msg=f"target at line {line}")
 
+    def test_007c_range_doppler_map_port(self):
+        # The optional rd_map port: per aperture band_bins() lines in ascending Doppler, after
+        # RCMC (a target is a straight line at its closest-approach range bin), tagged; the
+        # image is the same whether the port is connected or not.
+        m = 400
+        n_lines = 1000
+        geo = geometry(n_lines * T)
+        ys = [40.0, 100.0]
+        scn = nrsar.make_scene([(800.0, y) for y in ys])
+        data = echo([(800.0, y, 1.0) for y in ys], n_lines)
+        cfg = self.cfg(lines_per_aperture=m, rcmc_skip_below_bins=0.0)
+        _, img_alone, _ = run_block(data, geo=geo, scn=scn, cfg=cfg)
+        blk = nrsar.rd_focuser(NUM, geo, scn, K, R_FIRST, RHO, cfg)
+        src = blocks.vector_source_c(np.asarray(data, np.complex64).ravel().tolist(), False, K)
+        snk = blocks.vector_sink_c(K)
+        rd = blocks.vector_sink_c(K)
+        tb = gr.top_block()
+        tb.connect(src, blk, snk)
+        tb.connect((blk, 1), rd)
+        tb.run()
+        img = np.array(snk.data(), complex).reshape(-1, K)
+        np.testing.assert_array_equal(img, img_alone)
+        rdm = np.array(rd.data(), complex).reshape(-1, K)
+        b = blk.band_bins()
+        self.assertEqual(rdm.shape[0], 3 * b)  # one map per aperture
+        tm = tag_map(rd.tags())
+        self.assertEqual([o for o, _ in tm[nrsar.tag_keys.aperture]], [0, b, 2 * b])
+        self.assertEqual([pmt.to_uint64(v) for _, v in tm[nrsar.tag_keys.aperture]], [0, 1, 2])
+        f0, df, nb = pmt.to_python(tm[nrsar.tag_keys.doppler_axis][0][1])
+        self.assertEqual(nb, b)
+        self.assertAlmostEqual(df, 1.0 / (blk.fft_size() * T))
+        # The lines cover the processed band in ascending Doppler.
+        self.assertAlmostEqual(f0, blk.band_lo_hz(), delta=df)
+        self.assertLessEqual(f0 + (b - 1) * df, blk.band_hi_hz() + df)
+        # Straight after RCMC: every strong Doppler line peaks at the targets' range bin
+        # (closest approach sqrt(x^2 + H^2) = 1000 m = bin 30).
+        k_true = (math.sqrt(800.0 ** 2 + H ** 2) - R_FIRST) / RHO
+        a = np.abs(rdm[b:2 * b])
+        strong = a.max(axis=1) > 0.3 * a.max()
+        self.assertGreater(strong.sum(), b // 4)
+        self.assertLessEqual(np.abs(a[strong].argmax(axis=1) - k_true).max(), 1.0)
+
     def test_007b_pulse_interval_change_mid_stream(self):
         # A pulse_interval tag in the middle of aperture 1 applies from aperture 2.
         m = 100

@@ -247,6 +247,67 @@ class qa_tf_filter(gr_unittest.TestCase):
             blk.set_snr_db(float("inf"))
         self.assertEqual(blk.snr_db(), 10.0)
 
+    def test_012_constant_modulus_shortcut(self):
+        # QPSK and 8-PSK references (every non-empty RE the same |s|^2, some empty REs):
+        # the shortcut must give eq. (25) in float64 and the general path's output within
+        # float rounding; a 256-QAM symbol in the stream takes the general path.
+        rng = np.random.default_rng(12)
+        vlen, m = 101, 12
+        for name, ftype in FILTERS.items():
+            ph = rng.integers(0, 8, size=(m, vlen)) * np.pi / 4 + 0.1
+            s = 0.8 * np.exp(1j * ph)
+            s[5] = qam256(rng, vlen)  # one non-constant-modulus symbol
+            s[:, ::7] = 0
+            y = rng.normal(size=(m, vlen)) + 1j * rng.normal(size=(m, vlen))
+            outs = []
+            for on in (True, False):
+                self.tb = gr.top_block()
+                blk = nrsar.tf_filter(vlen, ftype, -20.0, False)
+                blk.set_constant_modulus_path(on)
+                self.assertEqual(blk.constant_modulus_path(), on)
+                out, _ = self.run_block(blk, y, s, vlen)
+                # MF is conj(s) already: it never takes (or needs) the shortcut
+                self.assertEqual(blk.constant_modulus_items(),
+                                 m - 1 if on and name != "mf" else 0)
+                outs.append(out)
+            ref = ref_filter(name, y, s.astype(np.complex64), -20.0)
+            np.testing.assert_allclose(outs[0], ref, rtol=2e-6, atol=1e-7, err_msg=name)
+            np.testing.assert_allclose(outs[0], outs[1], rtol=2e-6, atol=1e-7, err_msg=name)
+            self.assertTrue(np.all(outs[0][:, ::7] == 0))
+
+    def test_013_two_threads_same_output(self):
+        # set_threads(2) filters the second half of each work() call on another thread:
+        # same output as eq. (25) in float64 and as one thread; tags and counts kept.
+        rng = np.random.default_rng(13)
+        vlen, m = 67, 600
+        s = qam256(rng, vlen * m).reshape(m, vlen)
+        s[:, ::9] = 0
+        y = rng.normal(size=(m, vlen)) + 1j * rng.normal(size=(m, vlen))
+        y[100, 3] = np.nan
+        outs = []
+        for threads in (1, 2):
+            self.tb = gr.top_block()
+            blk = nrsar.tf_filter(vlen, nrsar.filter_type.WF, 3.0, False)
+            blk.set_threads(threads)
+            self.assertEqual(blk.threads(), threads)
+            out, tags = self.run_block(blk, y, s, vlen)
+            self.assertEqual(blk.empty_re_count(), m * len(range(0, vlen, 9)))
+            self.assertEqual(blk.nonfinite_count(), 1)
+            self.assertEqual([t.offset for t in tags
+                              if pmt.eq(t.key, pmt.intern(nrsar.tag_keys.nonfinite))], [100])
+            outs.append(out)
+        y0 = y.copy()
+        y0[100, 3] = 0
+        np.testing.assert_allclose(outs[1], ref_filter("wf", y0, s.astype(np.complex64), 3.0),
+                                   rtol=2e-5, atol=2e-6)
+        np.testing.assert_array_equal(outs[0], outs[1])
+
+    def test_014_invalid_threads(self):
+        blk = nrsar.tf_filter(8)
+        with self.assertRaisesRegex(ValueError, r"threads = 3 must be in"):
+            blk.set_threads(3)
+        self.assertEqual(blk.threads(), 1)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_tf_filter)

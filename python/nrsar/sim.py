@@ -88,6 +88,11 @@ def add_arguments(parser):
                         help="keep the range-compressed data and the image in memory and write "
                              ".npy/.png (keep), or send them to null sinks (none: metrics only, "
                              "the memory of a streaming receiver)")
+    # perf: tf_filter switches (docs/performance.md)
+    parser.add_argument("--cm-path", default="on", choices=["on", "off"],
+                        help="tf_filter's constant-modulus shortcut (PSK/QPSK data: g = c conj(s))")
+    parser.add_argument("--filter-threads", type=int, default=1, choices=[1, 2],
+                        help="threads per tf_filter work() call")
     parser.add_argument("--seed", type=int, default=1, help="seed of the data PRBS and the noise")
     parser.add_argument("--out", default="nrsar-out", help="output folder")
     parser.add_argument("--json", action="store_true", help="print one JSON object on stdout")
@@ -181,6 +186,8 @@ def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo
     tb.connect(tx, head)
     echo, echo_out, ref_out = echo_front(tb, num, geo, scn, args, head)
     tff = tf_filter(n, filter_type, args.snr_db, args.estimate_snr)
+    tff.set_constant_modulus_path(getattr(args, "cm_path", "on") == "on")  # perf
+    tff.set_threads(getattr(args, "filter_threads", 1))  # perf
 
     extent = params.compute_extent(geo, scn)
     nfft = fft_size_from_arg(args.fft_size, n)
@@ -262,9 +269,10 @@ def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo
     tb.connect(foc, image_sink)
     tb.connect(foc, (probe, 0))
     tb.connect(foc_ref, (probe, 1))
-    return {"tx": tx, "head": head, "echo": echo, "filter": tff, "range_ifft": rif, "focuser": foc,
+    return {"tx": tx, "echo": echo, "filter": tff, "range_ifft": rif, "focuser": foc,
             "probe": probe, "range_sink": range_sink, "image_sink": image_sink,
-            "presum": presummers[0] if presummers else None}
+            "presum": presummers[0] if presummers else None,
+            "head": head}  # perf: nrsar-soak streams many apertures by resetting its length
 
 
 # stress: run-time split and memory of a run

@@ -35,6 +35,10 @@ CASES = [
     ("band full", ["--band", "full"]),
     ("range crop off", ["--range-crop", "off"]),
     ("range FFT exact", ["--fft-size", "exact"]),
+    # perf: constant-modulus data (shortcut on by default, then off) and the 2-thread filter
+    ("qpsk", ["--modulation", "qpsk"]),
+    ("qpsk, cm shortcut off", ["--modulation", "qpsk", "--cm-path", "off"]),
+    ("filter 2 threads", ["--filter-threads", "2"]),
 ]
 
 KEYS = ["runtime_s", "rx_runtime_s", "peak_rss_mb", "nmse_db", "nmse_theory_db", "snr_out_db",

@@ -47,6 +47,16 @@ namespace nrsar {
  * received pulses belong to are flushed with zero padding (no hang).
  * Non-finite input samples are zeroed, counted, logged once and reported with a
  * tags::nonfinite_key() tag on the next aperture's first line.
+ *
+ * Optional second output "rd_map" (for live displays): per aperture, the range-Doppler map
+ * of its processing block after RCMC (eq. 41) and before azimuth compression (eq. 47),
+ * band_bins() vectors of K range bins in ascending Doppler; a target is a straight line
+ * at its closest-approach range. Use its magnitude (the phase carries the interpolator's
+ * range demodulation; without RCMC it is the azimuth spectrum itself). The first line of
+ * every map carries tags::aperture_key(), tags::doppler_axis_key() (Doppler of the line
+ * [Hz], 1 / (fft_size() T) [Hz], band_bins()) and tags::range_axis_key(). The map is
+ * computed only while the port is connected: unconnected, the block does exactly the work
+ * it did without it. Connected, its consumer must keep up (the image waits for it).
  */
 class NRSAR_API rd_focuser : virtual public gr::block
 {
@@ -88,7 +98,8 @@ public:
     virtual double pulse_interval_s() const = 0;
     virtual double first_range_m() const = 0;
     virtual double range_bin_m() const = 0;
-    //! Doppler band processed for the last aperture [Hz] and its number of FFT bins.
+    //! Doppler band processed for the last aperture [Hz] and its number of FFT bins (the
+    //! lines of one rd_map aperture; before the first aperture: those of the configured band).
     virtual double band_lo_hz() const = 0;
     virtual double band_hi_hz() const = 0;
     virtual unsigned band_bins() const = 0;

@@ -27,6 +27,8 @@ namespace nrsar {
  * number of lines), on the first line of every focused aperture.
  * pulse_interval_key: double, slow-time spacing of the pulses from here on [s] (presummers
  * tag their output with the new interval, Tsym * D).
+ * doppler_axis_key: pmt tuple (Doppler of the first line [Hz], line spacing [Hz], number of
+ * lines), on the first line of every range-Doppler map aperture (rd_focuser's rd_map port).
  */
 namespace tags {
 NRSAR_API const pmt::pmt_t& symbol_key();
@@ -37,6 +39,7 @@ NRSAR_API const pmt::pmt_t& nonfinite_key();
 NRSAR_API const pmt::pmt_t& aperture_key();
 NRSAR_API const pmt::pmt_t& azimuth_axis_key();
 NRSAR_API const pmt::pmt_t& pulse_interval_key();
+NRSAR_API const pmt::pmt_t& doppler_axis_key();
 
 // ofdm_sync
 //! "sync": dict ("cfo_hz" double, "timing" int64, "start" int64, "metric" double) that

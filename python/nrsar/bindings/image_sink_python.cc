@@ -1,10 +1,7 @@
 /*
- * Copyright 2026 Free Software Foundation, Inc.
- *
- * This file is part of GNU Radio
+ * Copyright 2026 gr-nrsar authors.
  *
  * SPDX-License-Identifier: GPL-3.0-or-later
- *
  */
 
 /***********************************************************************************/
@@ -13,47 +10,72 @@
 /* If manual edits are made, the following tags should be modified accordingly.    */
 /* BINDTOOL_GEN_AUTOMATIC(0)                                                       */
 /* BINDTOOL_USE_PYGCCXML(0)                                                        */
-/* BINDTOOL_HEADER_FILE(image_sink.h)                                        */
-/* BINDTOOL_HEADER_FILE_HASH(826efd048e993be795714b1af2d0e908)                     */
+/* BINDTOOL_HEADER_FILE(image_sink.h)                                              */
+/* BINDTOOL_HEADER_FILE_HASH(0)                                                    */
 /***********************************************************************************/
 
 #include <pybind11/complex.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 namespace py = pybind11;
 
 #include <gnuradio/nrsar/image_sink.h>
+#include <gnuradio/nrsar/kernel/image_file.h>
 // pydoc.h is automatically generated in the build directory
 #include <image_sink_pydoc.h>
 
 void bind_image_sink(py::module& m)
 {
+    using image_sink = gr::nrsar::image_sink;
+    using gr::nrsar::image_colormap;
 
-    using image_sink    = gr::nrsar::image_sink;
+    py::enum_<image_colormap>(m, "image_colormap", "Colour map of image_sink's PNG pictures")
+        .value("GREY", image_colormap::GREY)
+        .value("VIRIDIS", image_colormap::VIRIDIS)
+        .export_values();
 
-
-    py::class_<image_sink, gr::sync_block, gr::block, gr::basic_block,
-        std::shared_ptr<image_sink>>(m, "image_sink", D(image_sink))
+    py::class_<image_sink, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<image_sink>>(
+        m, "image_sink", D(image_sink))
 
         .def(py::init(&image_sink::make),
-           D(image_sink,make)
-        )
-        
+             py::arg("num_range_bins"),
+             py::arg("prefix"),
+             py::arg("write_npy") = true,
+             py::arg("write_png") = true,
+             py::arg("dynamic_range_db") = 40.0,
+             py::arg("colormap") = image_colormap::VIRIDIS,
+             py::arg("keep") = 16,
+             py::arg("lines_per_aperture") = 0,
+             D(image_sink, make))
 
+        .def("set_dynamic_range_db", &image_sink::set_dynamic_range_db,
+             py::arg("dynamic_range_db"), "PNG dynamic range [dB] from the next image on")
+        .def("dynamic_range_db", &image_sink::dynamic_range_db)
+        .def("set_colormap", &image_sink::set_colormap, py::arg("colormap"),
+             "PNG colour map from the next image on")
+        .def("colormap", &image_sink::colormap)
+        .def("apertures_written", &image_sink::apertures_written,
+             "Apertures written so far (partial ones included)")
+        .def("last_files", &image_sink::last_files, "Files of the last aperture (npy first)")
+        .def("kept_files", &image_sink::kept_files, "Files on disk (the ring), oldest first")
+        .def("nonfinite_count", &image_sink::nonfinite_count, "Non-finite input samples zeroed");
 
-
-        ;
-
-
-
-
+    // The kernel's pure functions, for tests and scripts (PNG bytes, dB levels).
+    m.def(
+        "png_bytes",
+        [](py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> px, int level) {
+            if (px.ndim() != 2 && !(px.ndim() == 3 && px.shape(2) == 3))
+                throw std::invalid_argument("pixels must be (h, w) grey or (h, w, 3) RGB");
+            const auto v = gr::nrsar::kernel::encode_png(px.data(),
+                                                         static_cast<unsigned>(px.shape(1)),
+                                                         static_cast<unsigned>(px.shape(0)),
+                                                         px.ndim() == 3 ? 3 : 1,
+                                                         level);
+            return py::bytes(reinterpret_cast<const char*>(v.data()), v.size());
+        },
+        py::arg("pixels"),
+        py::arg("level") = 6,
+        "PNG file bytes of an 8-bit (h, w) grey or (h, w, 3) RGB array (image_sink's encoder)");
 }
-
-
-
-
-
-
-
-

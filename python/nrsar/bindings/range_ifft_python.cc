@@ -63,7 +63,13 @@ void bind_range_ifft(py::module& m)
         .def("coherent_gain", &range_ifft::coherent_gain, "mean(w) of the window.")
         .def("nonfinite_count",
              &range_ifft::nonfinite_count,
-             "Non-finite input samples replaced by 0 so far.");
+             "Non-finite input samples replaced by 0 so far.")
+        .def("set_threads",
+             &range_ifft::set_threads,
+             py::arg("threads"),
+             "1 (default) or 2: transform the second half of each work() call's symbols on "
+             "a second thread (own FFT plan).")
+        .def("threads", &range_ifft::threads, "Threads per work() call.");
 
     m.def("fast_fft_size",
           &range_ifft::fast_fft_size,

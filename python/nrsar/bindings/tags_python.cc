@@ -27,6 +27,7 @@ void bind_tags(py::module& m)
     t.attr("nonfinite") = pmt::symbol_to_string(tags::nonfinite_key());
     t.attr("aperture") = pmt::symbol_to_string(tags::aperture_key());
     t.attr("azimuth_axis") = pmt::symbol_to_string(tags::azimuth_axis_key());
+    t.attr("doppler_axis") = pmt::symbol_to_string(tags::doppler_axis_key());
     t.attr("pulse_interval") = pmt::symbol_to_string(tags::pulse_interval_key());
     // ofdm_sync
     t.attr("sync") = pmt::symbol_to_string(tags::sync_key());

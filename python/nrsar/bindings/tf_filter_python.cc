@@ -51,6 +51,23 @@ void bind_tf_filter(py::module& m)
              &tf_filter::set_estimate_snr,
              py::arg("estimate"),
              "Turns the method-of-moments SNR_in estimate on or off.")
+        .def("set_constant_modulus_path",
+             &tf_filter::set_constant_modulus_path,
+             py::arg("on"),
+             "Turns the constant-modulus shortcut (g = c conj(s) when every non-empty "
+             "reference RE has the same |s|^2) on or off.")
+        .def("constant_modulus_path",
+             &tf_filter::constant_modulus_path,
+             "Whether the constant-modulus shortcut is enabled.")
+        .def("constant_modulus_items",
+             &tf_filter::constant_modulus_items,
+             "Items filtered by the constant-modulus shortcut so far.")
+        .def("set_threads",
+             &tf_filter::set_threads,
+             py::arg("threads"),
+             "1 (default) or 2: filter the second half of each work() call's items on a "
+             "second thread.")
+        .def("threads", &tf_filter::threads, "Threads per work() call.")
         .def("filter_type", &tf_filter::filter_type, "The filter in use.")
         .def("snr_db", &tf_filter::snr_db, "The given SNR_in [dB].")
         .def("estimate_snr", &tf_filter::estimate_snr, "Whether SNR_in is estimated.")

@@ -96,6 +96,22 @@ public:
                            gr_complex* out,
                            unsigned first_line,
                            unsigned count);
+    /*!
+     * \brief The same, and also writes the range-Doppler map after RCMC (eq. 41) and before
+     * azimuth compression to rd_map: band_bins() lines of num_range_bins() samples, in
+     * ascending Doppler (line b at rd_doppler_first_hz() + b fft_size()^-1 / T). Its magnitude
+     * is the RCMC'd map; its phase carries the range demodulation of the interpolator
+     * (without RCMC: the map after the azimuth FFT as it is). rd_map == nullptr: nothing
+     * extra is done.
+     */
+    void focus_range_major(const gr_complex* in,
+                           size_t row_stride,
+                           gr_complex* out,
+                           unsigned first_line,
+                           unsigned count,
+                           gr_complex* rd_map);
+    //! Doppler of the first line of the rd_map of the last focus call [Hz].
+    double rd_doppler_first_hz() const;
 
     unsigned num_range_bins() const { return d_blk.num_range_bins; }
     unsigned num_lines() const { return d_blk.num_lines; }
@@ -143,6 +159,7 @@ private:
     volk::vector<float> d_power;           // nfft, azimuth power spectrum
     std::vector<unsigned> d_band_bins;     // processed FFT bins
     std::vector<unsigned> d_filter_bins;   // bins d_filter was built for
+    std::vector<unsigned> d_rd_row;        // band bin b -> rd_map line (ascending Doppler)
 
     void select_band(); // from the configuration (SCENE / FULL)
     void estimate_band();

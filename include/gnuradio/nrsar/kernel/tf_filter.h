@@ -45,6 +45,12 @@ public:
                        std::size_t n) = 0;
     //! Linear SNR_in used by WF (ignored by RF and MF).
     virtual void set_snr_linear(double snr) {}
+    /*!
+     * The real scale c with g(s) = c conj(s) for a constant-modulus reference of
+     * |s|^2 = mag2 > 0 (RF 1/mag2, MF 1, WF 1/(mag2 + 1/SNR_in)), see
+     * tf_filter::set_constant_modulus_path.
+     */
+    virtual float constant_modulus_scale(float mag2) const = 0;
 };
 
 //! RF, eq. (17): g = 1/s = conj(s)/|s|^2, with g = 0 where |s|^2 = 0.
@@ -57,6 +63,7 @@ public:
                const float* s_mag2,
                gr_complex* out,
                std::size_t n) override;
+    float constant_modulus_scale(float mag2) const override { return 1.0f / mag2; }
 
 private:
     volk::vector<float> d_weight;
@@ -72,6 +79,7 @@ public:
                const float* s_mag2,
                gr_complex* out,
                std::size_t n) override;
+    float constant_modulus_scale(float) const override { return 1.0f; }
 };
 
 //! WF, eq. (23): g = conj(s) / (|s|^2 + 1/SNR_in).
@@ -86,6 +94,10 @@ public:
                gr_complex* out,
                std::size_t n) override;
     void set_snr_linear(double snr) override;
+    float constant_modulus_scale(float mag2) const override
+    {
+        return static_cast<float>(1.0 / (double(mag2) + 1.0 / d_snr));
+    }
     double snr_linear() const { return d_snr; }
 
 private:
@@ -179,6 +191,26 @@ public:
     void set_filter_type(filter_type type);
     void set_snr_db(double snr_db);
     void set_estimate_snr(bool estimate);
+    /*!
+     * \brief The constant-modulus shortcut (on by default).
+     *
+     * When every RE of a vector is either empty (s = 0 exactly) or has the same |s|^2 = m0
+     * (within a relative spread of cm_tolerance, i.e. float rounding of a PSK / QPSK point),
+     * RF, MF and WF are all g = c conj(s) with one real c (1/m0, 1, 1/(m0 + 1/SNR_in)):
+     * eq. (25) then costs one conjugate multiply and one real scale per RE instead of the
+     * per-RE weight loop and a complex-by-real vector multiply. The detection is fused into
+     * the empty-RE count pass that runs anyway. The result equals the general path within
+     * float rounding (the weight differs from 1/|s_i|^2 by at most cm_tolerance relative).
+     * An RE with 0 < |s| < ~1e-23 has |s|^2 = 0 in float and counts as empty; the shortcut
+     * gives it y conj(s) c (below 1e-22 |y| / |s0|) where the general RF gives 0.
+     * MF never takes it (it is conj(s) already). Off: always the general path.
+     */
+    void set_constant_modulus_path(bool on) { d_cm_path = on; }
+    bool constant_modulus_path() const { return d_cm_path; }
+    //! Vectors that took the constant-modulus shortcut so far.
+    std::uint64_t constant_modulus_vectors() const { return d_cm_vectors; }
+    //! Largest relative spread (max - min) / max of the non-empty |s|^2 taken as constant.
+    static constexpr float cm_tolerance = 1e-6f;
 
     unsigned vlen() const { return d_vlen; }
     filter_type type() const { return d_filter->type(); }
@@ -201,6 +233,8 @@ private:
     volk::vector<float> d_s_mag2;
     std::uint64_t d_empty = 0;
     std::uint64_t d_nonfinite = 0;
+    bool d_cm_path = true;
+    std::uint64_t d_cm_vectors = 0;
 
     void push_snr();
 };
