@@ -115,19 +115,21 @@ class qa_isac(gr_unittest.TestCase):
     def test_003_time_domain_image_matches_tf_domain(self):
         images, results = {}, {}
         for domain in ("time", "tf"):
-            for snr in ("60", "-20"):
+            for snr in ("200", "-20"):
                 out = os.path.join(self.dir, f"img_{domain}_{snr}")
                 r = isac.run(parse(["--preset", "sdr20", "--aperture-s", "0.2", "--scene",
                                     "single", "--snr-db", snr, "--radar-domain", domain,
                                     "--payload", self.payload, "--seed", "3", "--out", out]))
                 results[domain, snr] = r
                 images[domain, snr] = np.load(r["image_npy"])
-        for snr, tol in (("60", 0.1), ("-20", 1.0)):
+        for snr, tol in (("200", 0.01), ("-20", 1.0)):
             td, tf = results["time", snr], results["tf", snr]
             print(f"SNR {snr} dB: NMSE time {td['nmse_db']:.3f} dB, tf {tf['nmse_db']:.3f} dB, "
                   f"image difference {nmse_db(images['time', snr], images['tf', snr]):.1f} dB")
-            # 60 dB: the same image (noise below the data-randomness pedestal), the issue's
-            # 0.1 dB. -20 dB: td_echo and scene_echo draw different noise; in a 0.2 s aperture
+            # 200 dB (noise off in effect): the same image, NMSE within 0.001 dB (the issue
+            # asks 0.1 dB). At 60 dB the two noise draws alone move NMSE by ~0.05 dB through
+            # the cross term of the error with the -98 dB noise image (as two seeds of one
+            # path do). -20 dB: td_echo and scene_echo draw different noise; in a 0.2 s aperture
             # the scene's Doppler band keeps ~7 independent azimuth samples per range bin, so
             # NMSE moves by ~1 dB from seed to seed (measured 21.9-23.0 dB over 4 seeds, either
             # path): only agreement within that spread can be asked.
@@ -135,8 +137,8 @@ class qa_isac(gr_unittest.TestCase):
             self.assertEqual(td["range_axis_m"], tf["range_axis_m"])
             self.assertEqual(td["azimuth_axis_m"], tf["azimuth_axis_m"])
             self.assertLess(abs(td["peak_error_m"] - tf["peak_error_m"]), 0.1)
-        # noise-free (60 dB) the two images are the same image
-        self.assertLess(nmse_db(images["time", "60"], images["tf", "60"]), -40)
+        # noise-free (200 dB) the two images are the same image (measured -141.7 dB)
+        self.assertLess(nmse_db(images["time", "200"], images["tf", "200"]), -100)
 
     def test_004_json_contract_of_the_app(self):
         out = os.path.join(self.dir, "app")
@@ -157,6 +159,13 @@ class qa_isac(gr_unittest.TestCase):
         self.assertEqual(result["code_rate"], 1.0)
         self.assertTrue(os.path.isfile(os.path.join(out, "decoded.bin")))
         self.assertTrue(os.path.isfile(result["image_png"]))
+
+    def test_006_ldpc_loopback(self):
+        # rate-1/2 gr-fec LDPC (n 1800, k 902): 256-QAM at 25 dB, where uncoded TBs fail
+        r = self.run_isac(["--ldpc", "default", "--bs-snr-db", "25"], "ldpc")
+        self.assertAlmostEqual(r["code_rate"], 902 / 1800, 9)
+        self.assertTrue(r["payload_identical"])
+        self.assertEqual(r["blocks_failed"], 0)
 
     def test_005_invalid_arguments(self):
         big = os.path.join(self.dir, "big.bin")
