@@ -26,7 +26,7 @@ import time
 
 import numpy as np
 import pmt
-from gnuradio import blocks, channels, gr
+from gnuradio import analog, blocks, channels, gr
 
 from . import backhaul, params, sim
 from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
@@ -96,6 +96,32 @@ def time_domain_front(ofdm_source):
         tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
         front.demod = demod
         return echo, demod, (ref, 1)
+    return front
+
+
+def common_noise_front(domain, noise_seed):
+    """echo_front for comparing the two radar paths under the SAME noise: the echo is
+    noise-free (td_echo / scene_echo with +inf SNR) and one seeded complex Gaussian noise
+    stream of sigma^2 = total RCS / 10^(snr_db/10) per RE is added on the grid after it, so
+    two runs differ only by the echo model (qa_isac, docs/isac.md)."""
+    def front(tb, num, geo, scn, args, grid):
+        n = num.num_subcarriers
+        ref = scene_echo(num, geo, scn, math.inf, args.seed + 1)
+        tb.connect(grid, ref)
+        if domain == "time":
+            echo, demod = td_echo(num, geo, scn, math.inf, args.seed + 1, args.echo_taps), \
+                ofdm_demod(num)
+            tb.connect(grid, ofdm_mod(num), echo, demod)
+            clean = demod
+            tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * n))
+        else:
+            echo, clean = ref, (ref, 0)
+        sigma = math.sqrt(sum(t.rcs for t in scn.targets) / 10.0 ** (args.snr_db / 10.0))
+        noise = analog.noise_source_c(analog.GR_GAUSSIAN, sigma, noise_seed)
+        add = blocks.add_vcc(n)
+        tb.connect(clean, (add, 0))
+        tb.connect(noise, blocks.stream_to_vector(gr.sizeof_gr_complex, n), (add, 1))
+        return echo, add, (ref, 1)
     return front
 
 
