@@ -10,12 +10,12 @@ DEMO_OUT   ?= demo-out
 DEB_PACKAGES := build-essential cmake ccache pkg-config git \
 	gnuradio gnuradio-dev gr-radar libvolk2-dev libfftw3-dev pybind11-dev \
 	python3-dev python3-numpy python3-matplotlib python3-yaml python3-pygccxml castxml \
-	libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth zlib1g-dev
+	libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth zlib1g-dev clang libclang-rt-14-dev
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(PREFIX) \
 	-DPython_EXECUTABLE=$(PYTHON) -DPYTHON_EXECUTABLE=$(PYTHON) -DENABLE_DOXYGEN=OFF
 
-.PHONY: all deps configure build test test-sanitize install demo bench clean soak
+.PHONY: all deps configure build test test-sanitize fuzz install demo bench soak clean
 
 all: build
 
@@ -57,6 +57,21 @@ test-sanitize: deps
 	$(SAN_ENV) cmake --build $(SAN_BUILD) -j$(JOBS)
 	cd $(SAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j$(JOBS)
 
+# libFuzzer targets (every tests/fuzz/fuzz_*.cc) with the library, built by clang under
+# ASan + UBSan in their own directory, each run FUZZ_SECONDS with a corpus seeded from
+# tests/fuzz/corpus/<target>/; crashes land in tests/fuzz/regressions/<target>/ (see
+# tests/fuzz/README.md), which the ordinary build replays as ctest cases.
+FUZZ_BUILD   ?= build-fuzz
+FUZZ_SECONDS ?= 60
+
+fuzz: deps
+	cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=Debug \
+		-DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang -DENABLE_FUZZ=ON \
+		-DENABLE_GTESTS=OFF -DENABLE_PYTHON=OFF -DENABLE_BENCHMARKS=OFF -DENABLE_DOXYGEN=OFF \
+		-DPython_EXECUTABLE=$(PYTHON) -DPYTHON_EXECUTABLE=$(PYTHON)
+	cmake --build $(FUZZ_BUILD) -j$(JOBS) --target nrsar_fuzz
+	FUZZ_SECONDS=$(FUZZ_SECONDS) tests/fuzz/run $(FUZZ_BUILD)
+
 install: build
 	cmake --install $(BUILD)
 	ldconfig
@@ -91,4 +106,4 @@ soak: install
 		--out $(SOAK_OUT)
 
 clean:
-	rm -rf $(BUILD) $(SAN_BUILD) $(DEMO_OUT)
+	rm -rf $(BUILD) $(SAN_BUILD) $(FUZZ_BUILD) $(DEMO_OUT)

@@ -8,8 +8,14 @@
 #include <gnuradio/nrsar/params.h>
 #include "param_check.h"
 #include <algorithm>
+#include <charconv>
+#include <clocale>
+#include <cstdlib>
+#include <locale.h>
+#include <stdlib.h>
 #include <cmath>
 #include <sstream>
+#include <system_error>
 
 namespace gr {
 namespace nrsar {
@@ -117,9 +123,13 @@ void srs_config::validate(const numerology& num) const
         throw_param("srs symbol_in_slot",
                     symbol_in_slot,
                     "must be below symbols_per_slot = " + std::to_string(num.symbols_per_slot));
-    if (start_subcarrier + num_subcarriers() > num.num_subcarriers) {
+    // In 64 bits: start + num_rb * 12 wraps around in unsigned (found by
+    // tests/fuzz/fuzz_params_validate: start 4294967048 with 255 RBs passed, ending at 2812).
+    const std::uint64_t band_end =
+        std::uint64_t(start_subcarrier) + std::uint64_t(num_rb) * 12u;
+    if (band_end > num.num_subcarriers) {
         std::ostringstream msg;
-        msg << "srs band [" << start_subcarrier << ", " << start_subcarrier + num_subcarriers()
+        msg << "srs band [" << start_subcarrier << ", " << band_end
             << ") does not fit the " << num.num_subcarriers << " subcarriers of the grid";
         throw std::invalid_argument(msg.str());
     }
@@ -227,6 +237,160 @@ void scene::validate() const
 scene scene::preset(const std::string& name) { return lookup(scene_presets(), "scene", name); }
 
 std::vector<std::string> scene::preset_names() { return names_of(scene_presets()); }
+
+// The scene text grammar (make_scene in Python, GRC, the apps): "X,Y[,RCS[,PHASE_DEG]];...".
+namespace {
+
+constexpr const char* target_grammar = "X,Y[,RCS[,PHASE_DEG]]";
+
+bool is_space(char c)
+{
+    return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r';
+}
+
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+std::string trim(const std::string& s)
+{
+    std::size_t b = 0, e = s.size();
+    while (b < e && is_space(s[b]))
+        ++b;
+    while (e > b && is_space(s[e - 1]))
+        --e;
+    return s.substr(b, e - b);
+}
+
+// The text quoted in messages: at most 64 bytes, non-printable bytes as \xNN, so the
+// message is printable ASCII (valid UTF-8 for Python's ValueError) whatever the input.
+std::string quoted(const std::string& s)
+{
+    static const char hex[] = "0123456789abcdef";
+    std::string out = "'";
+    const std::size_t shown = std::min<std::size_t>(s.size(), 64);
+    for (std::size_t i = 0; i < shown; ++i) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        if (c >= 0x20 && c < 0x7f && c != '\\') {
+            out += static_cast<char>(c);
+        } else {
+            out += "\\x";
+            out += hex[c >> 4];
+            out += hex[c & 15];
+        }
+    }
+    if (shown < s.size())
+        out += "...";
+    return out + "'";
+}
+
+// Python float() of a decimal string (SPEC 9 says the apps take what Python took):
+// surrounding whitespace, one sign, digits with single '_' between digits, '.', exponent,
+// inf / infinity / nan in any case. std::from_chars: locale-independent (Qt's setlocale
+// cannot turn the decimal point into a comma). Returns false when the text is not one.
+bool parse_number(const std::string& field, double& value, bool& out_of_range)
+{
+    out_of_range = false;
+    std::string s = trim(field);
+    std::string clean;
+    clean.reserve(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '_') {
+            if (i == 0 || i + 1 == s.size() || !is_digit(s[i - 1]) || !is_digit(s[i + 1]))
+                return false;
+            continue;
+        }
+        if (!(is_digit(s[i]) || s[i] == '.' || s[i] == 'e' || s[i] == 'E' || s[i] == '+' ||
+              s[i] == '-' || std::isalpha(static_cast<unsigned char>(s[i]))))
+            return false; // "nan(...)", hex digits after "0x" etc. are not Python floats
+        clean += s[i];
+    }
+    std::size_t start = 0;
+    if (!clean.empty() && clean[0] == '+')
+        start = 1; // from_chars takes '-' only
+    if (start == clean.size() || clean[start] == '+' || (start == 1 && clean[start] == '-'))
+        return false; // "+", "++1", "+-1"
+    const char* first = clean.data() + start;
+    const char* last = clean.data() + clean.size();
+    // Hexadecimal is not a Python float literal; from_chars(general) refuses "0x" anyway.
+    const auto res = std::from_chars(first, last, value, std::chars_format::general);
+    if (res.ec == std::errc::result_out_of_range && res.ptr == last) {
+        // Python's float() reads an underflow as 0 or a denormal, as strtod does (in the
+        // "C" locale, whatever the process's LC_NUMERIC); an overflow (Python: inf, which
+        // validate() refuses) is refused here already, naming the text.
+        static const locale_t c_locale = newlocale(LC_ALL_MASK, "C", locale_t(0));
+        const std::string text(first, last);
+        const double v = strtod_l(text.c_str(), nullptr, c_locale);
+        if (std::isinf(v)) {
+            out_of_range = true;
+            return false;
+        }
+        value = v;
+        return true;
+    }
+    return res.ec == std::errc() && res.ptr == last;
+}
+
+} // namespace
+
+point_target point_target::parse(const std::string& text, std::size_t index)
+{
+    static const char* const names[] = { "x_m", "y_m", "rcs", "phase_deg" };
+    const std::string where = "target " + std::to_string(index) + " " + quoted(text);
+    std::vector<std::string> fields;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t comma = text.find(',', start);
+        fields.push_back(text.substr(start, comma == std::string::npos ? comma : comma - start));
+        if (comma == std::string::npos)
+            break;
+        start = comma + 1;
+    }
+    if (fields.size() < 2 || fields.size() > 4) {
+        std::ostringstream msg;
+        msg << where << ": has " << fields.size() << (fields.size() == 1 ? " field" : " fields")
+            << "; must be " << target_grammar
+            << " (ground range and along-track position in metres, RCS linear power, phase "
+               "in degrees)";
+        if (fields.size() == 1) {
+            msg << " or a scene preset:";
+            for (const auto& name : scene::preset_names())
+                msg << " " << name;
+        }
+        throw std::invalid_argument(msg.str());
+    }
+    double v[4] = { 0.0, 0.0, 1.0, 0.0 };
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+        bool out_of_range = false;
+        if (!parse_number(fields[i], v[i], out_of_range)) {
+            std::ostringstream msg;
+            msg << where << ": " << names[i] << " " << quoted(trim(fields[i]))
+                << (out_of_range ? " is out of the range of a double"
+                                 : " is not a number");
+            throw std::invalid_argument(msg.str());
+        }
+    }
+    return point_target(v[0], v[1], v[2], v[3] * (M_PI / 180.0));
+}
+
+scene scene::parse(const std::string& text)
+{
+    const std::string name = trim(text);
+    for (const auto& entry : scene_presets())
+        if (entry.first == name)
+            return entry.second;
+    scene scn;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t semi = text.find(';', start);
+        const std::string item =
+            text.substr(start, semi == std::string::npos ? semi : semi - start);
+        if (!trim(item).empty())
+            scn.targets.push_back(point_target::parse(item, scn.targets.size()));
+        if (semi == std::string::npos)
+            break;
+        start = semi + 1;
+    }
+    return scn;
+}
 
 scene_extent compute_extent(const geometry& geo, const scene& scn)
 {

@@ -4,27 +4,14 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "test_util.h"
 #include <gnuradio/nrsar/params.h>
 #include <gtest/gtest.h>
 #include <cmath>
 
 using namespace gr::nrsar;
 
-namespace {
-
-// Runs f and returns the std::invalid_argument message (empty if nothing was thrown).
-template <typename F>
-std::string error_of(F f)
-{
-    try {
-        f();
-    } catch (const std::invalid_argument& e) {
-        return e.what();
-    }
-    return "";
-}
-
-} // namespace
+using nrsar_test::error_of;
 
 TEST(Numerology, PaperPresetDerivedQuantities)
 {

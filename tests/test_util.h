@@ -11,6 +11,8 @@
 
 #include <gnuradio/gr_complex.h>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace nrsar_test {
@@ -24,6 +26,18 @@ inline std::vector<gr_complex> gaussian_samples(std::size_t n, unsigned seed)
     for (auto& v : x)
         v = gr_complex(g(rng), g(rng));
     return x;
+}
+
+//! Runs f and returns the std::invalid_argument message (empty if nothing was thrown).
+template <typename F>
+std::string error_of(F f)
+{
+    try {
+        f();
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return "";
 }
 
 } // namespace nrsar_test

@@ -19,6 +19,7 @@ import platform
 import sys
 
 from . import __path__ as package_path
+from . import progress
 
 COLUMNS = ["benchmark", "unit", "ours", "peer", "peer_rate", "ratio"]
 
@@ -94,7 +95,9 @@ def main(argv=None):
     parser.add_argument("--sweep", action="store_true",
                         help="instead: run time vs NMSE / SNR_out / PSLR of nrsar-sim, one "
                              "processing knob at a time (sweep.csv, sweep.png)")
+    progress.add_arguments(parser)
     args = parser.parse_args(argv)
+    progress.configure(progress.from_args(args))
     from .sim import quiet_gnuradio_logs
     quiet_gnuradio_logs()
     if os.environ.get("VOLK_GENERIC"):
@@ -110,8 +113,10 @@ def main(argv=None):
         return 2
     rows = []
     for module in modules:
+        progress.step(modules.index(module) + 1, len(modules), "benchmark")
         print(f"running {module.__name__.rsplit('.', 1)[-1]} ...", file=sys.stderr, flush=True)
         rows.extend(module.run(quick=args.quick))
+    progress.finish()
     os.makedirs(args.out, exist_ok=True)
     write_csv(os.path.join(args.out, "bench.csv"), rows)
     write_png(os.path.join(args.out, "bench.png"), rows)

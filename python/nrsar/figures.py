@@ -39,6 +39,7 @@ import time
 import numpy as np
 
 from . import params, presum_study, sim, theory
+from . import progress
 
 LIGHT_SPEED = 299792458.0
 TARGET1 = "300,100"
@@ -305,6 +306,7 @@ def nmse_sweep(workdir, cases, snrs, seeds, quick, label):
                 rows.append((mod, filt, float(snr), int(seed), res["nmse_db"],
                              res["nmse_theory_db"], theory.nmse_theory_db(mod, filt, snr)))
                 done += 1
+                progress.step(done, total, label, level=1)
             log(f"{label}: {done}/{total} runs, {mod} {filt.upper()} SNR_in {snr:g} dB: "
                 f"NMSE {np.mean([r[4] for r in rows[-len(seeds):]]):.2f} dB "
                 f"(theory {rows[-1][5]:.2f}), {time.perf_counter() - start:.0f} s")
@@ -865,7 +867,9 @@ def main(argv=None):
     parser.add_argument("--seeds", type=int, default=3, help="seeds per fig5 point")
     parser.add_argument("--only", default=",".join(FIGURES),
                         help="comma-separated subset of " + ",".join(FIGURES))
+    progress.add_arguments(parser)
     args = parser.parse_args(argv)
+    progress.configure(progress.from_args(args))
     only = [x.strip() for x in args.only.split(",") if x.strip()]
     bad = [x for x in only if x not in FIGURES]
     if bad or args.seeds < 1:
@@ -875,6 +879,7 @@ def main(argv=None):
     summary = {}
     with tempfile.TemporaryDirectory(prefix="nrsar-figures-") as work:
         for name in only:
+            progress.step(only.index(name) + 1, len(only), "figure " + name)
             func = {"fig3": fig3, "fig4": fig4, "fig5": fig5, "fig6": fig6, "fig7": fig7,
                     "fig8": fig8, "presum": presum}[name]
             extra = (args.seeds,) if name == "fig5" else ()
@@ -883,6 +888,7 @@ def main(argv=None):
             except (ValueError, RuntimeError) as err:
                 print(f"nrsar-figures: {name}: {err}", file=sys.stderr)
                 return 2
+    progress.finish()
     for key, value in summary.items():
         log(f"{key} = {value:.3f}")
     return 0

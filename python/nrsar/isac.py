@@ -28,7 +28,7 @@ import numpy as np
 import pmt
 from gnuradio import analog, blocks, channels, gr
 
-from . import backhaul, params, sim
+from . import backhaul, params, progress, sim
 from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
                            pusch_receiver, scene_echo, srs_config, td_echo)
 
@@ -239,7 +239,9 @@ def run(args):
     tb.connect(chain["head"], mod)
     bs = build_base_station(tb, num, args, dmrs, mod)
     start = time.perf_counter()
-    sim.run_with_counters(tb)
+    # progress (stderr, if enabled): the aperture's symbols through the radar filter
+    with progress.polling("symbols", symbols, lambda: chain["filter"].nitems_written(0)):
+        sim.run_with_counters(tb)
     runtime_s = time.perf_counter() - start
     result = sim.image_results(args, chain, num, geo, scn, warnings, symbols, pulse_symbols,
                                runtime_s)

@@ -98,35 +98,29 @@ def make_dmrs(spec="none", num=None, scrambling_id=0):
     return dmrs
 
 
-def parse_target(text):
-    """'X,Y[,RCS]' in metres (RCS linear power) -> point_target."""
-    parts = [p.strip() for p in str(text).split(",")]
-    if len(parts) not in (2, 3):
-        raise ValueError(f"target '{text}' must be X,Y or X,Y,RCS")
-    try:
-        values = [float(p) for p in parts]
-    except ValueError:
-        raise ValueError(f"target '{text}' has a field that is not a number") from None
-    return point_target(*values)
+def parse_target(text, index=0):
+    """'X,Y[,RCS[,PHASE_DEG]]' (metres, linear RCS power, degrees) -> point_target.
+
+    The grammar is C++'s point_target::parse (the same for GRC, the apps and scripts);
+    ValueError names the target index, the field and the text."""
+    return point_target.parse(str(text), index)
 
 
 def make_scene(spec="paper3"):
-    """A scene from a preset name, 'X,Y[,RCS];X,Y[,RCS]...', a list of such strings,
-    a list of (x, y[, rcs]) tuples, or a scene. Validated."""
+    """A scene from a preset name, 'X,Y[,RCS[,PHASE_DEG]];X,Y...' (C++ scene::parse), a list
+    of such strings (one target each), a list of (x, y[, rcs[, phase_rad]]) tuples, or a
+    scene. Validated."""
     if isinstance(spec, scene):
         scn = spec
     elif isinstance(spec, str):
-        if spec in scene.preset_names():
-            scn = scene.preset(spec)
-        else:
-            scn = scene([parse_target(t) for t in spec.split(";") if t.strip()])
+        scn = scene.parse(spec)
     else:
         targets = []
-        for t in spec:
+        for i, t in enumerate(spec):
             if isinstance(t, point_target):
                 targets.append(t)
             elif isinstance(t, str):
-                targets.append(parse_target(t))
+                targets.append(parse_target(t, i))
             else:
                 targets.append(point_target(*[float(v) for v in t]))
         scn = scene(targets)

@@ -163,8 +163,10 @@ RULES = [
      "target 0 phase_rad = nan"),
     ("scene", "negative RCS", lambda: scn((300.0, 0.0), (250.0, 0.0, -1.0)).validate(),
      "target 1 rcs = -1"),
-    ("scene", "target text not X,Y[,RCS]", lambda: make_scene("300"), "must be X,Y or X,Y,RCS"),
-    ("scene", "target text not a number", lambda: make_scene("300,abc"), "not a number"),
+    ("scene", "target text not X,Y[,RCS]", lambda: make_scene("300"),
+     "target 0 '300': has 1 field; must be X,Y[,RCS[,PHASE_DEG]]"),
+    ("scene", "target text not a number", lambda: make_scene("300,abc"),
+     "target 0 '300,abc': y_m 'abc' is not a number"),
     ("scene", "unknown preset", lambda: nrsar.scene.preset("paper9"), "paper9"),
     ("srs_config", "comb offset >= comb", lambda: srs(comb_offset=4).validate(num()),
      "srs comb_offset = 4 must be below comb = 4"),
@@ -335,6 +337,27 @@ RULES = [
     ("cheby_presum", "passband NaN", lambda: presum(passband_hz=NAN), "passband_hz = nan"),
     ("cheby_presum", "stopband above PRF / 2", lambda: presum(stopband_hz=1e6),
      "stopband_hz"),
+    # fuzz: the scene text (C++ scene::parse) and the YAML scene file (scenes.py)
+    ("scene", "target text with 5 fields", lambda: make_scene("1,2,3,4,5"),
+     "target 0 '1,2,3,4,5': has 5 fields; must be X,Y[,RCS[,PHASE_DEG]]"),
+    ("scene", "target field beyond a double", lambda: make_scene("300,100;1e999,0"),
+     "target 1 '1e999,0': x_m '1e999' is out of the range of a double"),
+    ("scene", "target phase not a number", lambda: make_scene("300,100,1,east"),
+     "target 0 '300,100,1,east': phase_deg 'east' is not a number"),
+    ("scene file", "bytes that are not UTF-8",
+     lambda: _scene_file(b"targets:\n  - {x: 300, y: \xff}\n"),
+     "scene.yaml:2: YAML syntax: character 0xff at byte 25: invalid start byte"),
+    ("scene file", "nesting thousands deep", lambda: _scene_file(b"[" * 5000),
+     "scene.yaml:1: YAML syntax: nesting too deep"),
+    ("scene file", "mapping key that is a list",
+     lambda: _scene_file(b"targets:\n  - {[x]: 300, y: 0}\n"),
+     "scene.yaml:2: targets[0]: keys must be names"),
+    ("scene file", "map seed beyond 64 bits",
+     lambda: _scene_file(b"maps:\n  - {file: m.npy, dx: 1, dy: 1, seed: 1e30}\n"),
+     "scene.yaml:2: maps[0].seed: 1e30 must be an integer from 0 to 18446744073709551615"),
+    ("srs_config", "band end beyond 2^32 (wrapped around before)",
+     lambda: make_srs(start_subcarrier=4294967048, num_rb=255).validate(num()),
+     "srs band [4294967048, 4294970108) does not fit the 64 subcarriers"),
     # td_echo
     ("td_echo", "odd delay-filter taps", lambda: nrsar.td_echo(num(), geo(), scn(), taps=7),
      "taps = 7"),
@@ -441,6 +464,23 @@ RULES = [
     ("range_ifft", "threads 0",
      lambda: range_ifft(make_numerology("tiny")).set_threads(0), "threads = 0"),
 ]
+
+
+def _scene_file(data):
+    """fuzz: loads data as a YAML scene file next to a 2 x 2 map m.npy."""
+    import os
+    import tempfile
+    from gnuradio.nrsar import scenes
+    cwd = os.getcwd()
+    with tempfile.TemporaryDirectory(prefix="qa_param_rules_") as folder:
+        try:  # a relative path, so the message (docs/robustness.md) does not change
+            os.chdir(folder)
+            np.save("m.npy", np.ones((2, 2), np.float32))
+            with open("scene.yaml", "wb") as f:
+                f.write(data)
+            return scenes.load_scene_file("scene.yaml")
+        finally:
+            os.chdir(cwd)
 
 
 def slug(subject, rule):

@@ -92,12 +92,24 @@ def read_image(path):
     """2-D array from .npy, .pgm (P2 ASCII or P5 binary, 8/16 bit) or .png (grey, or the mean of RGB)."""
     ext = os.path.splitext(path)[1].lower()
     if ext == ".npy":
-        return np.load(path, allow_pickle=False)
+        try:
+            return np.load(path, allow_pickle=False)
+        except OSError:
+            raise
+        except Exception as e:  # scene_file_fuzz: a broken header raises whatever it raises
+            raise ValueError(f"{path}: not a readable .npy file ({type(e).__name__}: {e})") \
+                from None
     if ext == ".pgm":
         return _read_pgm(path)
     if ext == ".png":
         import matplotlib.image
-        img = np.asarray(matplotlib.image.imread(path), dtype=np.float64)
+        try:
+            img = np.asarray(matplotlib.image.imread(path), dtype=np.float64)
+        except OSError:
+            raise
+        except Exception as e:  # scene_file_fuzz
+            raise ValueError(f"{path}: not a readable .png file ({type(e).__name__}: {e})") \
+                from None
         if img.ndim == 3:
             img = img[..., :3].mean(axis=2)
         return img
@@ -143,6 +155,13 @@ class SceneFileError(ValueError):
     """A scene file error: names the file, the line and the field."""
 
 
+def _printable(text, limit=80):
+    """Message text with non-printable characters escaped and at most limit characters."""
+    text = str(text)
+    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+    return text if len(text) <= limit else text[:limit] + "..."
+
+
 @dataclass
 class SceneFile:
     points: object = None
@@ -165,13 +184,22 @@ class _Ctx:
         self.path = path
 
     def fail(self, node, fieldname, msg):
-        line = node.start_mark.line + 1 if node is not None else 0
-        raise SceneFileError(f"{self.path}:{line}: {fieldname}: {msg}")
+        line = node.start_mark.line + 1 if node is not None else 1
+        raise SceneFileError(f"{self.path}:{line}: {_printable(fieldname)}: "
+                             f"{_printable(msg, 300)}")
+
+    def keys(self, node, fieldname):
+        """scene_file_fuzz: keys are names (a '? [1, 2]: x' key is a list, not hashable)."""
+        import yaml
+        for k, _ in node.value:
+            if not isinstance(k, yaml.ScalarNode):
+                self.fail(k, fieldname, "keys must be names")
 
     def mapping(self, node, fieldname, allowed):
         import yaml
         if not isinstance(node, yaml.MappingNode):
             self.fail(node, fieldname, "must be a mapping (key: value)")
+        self.keys(node, fieldname)
         out = {}
         for k, v in node.value:
             if k.value not in allowed:
@@ -192,10 +220,11 @@ class _Ctx:
             self.fail(node, fieldname, f"{node.value} must be finite")
         return v
 
-    def integer(self, node, fieldname):
+    def integer(self, node, fieldname, maximum=2**64 - 1):
         v = self.number(node, fieldname)
-        if v != int(v) or v < 0:
-            self.fail(node, fieldname, f"{node.value} must be a non-negative integer")
+        if v != int(v) or v < 0 or v > maximum:  # scene_file_fuzz: the C++ field's range
+            self.fail(node, fieldname,
+                      f"{node.value} must be an integer from 0 to {maximum}")
         return int(v)
 
     def string(self, node, fieldname):
@@ -227,6 +256,7 @@ class _Ctx:
                 self.fail(node, fieldname, str(e))
         if not isinstance(node, yaml.MappingNode):
             self.fail(node, fieldname, "must be a preset name or a mapping")
+        self.keys(node, fieldname)
         preset, overrides = "paper", {}
         for k, v in node.value:
             if k.value == "preset":
@@ -255,12 +285,28 @@ def load_scene_file(path):
     import yaml
     ctx = _Ctx(path)
     try:
-        with open(path) as f:
-            root = yaml.compose(f)
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as e:
+        raise SceneFileError(f"{path}:1: file: cannot read: {e.strerror or e}") from None
+    # scene_file_fuzz: bytes go to the YAML reader, which decodes them (UTF-8/16 with a BOM)
+    # and reports bad bytes as a YAMLError with their position, not a UnicodeDecodeError.
+    try:
+        root = yaml.compose(data)
     except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        line = mark.line + 1 if mark else 0
-        raise SceneFileError(f"{path}:{line}: YAML syntax: {getattr(e, 'problem', e)}") from None
+        mark = getattr(e, "problem_mark", None) or getattr(e, "context_mark", None)
+        if mark is not None:
+            line = mark.line + 1
+        else:  # ReaderError: a character position
+            line = data[:max(0, getattr(e, "position", 0))].count(b"\n") + 1
+        what = getattr(e, "problem", None) or str(e)
+        if isinstance(e, yaml.reader.ReaderError):  # undecodable or non-printable input
+            char = e.character
+            char = f"0x{char:02x}" if isinstance(char, int) else repr(char)
+            what = f"character {char} at byte {e.position}: {e.reason}"
+        raise SceneFileError(f"{path}:{line}: YAML syntax: {_printable(what)}") from None
+    except RecursionError:  # scene_file_fuzz: thousands of nested [ or {
+        raise SceneFileError(f"{path}:1: YAML syntax: nesting too deep") from None
     if root is None:
         raise SceneFileError(f"{path}:1: file: empty scene file")
     top = ctx.mapping(root, "scene", _TOP_KEYS)
@@ -372,7 +418,7 @@ def extended_echo(num, geo, scene_file="", points="", beam=None, snr_db=float("i
                   taps=8, oversampling=2.0):
     """extended_scene_echo from a YAML scene file (its targets, maps and beam; its numerology
     and geometry are ignored here: the block's num and geo rule) and/or point targets
-    ('X,Y[,RCS];...' or a preset). beam (an antenna_beam) replaces the file's. Used by GRC."""
+    ('X,Y[,RCS[,PHASE_DEG]];...' or a preset). beam (an antenna_beam) replaces the file's. Used by GRC."""
     from .nrsar_python import extended_scene_echo
     pts, maps, fbeam = [], [], None
     if scene_file:

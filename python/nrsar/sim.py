@@ -29,6 +29,7 @@ import pmt
 from gnuradio import blocks, fft, gr
 
 from . import params
+from . import progress
 from .nrsar_python import (constellation, focuser_config, doppler_band, nmse_probe, nr_isac_tx,
                            range_ifft, rd_focuser, scene_echo, srs_config, tag_keys, tf_filter)
 from .nrsar_python import cheby_presum, presum_domain, presum_method
@@ -46,11 +47,11 @@ def add_arguments(parser):
     parser.add_argument("--aperture-s", type=float, default=None,
                         help="slow-time span to simulate [s] (default: the geometry's, 2 s)")
     parser.add_argument("--scene", default="paper3",
-                        help="point targets: a preset (paper3, single) or 'X,Y[,RCS];...' in metres, "
+                        help="point targets: a preset (paper3, single) or 'X,Y[,RCS[,PHASE_DEG]];...' in metres, "
                              "or a YAML scene file (maps, speckle, beam; see nrsar.scenes)")
-    parser.add_argument("--target", action="append", default=None, metavar="X,Y[,RCS]",
+    parser.add_argument("--target", action="append", default=None, metavar="X,Y[,RCS[,PHASE_DEG]]",
                         help="add a point target (ground range X, along-track Y in metres, "
-                             "RCS linear power); repeatable, replaces --scene; the first is the "
+                             "RCS linear power, phase in degrees); repeatable, replaces --scene; the first is the "
                              "reference target")
     parser.add_argument("--filter", default="wf", choices=sorted(params.FILTERS),
                         help="per-RE filter: rf = 1/s, mf = conj(s), wf = Wiener (eq. 25)")
@@ -363,7 +364,9 @@ def run(args):
     tb = gr.top_block("nrsar-sim")
     chain = build_chain(tb, num, geo, scn, args, symbols)
     start = time.perf_counter()
-    run_with_counters(tb)
+    # progress: percent of the aperture's symbols through the filter (stderr, if enabled)
+    with progress.polling("symbols", symbols, lambda: chain["filter"].nitems_written(0)):
+        run_with_counters(tb)
     runtime_s = time.perf_counter() - start
     return image_results(args, chain, num, geo, scn, warnings, symbols, pulse_symbols,
                          runtime_s)
@@ -471,12 +474,16 @@ def main(argv=None, prog="nrsar-sim", add=None, runner=None, doc=__doc__,
     parser = (add or add_arguments)(argparse.ArgumentParser(
         prog=prog, description=doc,
         formatter_class=argparse.RawDescriptionHelpFormatter))
+    progress.add_arguments(parser)
     args = parser.parse_args(argv)
+    progress.configure(progress.from_args(args))
     try:
         result = (runner or run)(args)
     except errors as err:
+        progress.finish()
         print(f"{prog}: {err}", file=sys.stderr)
         return 2
+    progress.finish()
     if args.json:
         print(json.dumps(result))
     else:

@@ -18,6 +18,8 @@ import os
 import subprocess
 import sys
 
+from . import progress
+
 # (label, extra nrsar-sim flags); the baseline is nrsar-sim's defaults
 CASES = [
     ("baseline", []),
@@ -68,6 +70,7 @@ def run(out, quick=False, cases=None):
     rows = []
     for label, extra in cases or CASES:
         print(f"sweep: {label} ...", file=sys.stderr, flush=True)
+        progress.step(len(rows) + 1, len(cases or CASES), "sweep case")
         flags = base_args(quick) + extra
         r = run_case(flags, os.path.join(out, "runs", label.replace(" ", "_")))
         row = {"case": label, "flags": " ".join(extra)}

@@ -9,6 +9,7 @@
 #define INCLUDED_NRSAR_PARAMS_H
 
 #include <gnuradio/nrsar/api.h>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -164,6 +165,15 @@ struct NRSAR_API point_target {
     }
     //! Exact slant range, eq. (8), from the platform at along-track position y_p.
     double slant_range_m(const geometry& geo, double platform_y_m) const;
+
+    /*!
+     * Parses one target "X,Y[,RCS[,PHASE_DEG]]": ground range X and along-track Y [m], RCS
+     * linear power (default 1), reflection phase in degrees (default 0). Each field is a
+     * decimal number as Python's float() reads it (surrounding whitespace, a sign, exponent,
+     * '_' between digits, inf, nan). Throws std::invalid_argument naming the target index,
+     * the field and the text; does not validate the values (scene::validate does).
+     */
+    static point_target parse(const std::string& text, std::size_t index = 0);
 };
 
 //! A scene: point targets; the first one is the reference target of the metrics.
@@ -172,6 +182,15 @@ struct NRSAR_API scene {
 
     double total_rcs() const;
     void validate() const;
+
+    /*!
+     * Parses a scene preset name ("paper3") or a target list
+     * "X,Y[,RCS[,PHASE_DEG]];X,Y...": targets separated by ';' (empty items skipped), each as
+     * point_target::parse reads it. The one grammar of GRC, the apps and scripts
+     * (Python make_scene). Throws std::invalid_argument naming the target index, the field
+     * and the text; an empty text gives an empty scene. Does not validate.
+     */
+    static scene parse(const std::string& text);
 
     //! Presets: "paper3" (T1 (300,100), T2 (250,100), T3 (300,140), unit RCS),
     //! "single" (T1 only).

@@ -128,6 +128,11 @@ void bind_params(py::module& m)
              &point_target::slant_range_m,
              py::arg("geo"),
              py::arg("platform_y_m"))
+        .def_static("parse",
+                    &point_target::parse,
+                    py::arg("text"),
+                    py::arg("index") = 0,
+                    "'X,Y[,RCS[,PHASE_DEG]]' -> point_target; ValueError names index, field, text")
         .def("__repr__", [](const point_target& t) {
             return "point_target(" + std::to_string(t.x_m) + ", " + std::to_string(t.y_m) +
                    ", " + std::to_string(t.rcs) + ")";
@@ -143,7 +148,11 @@ void bind_params(py::module& m)
         .def("total_rcs", &scene::total_rcs)
         .def("validate", &scene::validate)
         .def_static("preset", &scene::preset, py::arg("name"))
-        .def_static("preset_names", &scene::preset_names);
+        .def_static("preset_names", &scene::preset_names)
+        .def_static("parse",
+                    &scene::parse,
+                    py::arg("text"),
+                    "Preset name or 'X,Y[,RCS[,PHASE_DEG]];...' -> scene (not validated)");
 
     py::class_<scene_extent>(m, "scene_extent", "Slant-range and Doppler extent of a scene")
         .def_readonly("min_slant_range_m", &scene_extent::min_slant_range_m)
