@@ -161,18 +161,31 @@ def grid_of_mode(mode_arg, num):
     return mode, srs, params.symbols_per_pulse(mode, num, srs)
 
 
-def build_chain(tb, num, geo, scn, args, symbols):
+def scene_echo_front(tb, num, geo, scn, args, grid):
+    """The TF-domain radar channel (default of build_chain): scene_echo on the grid.
+    Returns (echo block, echo endpoint, reference-echo endpoint)."""
+    echo = make_echo(num, geo, scn, args)
+    tb.connect(grid, echo)
+    return echo, (echo, 0), (echo, 1)
+
+
+def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo_front):
     """Connects the imaging chain and its reference branch into top block tb.
 
-    Returns the blocks by name: the sinks hold the range-compressed data and the focused
-    image; the probe holds the metrics of the first target."""
+    tx: the grid source (default: nr_isac_tx of --mode, --modulation, --seed); echo_front
+    (tb, num, geo, scn, args, grid) -> (echo block, echo endpoint, reference endpoint) builds
+    the radar channel from the grid (default: scene_echo_front; nrsar-isac also has a
+    time-domain one). Returns the blocks by name: the sinks hold the range-compressed data
+    and the focused image; the probe holds the metrics of the first target."""
     mode, srs, pulse_symbols = grid_of_mode(args.mode, num)
     n = num.num_subcarriers
     modulation = params.make_modulation(args.modulation)
     filter_type = params.make_filter(args.filter)
-    tx = nr_isac_tx(num, modulation, params.make_tx_mode(mode), srs, args.seed)
+    if tx is None:
+        tx = nr_isac_tx(num, modulation, params.make_tx_mode(mode), srs, args.seed)
     head = blocks.head(gr.sizeof_gr_complex * n, symbols)
-    echo = make_echo(num, geo, scn, args)
+    tb.connect(tx, head)
+    echo, echo_out, ref_out = echo_front(tb, num, geo, scn, args, head)
     tff = tf_filter(n, filter_type, args.snr_db, args.estimate_snr)
     tff.set_constant_modulus_path(getattr(args, "cm_path", "on") == "on")  # perf
     tff.set_threads(getattr(args, "filter_threads", 1))  # perf
@@ -237,9 +250,9 @@ def build_chain(tb, num, geo, scn, args, symbols):
     else:
         range_sink = blocks.vector_sink_c(k, symbols)
         image_sink = blocks.vector_sink_c(k, symbols)
-    tb.connect(tx, head, echo, (tff, 0))
+    tb.connect(echo_out, (tff, 0))
     tb.connect(head, (tff, 1))
-    tb.connect((echo, 1), (tff_ref, 0))
+    tb.connect(ref_out, (tff_ref, 0))
     tb.connect(ones, (tff_ref, 1))
     if spp == 1:
         tb.connect(tff, entry)
@@ -327,7 +340,8 @@ def write_png(path, image, range_axis, azimuth_axis, title, azimuth_limits=None,
     plt.close(fig)
 
 
-def run(args):
+def scenario_of(args):
+    """(num, geo, scn, warnings, symbols, pulse_symbols) of the command line."""
     num = params.make_numerology(args.preset)
     geo_overrides = {} if args.aperture_s is None else {"aperture_s": args.aperture_s}
     geo = params.make_geometry(args.geometry, **geo_overrides)
@@ -342,7 +356,11 @@ def run(args):
     pulse_symbols = grid_of_mode(args.mode, num)[2]
     warnings = params.check_scenario(num, geo, scn, pulse_symbols)
     symbols = int(geo.symbols_per_aperture(num))
+    return num, geo, scn, warnings, symbols, pulse_symbols
 
+
+def run(args):
+    num, geo, scn, warnings, symbols, pulse_symbols = scenario_of(args)
     tb = gr.top_block("nrsar-sim")
     chain = build_chain(tb, num, geo, scn, args, symbols)
     start = time.perf_counter()
@@ -350,6 +368,12 @@ def run(args):
     with progress.polling("symbols", symbols, lambda: chain["filter"].nitems_written(0)):
         run_with_counters(tb)
     runtime_s = time.perf_counter() - start
+    return image_results(args, chain, num, geo, scn, warnings, symbols, pulse_symbols,
+                         runtime_s)
+
+
+def image_results(args, chain, num, geo, scn, warnings, symbols, pulse_symbols, runtime_s):
+    """After the run: writes the .npy/.png files and returns the JSON dict of SPEC 9."""
     rx_times = rx_block_times(chain)
 
     rif, probe = chain["range_ifft"], chain["probe"]
@@ -443,19 +467,21 @@ def quiet_gnuradio_logs():
     gr.logging().set_default_level(gr.log_levels.err)
 
 
-def main(argv=None):
+def main(argv=None, prog="nrsar-sim", add=None, runner=None, doc=__doc__,
+         errors=(ValueError, RuntimeError)):
+    """The command line of nrsar-sim; nrsar-isac passes its own parser, run and doc."""
     quiet_gnuradio_logs()
-    parser = add_arguments(argparse.ArgumentParser(
-        prog="nrsar-sim", description=__doc__,
+    parser = (add or add_arguments)(argparse.ArgumentParser(
+        prog=prog, description=doc,
         formatter_class=argparse.RawDescriptionHelpFormatter))
     progress.add_arguments(parser)
     args = parser.parse_args(argv)
     progress.configure(progress.from_args(args))
     try:
-        result = run(args)
-    except (ValueError, RuntimeError) as err:
+        result = (runner or run)(args)
+    except errors as err:
         progress.finish()
-        print(f"nrsar-sim: {err}", file=sys.stderr)
+        print(f"{prog}: {err}", file=sys.stderr)
         return 2
     progress.finish()
     if args.json:

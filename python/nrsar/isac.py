@@ -1,0 +1,279 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""nrsar-isac: the one ISAC graph. The UAV's uplink carries a payload file to the base
+station and images the ground with the same waveform, in one GNU Radio flowgraph:
+
+  payload -> PDUs -> pusch_encoder -> nr_isac_tx(dmrs) -> head -+-> ofdm_mod -+
+                                                                |             |
+   (b) radar, --radar-domain time:                              |             |
+       ofdm_mod -> td_echo -> ofdm_demod -> tf_filter(., grid) -> range_ifft -> [presum]
+       -> rd_focuser -> nmse_probe  (reference branch: scene_echo's S = 1 echo, as nrsar-sim)
+       --radar-domain tf: scene_echo on the grid (nrsar-sim's chain)
+   (a) base station:
+       ofdm_mod -> blocks.delay -> channels.channel_model (noise, CFO, taps) -> ofdm_sync
+       -> ofdm_demod -> pusch_receiver -> PDUs -> decoded file
+
+The image, its metrics and the JSON keys are nrsar-sim's (SPEC 9); the backhaul adds
+payload_identical, backhaul_ber, backhaul_bler, throughput_mbps and the receiver's numbers.
+"""
+
+import math
+import os
+import time
+
+import numpy as np
+import pmt
+from gnuradio import analog, blocks, channels, gr
+
+from . import backhaul, params, progress, sim
+from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
+                           pusch_receiver, scene_echo, srs_config, td_echo)
+
+DEFAULT_TAPS = "1,0,0,0.3+0.2j,0,0,0,0,-0.1j"
+
+
+def add_arguments(parser):
+    """nrsar-sim's options plus the backhaul's."""
+    sim.add_arguments(parser)
+    parser.add_argument("--payload", default="/usr/share/common-licenses/GPL-3",
+                        help="file sent over the backhaul (default %(default)s)")
+    parser.add_argument("--dmrs", default="pusch2",
+                        help="PUSCH DMRS layout: pusch1, pusch2, pusch4 or 'l0,l1,..' "
+                             "(default %(default)s)")
+    parser.add_argument("--ldpc", default="none",
+                        help="alist of a gr-fec LDPC code, or 'none' = uncoded (default; LDPC "
+                             "costs ~43 ms CPU per paper slot), 'default' = "
+                             + backhaul.DEFAULT_ALIST)
+    parser.add_argument("--bs-snr-db", type=float, default=50.0,
+                        help="per-RE SNR at the base station [dB] (taps normalised to unit "
+                             "energy); default %(default)s")
+    parser.add_argument("--cfo-hz", type=float, default=9000.0,
+                        help="carrier frequency offset UAV -> base station [Hz], |CFO| < "
+                             "Delta f (default %(default)s = 0.3 x 30 kHz)")
+    parser.add_argument("--delay-samples", type=int, default=1234,
+                        help="timing offset before the burst [samples] (default %(default)s)")
+    parser.add_argument("--taps", default=DEFAULT_TAPS,
+                        help="multipath taps of channel_model, comma-separated complex at the "
+                             "sample rate, normalised to unit energy (default %(default)s; "
+                             "'1' = flat)")
+    parser.add_argument("--radar-domain", default="time", choices=["time", "tf"],
+                        help="radar echo through ofdm_mod -> td_echo -> ofdm_demod (time, "
+                             "default) or scene_echo on the grid (tf)")
+    parser.add_argument("--echo-taps", type=int, default=32,
+                        help="td_echo fractional-delay FIR length (default %(default)s)")
+    return parser
+
+
+def parse_taps(text):
+    taps = np.array([complex(t.replace(" ", "")) for t in text.split(",") if t.strip()],
+                    np.complex128)
+    energy = float(np.sum(np.abs(taps) ** 2))
+    if taps.size == 0 or not math.isfinite(energy) or energy == 0:
+        raise ValueError(f"taps = {text!r} must hold at least one finite non-zero tap")
+    return [complex(t) for t in taps / math.sqrt(energy)]
+
+
+def ldpc_alist(arg):
+    if arg in ("none", ""):
+        return ""
+    return backhaul.DEFAULT_ALIST if arg == "default" else arg
+
+
+def time_domain_front(ofdm_source):
+    """echo_front for sim.build_chain: the radar echo through the time domain,
+    ofdm_source (ofdm_mod of the grid) -> td_echo -> ofdm_demod (FFT window after the CP:
+    the TF model of SPEC 3 exactly); the reference echo (S = 1, no noise) is scene_echo's
+    second output, as in nrsar-sim (its noisy output goes to a null sink)."""
+    def front(tb, num, geo, scn, args, grid):
+        echo = td_echo(num, geo, scn, args.snr_db, args.seed + 1, args.echo_taps)
+        demod = ofdm_demod(num)
+        tb.connect(ofdm_source, echo, demod)
+        ref = scene_echo(num, geo, scn, math.inf, args.seed + 1)
+        tb.connect(grid, ref)
+        tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
+        front.demod = demod
+        return echo, demod, (ref, 1)
+    return front
+
+
+def common_noise_front(domain, noise_seed):
+    """echo_front for comparing the two radar paths under the SAME noise: the echo is
+    noise-free (td_echo / scene_echo with +inf SNR) and one seeded complex Gaussian noise
+    stream of sigma^2 = total RCS / 10^(snr_db/10) per RE is added on the grid after it, so
+    two runs differ only by the echo model (qa_isac, docs/isac.md)."""
+    def front(tb, num, geo, scn, args, grid):
+        n = num.num_subcarriers
+        ref = scene_echo(num, geo, scn, math.inf, args.seed + 1)
+        tb.connect(grid, ref)
+        if domain == "time":
+            echo, demod = td_echo(num, geo, scn, math.inf, args.seed + 1, args.echo_taps), \
+                ofdm_demod(num)
+            tb.connect(grid, ofdm_mod(num), echo, demod)
+            clean = demod
+            tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * n))
+        else:
+            echo, clean = ref, (ref, 0)
+        sigma = math.sqrt(sum(t.rcs for t in scn.targets) / 10.0 ** (args.snr_db / 10.0))
+        noise = analog.noise_source_c(analog.GR_GAUSSIAN, sigma, noise_seed)
+        add = blocks.add_vcc(n)
+        tb.connect(clean, (add, 0))
+        tb.connect(noise, blocks.stream_to_vector(gr.sizeof_gr_complex, n), (add, 1))
+        return echo, add, (ref, 1)
+    return front
+
+
+def build_transmitter(tb, num, args, payload):
+    """pusch_encoder (the payload queued as PDUs of one slot's capacity each, deterministic)
+    -> nr_isac_tx(dmrs). Returns (encoder, tx, dmrs, chunks)."""
+    mod = params.make_modulation(args.modulation)
+    dmrs = params.make_dmrs(args.dmrs, num)
+    enc = pusch_encoder(num, mod, dmrs, ldpc_alist(args.ldpc), 0, max(1, len(payload) + 1))
+    tx = nr_isac_tx(num, mod, params.make_tx_mode("data"), srs_config(), args.seed, dmrs)
+    tb.connect(enc, tx)
+    per_slot = enc.payload_bits_per_slot() // 8
+    if per_slot <= 0:
+        raise ValueError(f"payload bytes per slot = {per_slot} must be > 0")
+    chunks = [payload[i:i + per_slot] for i in range(0, len(payload), per_slot)]
+    for chunk in chunks:  # queued before start: chunk s goes out in slot s
+        enc.to_basic_block()._post(pmt.intern("pdus"), backhaul.make_pdu(chunk))
+    return enc, tx, dmrs, chunks
+
+
+def build_base_station(tb, num, args, dmrs, source):
+    """source (time-domain uplink) -> delay -> channel_model -> ofdm_sync -> ofdm_demod ->
+    pusch_receiver -> message_debug (store). Returns the blocks by name."""
+    mod = params.make_modulation(args.modulation)
+    delay = blocks.delay(gr.sizeof_gr_complex, args.delay_samples)
+    noise_voltage = 10.0 ** (-args.bs_snr_db / 20.0)  # per sample = per RE (unitary OFDM)
+    chan = channels.channel_model(noise_voltage, args.cfo_hz / num.sample_rate_hz(), 1.0,
+                                  parse_taps(args.taps), args.seed + 2)
+    sync = ofdm_sync(num, dmrs)
+    demod = ofdm_demod(num)
+    # ofdm_sync's backoff puts a phase slope across the subcarriers; pusch_receiver's
+    # channel estimate removes it before its fit (docs/isac.md, "Backoff slope")
+    rx = pusch_receiver(num, mod, dmrs, ldpc_alist(args.ldpc), 0)
+    store = blocks.message_debug()
+    tb.connect(source, delay, chan, sync, demod, rx)
+    tb.msg_connect((rx, "pdus"), (store, "store"))
+    return {"delay": delay, "channel": chan, "sync": sync, "demod": demod, "receiver": rx,
+            "store": store}
+
+
+def backhaul_results(num, enc, bs, chunks, payload, out_path):
+    """Writes the decoded file (payload of every CRC-ok, non-filler TB in slot order) and
+    returns the backhaul's JSON keys. A TB that failed its CRC delivers nothing: every
+    payload bit of its slot counts as an error in backhaul_ber."""
+    store, rx = bs["store"], bs["receiver"]
+    delivered = {}
+    failed_slots = []
+    for i in range(store.num_messages()):
+        meta, data = backhaul.pdu_to_python(store.get_message(i))
+        if not meta.get("crc_ok"):
+            failed_slots.append(int(meta.get("slot", -1)))
+        elif not meta.get("filler"):
+            delivered[int(meta["slot"])] = data
+    with open(out_path, "wb") as f:
+        for slot in sorted(delivered):
+            f.write(delivered[slot])
+    decoded = b"".join(delivered[s] for s in sorted(delivered))
+    bit_errors = 0
+    for s, chunk in enumerate(chunks):
+        got = delivered.get(s)
+        if got is None or len(got) != len(chunk):
+            bit_errors += 8 * len(chunk)
+        else:
+            diff = np.bitwise_xor(np.frombuffer(got, np.uint8), np.frombuffer(chunk, np.uint8))
+            bit_errors += int(np.unpackbits(diff).sum())
+    ok, bad = int(rx.blocks_ok()), int(rx.blocks_failed())
+    slot_s = num.symbols_per_slot * num.symbol_s()
+    good_bits = 8 * sum(len(c) for s, c in enumerate(chunks) if delivered.get(s) == c)
+    sync = bs["sync"]
+    return {
+        "payload_identical": decoded == payload,
+        "payload_bytes": len(payload),
+        "decoded_bytes": len(decoded),
+        "decoded_file": os.path.abspath(out_path),
+        "backhaul_ber": bit_errors / (8.0 * len(payload)) if payload else 0.0,
+        "backhaul_bler": bad / float(ok + bad) if ok + bad else None,
+        "blocks_ok": ok,
+        "blocks_failed": bad,
+        "failed_slots": failed_slots[:32],  # the first 32
+        "failed_payload_slots": [s for s in failed_slots if 0 <= s < len(chunks)],
+        "payload_slots": len(chunks),
+        # delivered payload bits over the air time of the slots that carried the payload
+        "throughput_mbps": good_bits / (len(chunks) * slot_s) / 1e6 if chunks else 0.0,
+        "capacity_mbps": enc.throughput_bps() / 1e6,
+        "code_rate": float(enc.code_rate()),
+        "sync_locked": bool(sync.locked()),
+        "sync_cfo_hz": float(sync.cfo_hz()),
+        "sync_timing_samples": int(sync.timing_samples()),
+        "bs_snr_est_db": float(rx.last_snr_db()),
+        "bs_evm_db": float(rx.last_evm_db()),
+    }
+
+
+def run(args):
+    if args.mode != "data":
+        raise ValueError(f"mode = {args.mode} must be data (the grid is the PUSCH)")
+    with open(args.payload, "rb") as f:
+        payload = f.read()
+    num, geo, scn, warnings, symbols, pulse_symbols = sim.scenario_of(args)
+    if symbols < num.symbols_per_slot:
+        raise ValueError(f"symbols per aperture = {symbols} must be at least one slot")
+    tb = gr.top_block("nrsar-isac")
+    enc, tx, dmrs, chunks = build_transmitter(tb, num, args, payload)
+    slots = symbols // num.symbols_per_slot
+    if len(chunks) > slots:
+        raise ValueError(f"payload = {len(payload)} bytes needs {len(chunks)} slots, "
+                         f"the aperture has {slots}: shorten the file or lengthen --aperture-s")
+    mod = ofdm_mod(num)
+    if args.radar_domain == "time":
+        front = time_domain_front(mod)
+        chain = sim.build_chain(tb, num, geo, scn, args, symbols, tx=tx, echo_front=front)
+        chain["radar_demod"] = front.demod
+    else:
+        chain = sim.build_chain(tb, num, geo, scn, args, symbols, tx=tx)
+    tb.connect(chain["head"], mod)
+    bs = build_base_station(tb, num, args, dmrs, mod)
+    start = time.perf_counter()
+    # progress (stderr, if enabled): the aperture's symbols through the radar filter
+    with progress.polling("symbols", symbols, lambda: chain["filter"].nitems_written(0)):
+        sim.run_with_counters(tb)
+    runtime_s = time.perf_counter() - start
+    result = sim.image_results(args, chain, num, geo, scn, warnings, symbols, pulse_symbols,
+                               runtime_s)
+    result.update(backhaul_results(num, enc, bs, chunks, payload,
+                                   os.path.join(args.out, "decoded.bin")))
+    bs_times = {name: bs[name].pc_work_time_total() / 1e9
+                for name in ("sync", "demod", "receiver")}
+    # CPU time in work() of every block we hold (channel_model is a hier block: not counted)
+    named = {"pusch_encoder": enc, "nr_isac_tx": tx, "ofdm_mod": mod, "delay": bs["delay"],
+             "radar_echo": chain["echo"], **{f"radar_{k}": chain[k] for k in
+                                             ("filter", "range_ifft", "focuser", "probe")},
+             **{f"bs_{k}": bs[k] for k in ("sync", "demod", "receiver")}}
+    if args.radar_domain == "time":
+        named["radar_ofdm_demod"] = chain["radar_demod"]
+    result.update({
+        "radar_domain": args.radar_domain,
+        "dmrs": args.dmrs,
+        "ldpc": ldpc_alist(args.ldpc) or "none",
+        "bs_snr_db": args.bs_snr_db,
+        "cfo_hz": args.cfo_hz,
+        "delay_samples": args.delay_samples,
+        "taps": args.taps,
+        "samples": symbols * (num.cp_samples + num.fft_size),
+        "sample_rate_hz": num.sample_rate_hz(),
+        "bs_rx_runtime_s": sum(bs_times.values()),
+        "bs_rx_block_s": bs_times,
+        "block_cpu_s": {k: round(b.pc_work_time_total() / 1e9, 3) for k, b in named.items()},
+        "peak_rss_mb": sim.peak_rss_mb(),
+    })
+    return result
+
+
+def main(argv=None):
+    return sim.main(argv, "nrsar-isac", add_arguments, run, __doc__,
+                    (ValueError, RuntimeError, OSError))
