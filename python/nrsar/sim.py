@@ -259,7 +259,8 @@ def build_chain(tb, num, geo, scn, args, symbols):
     return {"tx": tx, "echo": echo, "filter": tff, "range_ifft": rif, "focuser": foc,
             "probe": probe, "range_sink": range_sink, "image_sink": image_sink,
             "presum": presummers[0] if presummers else None,
-            "head": head}  # perf: nrsar-soak streams many apertures by resetting its length
+            "head": head,  # perf: nrsar-soak streams many apertures by resetting its length
+            "focuser_ref": foc_ref}  # dref: the reference branch's image (double_reference)
 
 
 # stress: run-time split and memory of a run
