@@ -73,8 +73,6 @@ def parse(argv):
     parser.add_argument("--keep-work", action="store_true")
     parser.add_argument("--ref-band", default="scene", choices=["scene", "full"],
                         help="azimuth band of the float64 reference (full: every FFT bin)")
-    parser.add_argument("--skip-fast", action="store_true",
-                        help=argparse.SUPPRESS)  # debugging: reuse --work's fast.json
     return parser.parse_args(argv)
 
 
@@ -389,18 +387,15 @@ def run(argv=None):
     args = parse(argv)
     os.makedirs(args.work, exist_ok=True)
     num, geo, scn, symbols = setup(args)
-    result = {"command": "nrsar-sim " + " ".join(argv or sys.argv[1:]), "load_avg": os.getloadavg()}
+    result = {"command": "double_reference " + " ".join(argv or sys.argv[1:]),
+              "load_avg": os.getloadavg()}
     fast_json = os.path.join(args.work, "fast.json")
-    if args.skip_fast and os.path.exists(fast_json):
-        with open(fast_json) as f:
-            fast = json.load(f)
-    else:
-        fast, img_fast, ref_fast = run_fast(args)  # 1. the float32 chain, images kept
-        with open(fast_json, "w") as f:
-            json.dump(fast, f)
-        np.save(os.path.join(args.work, "fast_ref.npy"), ref_fast)
-        np.save(os.path.join(args.work, "fast_img.npy"), img_fast)
-        del img_fast, ref_fast
+    fast, img_fast, ref_fast = run_fast(args)  # 1. the float32 chain, images kept
+    with open(fast_json, "w") as f:
+        json.dump(fast, f)
+    np.save(os.path.join(args.work, "fast_ref.npy"), ref_fast)
+    np.save(os.path.join(args.work, "fast_img.npy"), img_fast)
+    del img_fast, ref_fast
     fast.update(fast_focuser_geometry(args, num, geo, scn, symbols, fast))
     result["fast"] = fast
     rss_after_fast = sim.peak_rss_mb()
