@@ -36,7 +36,13 @@
    of a full-range image; the metrics are taken on the same pixel window in both cases
    (SPEC 8: NMSE's mean depends on the window, not on the processing).
 3. Metrics of both images by the same nmse_probe kernel (the reference image's own reference
-   branch as SPEC 8's ref), and NMSE_fast - NMSE_double (goal: |.| <= 0.1 dB).
+   branch as SPEC 8's ref), and NMSE_fast - NMSE_double (goal: |.| <= 0.1 dB). Also the NMSE of
+   both in float64 numpy on the whole window and on the range bins at least Delta k_max +
+   taps/2 from the crop edges (where the fast RCMC kernel reads zeros beyond the crop).
+   --guard-m G: the fast chain crops G metres wider on each side and both are measured on the
+   window of --range-margin-m (the crop-edge effect removed).
+Prints one JSON object (keys fast, double, fast_minus_double, nmse64_db, double_time_s,
+peak_rss_mb, goal_met); exit status 0 when the goal is met. Results: docs/performance.md.
 Big arrays live in files under --work (column blocks, so no array of the aperture is ever in
 memory); they are deleted at the end unless --keep-work.
 """
@@ -71,6 +77,11 @@ def parse(argv):
     parser.add_argument("--work", default="/tmp/dref/work",
                         help="folder of the raw files (about 9 GB at paper-full)")
     parser.add_argument("--keep-work", action="store_true")
+    parser.add_argument("--guard-m", type=float, default=0.0,
+                        help="extra slant range the fast chain crops on each side of the metric "
+                             "window [m] (its RCMC kernel then reads real bins at the window's "
+                             "edges); the metrics of both images are taken on the window of "
+                             "--range-margin-m")
     parser.add_argument("--ref-band", default="scene", choices=["scene", "full"],
                         help="azimuth band of the float64 reference (full: every FFT bin)")
     return parser.parse_args(argv)
@@ -320,6 +331,19 @@ class ArraySource(gr.sync_block):
         return n
 
 
+def metric_window(args, num, geo, scn):
+    """(first bin's slant range [m], bins) of the crop sim.build_chain makes with
+    --range-margin-m (the metric window): the same range_ifft, queried, not run."""
+    from gnuradio import fft
+    from .nrsar_python import range_ifft
+    nfft = sim.fft_size_from_arg(args.fft_size, num.num_subcarriers)
+    ext = params.compute_extent(geo, scn)
+    margin = max(args.range_margin_m, 16 * num.range_bin_m(nfft))
+    rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0,
+                     max(0.0, ext.min_slant_range_m - margin), ext.max_slant_range_m + margin)
+    return rif.range_axis_first_m(), int(rif.num_bins())
+
+
 def run_fast(args):
     """sim.run (the float32 chain, its result dict) with one more sink on the reference
     branch's image, so the fast chain's own SPEC 8 reference image is kept too."""
@@ -390,7 +414,21 @@ def run(argv=None):
     result = {"command": "double_reference " + " ".join(argv or sys.argv[1:]),
               "load_avg": os.getloadavg()}
     fast_json = os.path.join(args.work, "fast.json")
+    if args.guard_m > 0:  # the fast chain crops wider; metrics on the original window
+        first_w, k_w = metric_window(args, num, geo, scn)
+        args.range_margin_m += args.guard_m
     fast, img_fast, ref_fast = run_fast(args)  # 1. the float32 chain, images kept
+    if args.guard_m > 0:
+        args.range_margin_m -= args.guard_m
+        k0 = int(round((first_w - fast["range_axis_m"][0]) / fast["range_axis_m"][1]))
+        img_fast = img_fast[:, k0:k0 + k_w]
+        ref_fast = ref_fast[:, k0:k0 + k_w]
+        fast["guard_bins"] = [k0, fast["range_bins"] - k0 - k_w]
+        fast["probe_wide_window"] = {k: fast[k] for k in ("nmse_db", "snr_out_db", "range_bins")}
+        fast["range_axis_m"] = [first_w, fast["range_axis_m"][1]]
+        fast["range_bins"] = k_w
+        fast.update(probe_metrics(args, num, geo, scn, symbols, img_fast, ref_fast,
+                                  fast["azimuth_axis_m"][0], fast["azimuth_axis_m"][1], fast))
     with open(fast_json, "w") as f:
         json.dump(fast, f)
     np.save(os.path.join(args.work, "fast_ref.npy"), ref_fast)
