@@ -273,7 +273,8 @@ def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo
     return {"tx": tx, "echo": echo, "filter": tff, "range_ifft": rif, "focuser": foc,
             "probe": probe, "range_sink": range_sink, "image_sink": image_sink,
             "presum": presummers[0] if presummers else None,
-            "head": head}  # perf: nrsar-soak streams many apertures by resetting its length
+            "head": head,  # perf: nrsar-soak streams many apertures by resetting its length
+            "focuser_ref": foc_ref}  # dref: the reference branch's image (double_reference)
 
 
 # stress: run-time split and memory of a run
