@@ -421,6 +421,11 @@ RULES = [
      lambda: nrsar.pusch_receiver(num(num_subcarriers=4, fft_size=64), make_modulation("qpsk"),
                                   make_dmrs("pusch2")),
      "num_subcarriers = 4"),
+    # ofdm_demod rx_time alignment (sdr)
+    ("ofdm_demod", "TX start time NaN", lambda: nrsar.ofdm_demod(num(), -1, NAN),
+     "tx_start_time = nan must be a finite time"),
+    ("ofdm_demod", "set_tx_start_time +inf",
+     lambda: nrsar.ofdm_demod(num()).set_tx_start_time(INF), "tx_start_time = inf"),
 ]
 
 
