@@ -7,11 +7,13 @@
 """GUI test of a grcc-generated Qt flowgraph (run under Xvfb: xvfb-run -a).
 
 Imports the generated script, runs its top block with the Qt event loop for a few seconds,
-grabs the raster widget with QWidget.grab() before and after the data arrived, saves the
-window as a PNG, and fails unless the raster shows an image: the pixels changed over a large
-part of the widget and vary (standard deviation of the grey levels) where they changed.
+grabs each checked widget (default the raster; --widget may be repeated, e.g. a constellation
+sink too) with QWidget.grab() before and after the data arrived, saves the window as a PNG,
+and fails unless every checked widget shows data: its pixels changed over a part of the
+widget and vary (standard deviation of the grey levels) where they changed.
 
-usage: gui_snapshot.py GENERATED_DIR MODULE CLASS [--seconds S] [--png FILE] [ARG=VALUE ...]
+usage: gui_snapshot.py GENERATED_DIR MODULE CLASS [--seconds S] [--png FILE] [--widget ATTR ...]
+                       [ARG=VALUE ...]
 """
 
 import argparse
@@ -40,8 +42,11 @@ def main(argv=None):
     parser.add_argument("cls")
     parser.add_argument("--seconds", type=float, default=5.0)
     parser.add_argument("--png", default=None)
-    parser.add_argument("--widget", default="_raster_win",
-                        help="attribute of the top block holding the widget to check")
+    parser.add_argument("--widget", action="append", default=None,
+                        help="attribute of the top block holding a widget to check "
+                             "(repeatable; default _raster_win)")
+    parser.add_argument("--min-changed", type=float, default=0.01,
+                        help="fraction of a widget's pixels that must change (default 0.01)")
     parser.add_argument("args", nargs="*", help="constructor arguments NAME=VALUE (numbers)")
     opts = parser.parse_args(argv)
 
@@ -54,15 +59,16 @@ def main(argv=None):
     app = Qt.QApplication(sys.argv[:1])
     tb = getattr(module, opts.cls)(**kwargs)
     tb.show()
-    widget = getattr(tb, opts.widget)
+    names = opts.widget or ["_raster_win"]
+    widgets = [getattr(tb, name) for name in names]
     app.processEvents()
-    before = to_array(widget.grab().toImage())
+    before = [to_array(w.grab().toImage()) for w in widgets]
     tb.start()
 
     result = {}
 
     def finish():
-        result["after"] = to_array(widget.grab().toImage())
+        result["after"] = [to_array(w.grab().toImage()) for w in widgets]
         if opts.png:
             tb.grab().save(opts.png)
         tb.stop()
@@ -74,22 +80,30 @@ def main(argv=None):
     QtCore.QTimer.singleShot(int(opts.seconds * 1000) + 30000, lambda: os._exit(3))
     app.exec_()
 
-    after = result["after"]
+    status = 0
+    for name, b, after in zip(names, before, result["after"]):
+        status |= check(name, b, after, opts.min_changed)
+    return status
+
+
+def check(name, before, after, min_changed):
+    """0 when the widget shows data (enough pixels changed and they vary), else 1."""
     if before.shape != after.shape:
-        print(f"FAIL: widget size changed {before.shape} -> {after.shape}")
+        print(f"FAIL: {name}: widget size changed {before.shape} -> {after.shape}")
         return 1
     changed = np.abs(after - before) > 8
     frac = changed.mean()
     std = after[changed].std() if changed.any() else 0.0
-    print(f"raster {after.shape[1]}x{after.shape[0]} px: {100 * frac:.1f} % of the pixels "
+    print(f"{name} {after.shape[1]}x{after.shape[0]} px: {100 * frac:.1f} % of the pixels "
           f"changed, grey-level std there {std:.1f}")
     # The throttled source fills a few rows per second: 1 % of the widget is about 4 rows
     # of a 400-row raster, well above cursor or label redraws (which do not change).
-    if frac < 0.01:
-        print("FAIL: the raster did not fill (less than 1 % of its pixels changed)")
+    if frac < min_changed:
+        print(f"FAIL: {name} did not fill (less than {100 * min_changed:g} % of its pixels "
+              "changed)")
         return 1
     if std < 5.0:
-        print("FAIL: the raster is flat (grey-level std < 5)")
+        print(f"FAIL: {name} is flat (grey-level std < 5)")
         return 1
     return 0
 
