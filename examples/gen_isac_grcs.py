@@ -269,6 +269,18 @@ def channel_params(g, y=300, gui=False):
     g.param("radar_snr_db", "Radar SNR_in per RE (dB)", "10", (600, y), "eng_float", "", "")
 
 
+def finite_uav_and_base_station(g):
+    """payload file -> UAV TX -> head (finite run) -> ofdm_mod -> base station"""
+    payload_from_file(g, 8, 420)
+    uav_tx(g, 200, 420)
+    g.add("head", "blocks_head", (700, 420), "finite run", num_items="symbols",
+          type="complex", vlen=N)
+    modulator(g, "modulator", 880, 420)
+    g.c("tx", "0", "head", "0")
+    g.c("head", "0", "modulator", "0")
+    base_station(g, 8, 640, "modulator")
+
+
 # ---------------------------------------------------------------- the one graph, headless
 def isac_headless():
     g = Graph("isac_backhaul_imaging_headless", "gr-nrsar ISAC: backhaul decode + imaging (headless)",
@@ -280,14 +292,7 @@ def isac_headless():
     common_vars(g)
     headless_params(g)
     channel_params(g)
-    payload_from_file(g, 8, 420)
-    uav_tx(g, 200, 420)
-    g.add("head", "blocks_head", (700, 420), "finite run", num_items="symbols",
-          type="complex", vlen=N)
-    modulator(g, "modulator", 880, 420)
-    g.c("tx", "0", "head", "0")
-    g.c("head", "0", "modulator", "0")
-    base_station(g, 8, 640, "modulator")
+    finite_uav_and_base_station(g)
     radar(g, 8, 960, "modulator", "0", "head")
     headless_sinks(g, 1400, 1100)
     g.dump()
@@ -505,14 +510,7 @@ def loopback_headless():
             "", "")
     g.param("hw_delay_samples", "TX->RX hardware delay (samples)", "37", (1200, 300), "intx",
             "simulated fixed delay of the radio; the demodulator is told the same value", "")
-    payload_from_file(g, 8, 420)
-    uav_tx(g, 200, 420)
-    g.add("head", "blocks_head", (700, 420), "finite run", num_items="symbols",
-          type="complex", vlen=N)
-    modulator(g, "modulator", 880, 420)
-    g.c("tx", "0", "head", "0")
-    g.c("head", "0", "modulator", "0")
-    base_station(g, 8, 640, "modulator")
+    finite_uav_and_base_station(g)
     # the simulated radio: echo, then the RX's earlier start and the hardware delay
     g.add("echo", "nrsar_td_echo", (8, 900),
           "the scene (in place of the antenna and the ground)",
