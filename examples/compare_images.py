@@ -7,9 +7,9 @@
 """Compares two focused images (complex64 files of BINS range bins per line): fails unless
 they have the same size, the same peak pixel and max |a - b| / max |a| <= TOL.
 
-Bit-exact equality is too strict: the presummer's phase recurrence is re-seeded at work()
-call boundaries, so two runs of one graph differ by up to ~4e-4 of the peak depending on how
-the scheduler cut the stream; a one-sample misalignment of the radar gives ~0.7.
+Bit-exact equality is too strict: two runs of one graph differed by up to ~4e-4 of the peak
+(measured; the chain's float results depend slightly on how the scheduler cuts the stream,
+which block was not investigated); a one-sample misalignment of the radar gives ~0.7.
 
 usage: compare_images.py A B BINS [TOL]   (TOL default 1e-2)"""
 
