@@ -55,6 +55,8 @@ def main(argv=None):
     parser.add_argument("--widget", action="append", default=None,
                         help="attribute of the top block holding a widget to check "
                              "(repeatable; default _raster_win)")
+    parser.add_argument("--min-changed", type=float, default=0.01,
+                        help="fraction of a widget's pixels that must change (default 0.01)")
     parser.add_argument("args", nargs="*", help="constructor arguments NAME=VALUE (numbers or text)")
     opts = parser.parse_intermixed_args(argv)
 
@@ -91,12 +93,12 @@ def main(argv=None):
 
     failed = False
     for name, before, after in zip(names, befores, result["after"]):
-        failed |= not check(name, before, after)
+        failed |= not check(name, before, after, opts.min_changed)
     return 1 if failed else 0
 
 
-def check(name, before, after):
-    """True when the raster filled with a non-uniform picture."""
+def check(name, before, after, min_changed):
+    """True when the widget filled with a non-uniform picture."""
     if before.shape != after.shape:
         print(f"FAIL {name}: widget size changed {before.shape} -> {after.shape}")
         return False
@@ -107,8 +109,9 @@ def check(name, before, after):
           f"pixels changed, grey-level std there {std:.1f}")
     # The throttled source fills a few rows per second: 1 % of the widget is about 4 rows
     # of a 400-row raster, well above cursor or label redraws (which do not change).
-    if frac < 0.01:
-        print(f"FAIL {name}: the raster did not fill (less than 1 % of its pixels changed)")
+    if frac < min_changed:
+        print(f"FAIL {name}: the widget did not fill (less than {100 * min_changed:g} % of its "
+              "pixels changed)")
         return False
     if std < 5.0:
         print(f"FAIL {name}: the raster is flat (grey-level std < 5)")

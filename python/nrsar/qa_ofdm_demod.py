@@ -123,5 +123,112 @@ class qa_ofdm_demod(gr_unittest.TestCase):
         self.assertIn("fft_start = 17 must be at most cp_samples = 16", str(ctx.exception))
 
 
+    # rx_time alignment (tx_start_time): symbols from a numpy modulator behind junk samples,
+    # stamped the way a USRP source stamps its first sample and the first after an overflow.
+
+    def stamp(self, offset, full, frac):
+        return gr.tag_utils.python_to_tag(
+            (offset, pmt.intern("rx_time"),
+             pmt.make_tuple(pmt.from_uint64(full), pmt.from_double(frac))))
+
+    def run_aligned(self, x, num, t0, tags):
+        src = blocks.vector_source_c(np.asarray(x, np.complex64).tolist(), False, 1, list(tags))
+        dem = nrsar.ofdm_demod(num, -1, t0)
+        snk = blocks.vector_sink_c(num.num_subcarriers)
+        self.tb = gr.top_block()
+        self.tb.connect(src, dem, snk)
+        self.tb.run()
+        return dem, np.array(snk.data()).reshape(-1, num.num_subcarriers), snk.tags()
+
+    def tag_values(self, tags, key):
+        return sorted((t.offset, pmt.to_uint64(t.value)) for t in tags
+                      if pmt.symbol_to_string(t.key) == key)
+
+    def test_007_rx_time_aligns_symbol_zero(self):
+        # TX at 1e6 + 0.5 s; the receiver's first sample is stamped 1234 samples earlier:
+        # rx_time = (1000000, 0.5 - 1234 / fs), fractions in double.
+        num = nrsar.make_numerology("tiny")
+        n, fs = num.num_subcarriers, num.sample_rate_hz()
+        grid = (self.noise(30 * n) / np.sqrt(2)).reshape(30, n)
+        pre = 1234
+        x = np.concatenate([self.noise(pre), numpy_mod(grid, num)])
+        dem, y, tags = self.run_aligned(x, num, 1e6 + 0.5,
+                                        [self.stamp(0, 1000000, 0.5 - pre / fs)])
+        np.testing.assert_allclose(y, grid, atol=1e-5)
+        self.assertTrue(dem.aligned())
+        self.assertEqual(dem.dropped_samples(), pre)
+        self.assertEqual(dem.lost_symbols(), 0)
+        self.assertEqual(dem.next_symbol(), 30)
+        self.assertEqual(self.tag_values(tags, nrsar.tag_keys.symbol), [(0, 0), (14, 14), (28, 28)])
+        self.assertEqual(self.tag_values(tags, nrsar.tag_keys.slot), [(0, 0), (14, 1), (28, 2)])
+        # The stamp itself moves to the first symbol.
+        self.assertEqual([t.offset for t in tags if pmt.symbol_to_string(t.key) == "rx_time"], [0])
+
+    def test_008_stamp_in_an_earlier_second(self):
+        # TX at 1e6 + 0.00002 s, RX stamped at 999999.99999 s: 3e-5 s = 57.6 -> 58 samples.
+        num = nrsar.make_numerology("tiny")
+        n, fs = num.num_subcarriers, num.sample_rate_hz()
+        pre = int(round(3e-5 * fs))
+        grid = (self.noise(4 * n) / np.sqrt(2)).reshape(4, n)
+        x = np.concatenate([self.noise(pre), numpy_mod(grid, num)])
+        dem, y, _ = self.run_aligned(x, num, 1e6 + 0.00002, [self.stamp(0, 999999, 0.99999)])
+        self.assertEqual(dem.dropped_samples(), pre)
+        np.testing.assert_allclose(y, grid, atol=1e-5)
+
+    def test_009_late_start_and_overflow_counted(self):
+        num = nrsar.make_numerology("tiny")
+        n, fs = num.num_subcarriers, num.sample_rate_hz()
+        L = num.fft_size + num.cp_samples
+        nsym = 40
+        grid = (self.noise(nsym * n) / np.sqrt(2)).reshape(nsym, n)
+        tx = numpy_mod(grid, num)
+        t0 = 1e6 + 0.5
+        # Late start: the receiver starts 2 L + 30 samples after the TX start, so symbols
+        # 0..2 are incomplete; then an overflow loses TX samples 10 L + 5 .. 16 L + 40 - 1.
+        a, gap0, gap1 = 2 * L + 30, 10 * L + 5, 16 * L + 40
+        rx = np.concatenate([tx[a:gap0], tx[gap1:]])
+        tags = [self.stamp(0, 1000000, 0.5 + a / fs),
+                self.stamp(gap0 - a, 1000000, 0.5 + gap1 / fs)]
+        dem, y, out_tags = self.run_aligned(rx, num, t0, tags)
+        # expected symbols: 3 .. 9 (whole before the gap), then 17 .. 39
+        want = list(range(3, 10)) + list(range(17, nsym))
+        np.testing.assert_allclose(y, grid[want], atol=1e-5)
+        self.assertEqual(dem.lost_symbols(), 3 + 7)  # 0..2 and 10..16
+        self.assertEqual(dem.next_symbol(), nsym)
+        # dropped: head of symbol 3, tail before the gap (symbol 10 partial), head of 17
+        self.assertEqual(dem.dropped_samples(), (3 * L - a) + (gap0 - 10 * L) + (17 * L - gap1))
+        self.assertEqual(dem.rx_time_tags(), 2)
+        sym = self.tag_values(out_tags, nrsar.tag_keys.symbol)
+        self.assertEqual(sym, [(0, 3), (7, 17), (18, 28)])  # after each stamp, slot starts
+        self.assertEqual(self.tag_values(out_tags, nrsar.tag_keys.slot), [(18, 2)])
+
+    def test_010_consistent_stamp_changes_nothing_and_no_stamp_drops(self):
+        num = nrsar.make_numerology("tiny")
+        n, fs = num.num_subcarriers, num.sample_rate_hz()
+        L = num.fft_size + num.cp_samples
+        grid = (self.noise(6 * n) / np.sqrt(2)).reshape(6, n)
+        x = numpy_mod(grid, num)
+        # a second stamp in the middle of symbol 2 that agrees with the first: no loss
+        tags = [self.stamp(0, 7, 0.25), self.stamp(2 * L + 11, 7, 0.25 + (2 * L + 11) / fs)]
+        dem, y, _ = self.run_aligned(x, num, 7.25, tags)
+        np.testing.assert_allclose(y, grid, atol=1e-5)
+        self.assertEqual((dem.lost_symbols(), dem.dropped_samples()), (0, 0))
+        # alignment on, no stamp: nothing is output, every sample counted as dropped
+        dem, y, _ = self.run_aligned(x, num, 7.25, [])
+        self.assertEqual(len(y), 0)
+        self.assertEqual(dem.dropped_samples(), len(x))
+        self.assertFalse(dem.aligned())
+        # off (default): plain demodulation, the stamp moves like any tag
+        dem, y, _ = self.run_aligned(x, num, -1.0, tags)
+        np.testing.assert_allclose(y, grid, atol=1e-5)
+        self.assertEqual(dem.tx_start_time(), -1.0)
+
+    def test_011_invalid_tx_start_time(self):
+        num = nrsar.make_numerology("tiny")
+        with self.assertRaises(ValueError) as ctx:
+            nrsar.ofdm_demod(num, -1, float("nan"))
+        self.assertIn("tx_start_time = nan must be a finite time", str(ctx.exception))
+
+
 if __name__ == "__main__":
     gr_unittest.run(qa_ofdm_demod)

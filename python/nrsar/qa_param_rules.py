@@ -463,6 +463,11 @@ RULES = [
     ("tf_filter", "threads 3", lambda: tf_filter(64).set_threads(3), "threads = 3"),
     ("range_ifft", "threads 0",
      lambda: range_ifft(make_numerology("tiny")).set_threads(0), "threads = 0"),
+    # ofdm_demod rx_time alignment (sdr)
+    ("ofdm_demod", "TX start time NaN", lambda: nrsar.ofdm_demod(num(), -1, NAN),
+     "tx_start_time = nan must be a finite time"),
+    ("ofdm_demod", "set_tx_start_time +inf",
+     lambda: nrsar.ofdm_demod(num()).set_tx_start_time(INF), "tx_start_time = inf"),
 ]
 
 
