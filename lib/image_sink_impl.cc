@@ -21,12 +21,6 @@ namespace {
 // Lines of one image when neither tags nor lines_per_aperture bound it (512 MiB at K = 1024).
 constexpr unsigned max_untagged_lines = 65536;
 
-unsigned checked_vlen(unsigned k)
-{
-    check_at_least("num_range_bins", k, 1u);
-    return k;
-}
-
 kernel::image_file_config make_config(const std::string& prefix,
                                       bool npy,
                                       bool png,
@@ -73,12 +67,17 @@ image_sink_impl::image_sink_impl(unsigned num_range_bins,
                                  image_colormap colormap,
                                  unsigned keep,
                                  unsigned lines_per_aperture)
-    : gr::sync_block("image_sink",
-                     gr::io_signature::make(1, 1, sizeof(gr_complex) * checked_vlen(num_range_bins)),
-                     gr::io_signature::make(0, 0, 0)),
+    : gr::sync_block(
+          "image_sink",
+          gr::io_signature::make(
+              1,
+              1,
+              sizeof(gr_complex) * check_at_least("num_range_bins", num_range_bins, 1u)),
+          gr::io_signature::make(0, 0, 0)),
       d_K(num_range_bins),
       d_lines_param(lines_per_aperture),
-      d_writer(make_config(prefix, write_npy, write_png, dynamic_range_db, colormap, keep)),
+      d_writer(
+          make_config(prefix, write_npy, write_png, dynamic_range_db, colormap, keep)),
       d_port(pmt::mp("files"))
 {
     message_port_register_out(d_port);

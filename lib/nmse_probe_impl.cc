@@ -82,12 +82,6 @@ nmse_probe::sptr nmse_probe::make(const numerology& num,
 
 namespace {
 // Validation helpers run in the member initialisers, before anything is stored.
-unsigned checked_vlen(unsigned vlen)
-{
-    check_at_least("vlen", vlen, 4u);
-    return vlen;
-}
-
 double checked_nonneg(const std::string& name, double v)
 {
     if (!std::isfinite(v) || v < 0.0)
@@ -117,11 +111,12 @@ nmse_probe_impl::nmse_probe_impl(const numerology& num,
                                  double noise_guard_cells,
                                  const std::vector<double>& noise_box,
                                  double sidelobe_window_cells)
-    : gr::sync_block("nmse_probe",
-                     gr::io_signature::make(reference_input ? 2 : 1,
-                                            reference_input ? 2 : 1,
-                                            sizeof(gr_complex) * checked_vlen(vlen)),
-                     gr::io_signature::make(0, 0, 0)),
+    : gr::sync_block(
+          "nmse_probe",
+          gr::io_signature::make(reference_input ? 2 : 1,
+                                 reference_input ? 2 : 1,
+                                 sizeof(gr_complex) * check_at_least("vlen", vlen, 4u)),
+          gr::io_signature::make(0, 0, 0)),
       d_num(num),
       d_geo(geo),
       d_scene(scn),

@@ -6,6 +6,7 @@
  */
 
 #include "nr_isac_tx_impl.h"
+#include "message_ports.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
@@ -16,11 +17,6 @@ namespace gr {
 namespace nrsar {
 
 namespace {
-const pmt::pmt_t& pdus_port()
-{
-    static const pmt::pmt_t port = pmt::mp("pdus");
-    return port;
-}
 
 // Checks everything the constructor needs before the base class is built (the output
 // item size depends on num), so a bad parameter raises std::invalid_argument first.

@@ -46,14 +46,16 @@ inline void check_snr_db(double snr_db)
         throw_param("snr_db", snr_db, "must be a number above -inf (+inf turns the noise off)");
 }
 
+//! Returns value, so member initialisers can validate in place.
 template <typename T>
-void check_at_least(const std::string& name, T value, T minimum)
+T check_at_least(const std::string& name, T value, T minimum)
 {
     if (value < minimum) {
         std::ostringstream limit;
         limit << "must be at least " << minimum;
         throw_param(name, value, limit.str());
     }
+    return value;
 }
 
 template <typename T>

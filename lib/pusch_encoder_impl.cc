@@ -6,6 +6,7 @@
  */
 
 #include "pusch_encoder_impl.h"
+#include "message_ports.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/kernel/soft_demapper.h>
@@ -15,11 +16,6 @@ namespace gr {
 namespace nrsar {
 
 namespace {
-const pmt::pmt_t& pdus_port()
-{
-    static const pmt::pmt_t port = pmt::mp("pdus");
-    return port;
-}
 
 std::size_t checked_slot_bits(const numerology& num,
                               modulation mod,

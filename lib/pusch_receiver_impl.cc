@@ -6,6 +6,7 @@
  */
 
 #include "pusch_receiver_impl.h"
+#include "message_ports.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
@@ -16,11 +17,6 @@ namespace gr {
 namespace nrsar {
 
 namespace {
-const pmt::pmt_t& pdus_port()
-{
-    static const pmt::pmt_t port = pmt::mp("pdus");
-    return port;
-}
 
 int checked_itemsize(const numerology& num)
 {

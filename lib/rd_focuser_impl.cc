@@ -32,12 +32,6 @@ rd_focuser::sptr rd_focuser::make(const numerology& num,
 }
 
 namespace {
-unsigned checked_vlen(unsigned k)
-{
-    check_at_least("num_range_bins", k, 1u);
-    return k;
-}
-
 double default_range_bin(const numerology& num, double range_bin_m)
 {
     num.validate();
@@ -65,7 +59,7 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
                                  double range_bin_m,
                                  const focuser_config& cfg)
     : gr::block("rd_focuser",
-                gr::io_signature::make(1, 1, sizeof(gr_complex) * checked_vlen(num_range_bins)),
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * num_range_bins),
                 // out: the image; optional rd_map: the range-Doppler map after RCMC.
                 gr::io_signature::make(1, 2, sizeof(gr_complex) * num_range_bins)),
       d_num(num),
