@@ -352,7 +352,7 @@ def run_fast(args):
 
     def build_keeping_reference(tb, num, geo, scn, a, symbols):
         chain = build(tb, num, geo, scn, a, symbols)
-        kept["ref"] = blocks.vector_sink_c(chain["range_ifft"].num_bins())
+        kept["ref"] = blocks.vector_sink_c(chain["focuser"].num_output_bins())  # guard
         kept["chain"] = chain
         tb.connect(chain["focuser_ref"], kept["ref"])
         return chain
