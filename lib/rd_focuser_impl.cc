@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 
 namespace gr {
 namespace nrsar {
@@ -48,6 +49,15 @@ void check_first_range(double r)
         throw_param("first_range_m", r, "must be finite and >= 0");
 }
 
+// guard: K - 2 guard_bins output bins, at least one.
+unsigned output_vlen(unsigned k, const focuser_config& cfg)
+{
+    if (2ull * cfg.guard_bins >= k)
+        throw_param("guard_bins", cfg.guard_bins, "must be below num_range_bins / 2 (" +
+                                                     std::to_string(k) + " / 2)");
+    return k - 2 * cfg.guard_bins;
+}
+
 bool differs(double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); }
 } // namespace
 
@@ -61,7 +71,8 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
     : gr::block("rd_focuser",
                 gr::io_signature::make(1, 1, sizeof(gr_complex) * num_range_bins),
                 // out: the image; optional rd_map: the range-Doppler map after RCMC.
-                gr::io_signature::make(1, 2, sizeof(gr_complex) * num_range_bins)),
+                gr::io_signature::make(
+                    1, 2, sizeof(gr_complex) * output_vlen(checked_vlen(num_range_bins), cfg))),
       d_num(num),
       d_geo(geo),
       d_scn(scn),
@@ -125,8 +136,17 @@ void rd_focuser_impl::configure(double T, double first_range, double range_bin)
     // shifted by s = E(f_c, R_mid) lines (in the paper geometry the scene lies ahead of the
     // track, s = 1.4 s), so that an aperture's image holds what its own pulses focus to.
     const double v = d_geo.velocity_mps;
-    const double r_min = first_range;
-    const double r_max = first_range + (d_K - 1) * range_bin;
+    // The shift and the overlap follow the ranges where the scene's targets are (its slant
+    // range extent within the window), not the whole window: an uncropped range IFFT
+    // (--range-crop off) reaches km beyond the scene, and its far end would place the
+    // output window past the targets and make the overlap (and the memory) grow with it.
+    // Bins beyond the scene hold no target, so their own focusing window does not matter.
+    double r_min = first_range;
+    double r_max = first_range + (d_K - 1) * range_bin;
+    if (ext.max_slant_range_m >= r_min && ext.min_slant_range_m <= r_max) {
+        r_min = std::max(r_min, ext.min_slant_range_m);
+        r_max = std::min(r_max, ext.max_slant_range_m);
+    }
     auto lines = [&](double f, double r) {
         return f * d_geo.wavelength_m() * r / (2.0 * v * v) / T;
     };
@@ -402,10 +422,27 @@ void rd_focuser_impl::add_aperture_tags(int port,
     add_item_tag(port,
                  item,
                  tags::range_axis_key(),
-                 pmt::make_tuple(pmt::from_double(d_first_range),
+                 pmt::make_tuple(pmt::from_double(d_first_range + d_cfg.guard_bins * d_range_bin),
                                  pmt::from_double(d_range_bin),
-                                 pmt::from_uint64(d_K)));
+                                 pmt::from_uint64(num_output_bins())));
 }
+
+// guard: lines of K bins -> lines of the K - 2 g inner bins (one copy when g = 0).
+void rd_focuser_impl::copy_inner(gr_complex* dst, const gr_complex* src, unsigned lines) const
+{
+    const unsigned g = d_cfg.guard_bins;
+    if (g == 0) {
+        std::memcpy(dst, src, sizeof(gr_complex) * lines * d_K);
+        return;
+    }
+    const unsigned ko = d_K - 2 * g;
+    for (unsigned m = 0; m < lines; ++m)
+        std::memcpy(dst + static_cast<size_t>(m) * ko,
+                    src + static_cast<size_t>(m) * d_K + g,
+                    sizeof(gr_complex) * ko);
+}
+
+unsigned rd_focuser_impl::num_output_bins() const { return d_K - 2 * d_cfg.guard_bins; }
 
 int rd_focuser_impl::drain(gr_complex* out, int noutput, int produced)
 {
@@ -423,9 +460,9 @@ int rd_focuser_impl::drain(gr_complex* out, int noutput, int produced)
             d_nonfinite.rearm();
         }
         const unsigned n = std::min<unsigned>(d_out_len - d_out_pos, noutput - produced);
-        std::memcpy(out + static_cast<size_t>(produced) * d_K,
-                    &d_out[static_cast<size_t>(d_out_pos) * d_K],
-                    sizeof(gr_complex) * n * d_K);
+        copy_inner(out + static_cast<size_t>(produced) * num_output_bins(),
+                   &d_out[static_cast<size_t>(d_out_pos) * d_K],
+                   n);
         d_out_pos += n;
         produced += n;
     }
@@ -443,9 +480,9 @@ int rd_focuser_impl::drain_rd(gr_complex* out, int noutput, int produced)
             ++d_rd_apertures;
         }
         const unsigned n = std::min<unsigned>(d_rd_len - d_rd_pos, noutput - produced);
-        std::memcpy(out + static_cast<size_t>(produced) * d_K,
-                    &d_rd[static_cast<size_t>(d_rd_pos) * d_K],
-                    sizeof(gr_complex) * n * d_K);
+        copy_inner(out + static_cast<size_t>(produced) * num_output_bins(),
+                   &d_rd[static_cast<size_t>(d_rd_pos) * d_K],
+                   n);
         d_rd_pos += n;
         produced += n;
     }

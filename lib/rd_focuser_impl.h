@@ -125,6 +125,8 @@ public:
     double pulse_interval_s() const override;
     double first_range_m() const override;
     double range_bin_m() const override;
+    unsigned num_output_bins() const override;
+    void copy_inner(gr_complex* dst, const gr_complex* src, unsigned lines) const; // guard
     double band_lo_hz() const override;
     double band_hi_hz() const override;
     unsigned band_bins() const override;

@@ -38,9 +38,11 @@
 3. Metrics of both images by the same nmse_probe kernel (the reference image's own reference
    branch as SPEC 8's ref), and NMSE_fast - NMSE_double (goal: |.| <= 0.1 dB). Also the NMSE of
    both in float64 numpy on the whole window and on the range bins at least Delta k_max +
-   taps/2 from the crop edges (where the fast RCMC kernel reads zeros beyond the crop).
-   --guard-m G: the fast chain crops G metres wider on each side and both are measured on the
-   window of --range-margin-m (the crop-edge effect removed).
+   taps/2 from the crop edges (before nrsar-sim's guard bins, the fast RCMC kernel read zeros
+   beyond the crop there; now the fast chain crops ceil(Delta k_max) + taps/2 bins wider and
+   its focuser drops them, so the edge bins carry their full noise).
+   --guard-m G: the fast chain crops G metres wider still on each side and both are measured
+   on the window of --range-margin-m.
 Prints one JSON object (keys fast, double, fast_minus_double, nmse64_db, double_time_s,
 peak_rss_mb, goal_met); exit status 0 when the goal is met. Results: docs/performance.md.
 Big arrays live in files under --work (column blocks, so no array of the aperture is ever in
@@ -352,7 +354,7 @@ def run_fast(args):
 
     def build_keeping_reference(tb, num, geo, scn, a, symbols):
         chain = build(tb, num, geo, scn, a, symbols)
-        kept["ref"] = blocks.vector_sink_c(chain["range_ifft"].num_bins())
+        kept["ref"] = blocks.vector_sink_c(chain["focuser"].num_output_bins())  # guard
         kept["chain"] = chain
         tb.connect(chain["focuser_ref"], kept["ref"])
         return chain

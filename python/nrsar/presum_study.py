@@ -127,7 +127,7 @@ def image_run(presum, d, preset, seconds, seed=1):
     start = time.perf_counter()
     tb.run()
     runtime = time.perf_counter() - start
-    k = chain["range_ifft"].num_bins()
+    k = chain["focuser"].num_output_bins()  # guard: the image drops the guard bins
     img = np.array(chain["image_sink"].data(), complex).reshape(-1, k)
     m = {key: float(v) for key, v in chain["probe"].metrics().items()}
     line_m = geo.velocity_mps * num.symbol_s() * (1 if presum == "none" else d)

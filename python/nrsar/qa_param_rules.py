@@ -468,6 +468,9 @@ RULES = [
      "tx_start_time = nan must be a finite time"),
     ("ofdm_demod", "set_tx_start_time +inf",
      lambda: nrsar.ofdm_demod(num()).set_tx_start_time(INF), "tx_start_time = inf"),
+    # guard (rd_focuser guard bins)
+    ("rd_focuser", "guard bins half the range bins",
+     lambda: foc(k=16, c=focuser_config(guard_bins=8)), "guard_bins = 8 must be below"),
 ]
 
 

@@ -155,5 +155,62 @@ class qa_sim(gr_unittest.TestCase):
         self.assertIn("cyclic prefix too short", proc.stderr)
 
 
+    # guard
+    def test_range_crop_off_keeps_a_target_ahead_of_the_track_in_the_image(self):
+        # An uncropped range window reaches 5 km; the focuser used to place its output
+        # lines (and size its overlap) for the window's far end, 66 m past a target ahead
+        # of the track. It now follows the scene's ranges: the target is in the image, at
+        # its place, and the wide window costs no more lines of overlap than the crop.
+        common = ["--preset", "small", "--mode", "srs2", "--target", "300,100",
+                  "--snr-db", "10"]
+        runs = {c: sim.run(parse(common + ["--range-crop", c, "--out",
+                                           os.path.join(self.out, c)]))
+                for c in ("on", "off")}
+        self.assertEqual(runs["off"]["range_bins"], runs["off"]["range_fft_size"])
+        for c, r in runs.items():
+            image = np.load(r["image_npy"])
+            az_first, az_step = r["azimuth_axis_m"]
+            self.assertLess(az_first, 100.0, c)
+            self.assertGreater(az_first + az_step * (image.shape[0] - 1), 100.0, c)
+            line, bin_ = np.unravel_index(np.argmax(np.abs(image)), image.shape)
+            first, step = r["range_axis_m"]
+            self.assertLess(abs(first + bin_ * step - math.hypot(300.0, 1000.0)), 2 * step, c)
+            self.assertLess(abs(az_first + line * az_step - 100.0), 1.0, c)
+            self.assertFalse(r["warnings"], c)
+        self.assertEqual(runs["off"]["azimuth_axis_m"], runs["on"]["azimuth_axis_m"])
+
+    def test_memory_refusal_names_the_size(self):
+        from gnuradio import gr as gr_
+        args = parse(["--preset", "small", "--range-crop", "off", "--out", self.out])
+        num, geo, scn, _, symbols, _ = sim.scenario_of(args)
+        chain = sim.build_chain(gr_.top_block(), num, geo, scn, args, symbols)
+        need = sim.memory_estimate_bytes(chain["range_ifft"], chain["focuser"], symbols, True)
+        # range sink alone: K bins x every symbol, 8 bytes each
+        self.assertGreater(need, 8 * chain["range_ifft"].num_bins() * symbols)
+        with self.assertRaises(ValueError) as ctx:
+            sim.check_memory(chain["range_ifft"], chain["focuser"], symbols, True,
+                             limit_bytes=need / 2)
+        self.assertIn(f"{need / 2**30:.1f} GiB", str(ctx.exception))
+        self.assertIn("--range-crop on", str(ctx.exception))
+        sim.check_memory(chain["range_ifft"], chain["focuser"], symbols, True,
+                         limit_bytes=need * 2)  # fits: no error
+
+    def test_guard_bins_keep_the_json_range_axis(self):
+        # The crop is widened by the RCMC's reach and the focuser drops it again: the image
+        # holds the bins of the scene's swath +- margin, as before, on the same axis.
+        args = parse(["--preset", "small", "--aperture-s", "0.2", "--target", "300,5",
+                      "--out", self.out])
+        r = sim.run(args)
+        num, geo, scn, _, symbols, _ = sim.scenario_of(args)
+        ext = sim.params.compute_extent(geo, scn)
+        step = r["range_axis_m"][1]
+        margin = max(30.0, 16 * step)
+        lo = math.ceil((ext.min_slant_range_m - margin) / step - 1e-9)
+        hi = math.floor((ext.max_slant_range_m + margin) / step + 1e-9)
+        self.assertAlmostEqual(r["range_axis_m"][0], lo * step, 6)
+        self.assertEqual(r["range_bins"], hi - lo + 1)
+        self.assertEqual(np.load(r["image_npy"]).shape[1], r["range_bins"])
+        self.assertEqual(np.load(r["range_compressed_npy"]).shape[1], r["range_bins"])
+
 if __name__ == '__main__':
     gr_unittest.run(qa_sim)

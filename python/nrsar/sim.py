@@ -73,7 +73,8 @@ def add_arguments(parser):
                         help="length of the windowed-sinc RCMC interpolator, eq. (41)")
     parser.add_argument("--range-margin-m", type=float, default=30.0,
                         help="slant range kept on each side of the scene's swath [m] "
-                             "(at least 16 range bins)")
+                             "(at least 16 range bins; the chain crops the RCMC's reach "
+                             "wider and the focuser drops it again)")
     parser.add_argument("--presum", default="none", choices=sorted(PRESUM),
                         help="azimuth presummer after the range IFFT (cheby_presum), both branches")
     parser.add_argument("--decim", type=int, default=10,
@@ -169,6 +170,67 @@ def scene_echo_front(tb, num, geo, scn, args, grid):
     return echo, (echo, 0), (echo, 1)
 
 
+# guard
+def rcmc_guard_bins(num, geo, scn, args, nfft, r_max_m):
+    """Range bins the RCMC reads beyond an image edge at slant range r_max_m: the largest
+    migration over the focuser's processed band (scene band with the focuser's margin, or
+    the pulse rate for --band full), hyperbolic, eq. (41), plus rcmc_taps / 2 kernel bins."""
+    ext = params.compute_extent(geo, scn)
+    bw = ext.max_doppler_hz - ext.min_doppler_hz
+    margin = 0.1 * bw + 2.0 / geo.aperture_s  # the focuser's automatic band margin
+    f_max = max(abs(ext.min_doppler_hz - margin), abs(ext.max_doppler_hz + margin))
+    if args.band == "full":
+        _, _, spp = grid_of_mode(args.mode, num)
+        f_max = 0.5 / (num.symbol_s() * spp * presum_factor(args))
+    u = 299792458.0 / geo.carrier_hz * f_max / (2.0 * geo.velocity_mps)
+    rho = num.range_bin_m(nfft)
+    if u * u < 0.99:
+        mig = r_max_m * (1.0 / math.sqrt(1.0 - u * u) - 1.0) / rho
+    else:
+        mig = r_max_m * u * u / 2.0 / rho  # the focuser's fallback, eq. (40)
+    return int(math.ceil(mig)) + args.rcmc_taps // 2
+
+
+def guarded_crop(num, geo, scn, args, nfft, crop):
+    """(wider crop, guard bins g): the range_ifft crop widened by g bins on each side, so
+    that the focuser (cfg.guard_bins = g) outputs exactly the bins of `crop`, each of whose
+    RCMC kernels reads data, not zeros past the crop (docs/blocks/rd_focuser.md, guard)."""
+    rho = num.range_bin_m(nfft)
+    g = rcmc_guard_bins(num, geo, scn, args, nfft, crop[1])  # the far edge migrates most
+    return (max(0.0, crop[0] - g * rho), crop[1] + g * rho), g
+
+
+def memory_estimate_bytes(rif, foc, symbols, keep):
+    """Bytes the chain holds at once: per branch the focuser's processing block, its
+    output aperture and its band tables (K x (before + 2 M + after + 2.5 B), B processed
+    Doppler bins; ESTIMATE also keeps K x fft_size spectra), and with --images keep the
+    range-compressed data and the image of the aperture, twice (the sinks' vectors and
+    the numpy arrays written from them). Measured: paper, 0.1 s, --range-crop off:
+    estimate 4.4 GiB, peak RSS 5.0 GiB."""
+    k = rif.num_bins()
+    m = foc.lines_per_aperture()
+    block = k * (foc.overlap_before() + 2 * m + foc.overlap_after() + 2.5 * foc.band_bins())
+    if foc.config().band == doppler_band.ESTIMATE:
+        block += k * foc.fft_size()
+    sinks = 2 * (k * symbols + foc.num_output_bins() * m) if keep else 0
+    return int(8 * (2 * block + sinks))
+
+
+def check_memory(rif, foc, symbols, keep, limit_bytes=None):
+    """Refuses (ValueError) a chain that would need more than half the machine's memory,
+    naming the size and the options that reduce it (an uncropped range window at the full
+    pulse rate is the usual culprit)."""
+    need = memory_estimate_bytes(rif, foc, symbols, keep)
+    if limit_bytes is None:
+        limit_bytes = 0.5 * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    if need > limit_bytes:
+        raise ValueError(
+            f"the imaging chain needs about {need / 2**30:.1f} GiB ({rif.num_bins()} range "
+            f"bins x {foc.lines_per_aperture()} lines per aperture, {symbols} symbols kept), "
+            f"more than {limit_bytes / 2**30:.1f} GiB (half the memory): use --range-crop on, "
+            f"--presum cheby, a shorter --aperture-s or --images none")
+
+
 def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo_front):
     """Connects the imaging chain and its reference branch into top block tb.
 
@@ -195,14 +257,18 @@ def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo
     # At least 16 bins each side, so the probe has target-free bins for SNR_out.
     margin = max(args.range_margin_m, 16 * num.range_bin_m(nfft))
     crop = (max(0.0, extent.min_slant_range_m - margin), extent.max_slant_range_m + margin)
+    guard = 0
     if getattr(args, "range_crop", "on") == "off":
         crop = (0.0, 0.0)  # every bin
+    else:  # guard: crop wider by the RCMC's reach; the focuser drops it again
+        crop, guard = guarded_crop(num, geo, scn, args, nfft, crop)
     tf_domain = getattr(args, "presum_domain", "range") == "tf"
     cfg = focuser_config()
     cfg.symbols_per_pulse = pulse_symbols
     cfg.band = {"scene": doppler_band.SCENE, "estimate": doppler_band.ESTIMATE,
                 "full": doppler_band.FULL}[args.band]
     cfg.rcmc_taps = args.rcmc_taps
+    cfg.guard_bins = guard
     cfg.lines_per_aperture = symbols // cfg.symbols_per_pulse
     # cheby_presum: the focuser sees pulses D times further apart (the presummer also
     # tags the new pulse interval on its first output).
@@ -240,15 +306,15 @@ def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo
     # 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's randomness.
     ones = blocks.vector_source_c([1.0 + 0.0j] * n, True, n)
     tff_ref = tf_filter(n, filter_type, args.snr_db, False)
-    k = rif.num_bins()
+    k = foc.num_output_bins()  # guard: the image's bins (the crop minus the guard bins)
     probe = nmse_probe(num, geo, scn, constellation(modulation).points(), filter_type,
                        args.snr_db, k, reference_input=True,
                        symbols_per_aperture=symbols)
     if getattr(args, "images", "keep") == "none":  # stress: metrics only
-        range_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
+        range_sink = blocks.null_sink(gr.sizeof_gr_complex * rif.num_bins())
         image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
     else:
-        range_sink = blocks.vector_sink_c(k, symbols)
+        range_sink = blocks.vector_sink_c(rif.num_bins(), symbols)
         image_sink = blocks.vector_sink_c(k, symbols)
     tb.connect(echo_out, (tff, 0))
     tb.connect(head, (tff, 1))
@@ -266,6 +332,7 @@ def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo
             tb.connect(source,
                        blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, spp, srs.symbol_in_slot),
                        sink)
+    check_memory(rif, foc, symbols, getattr(args, "images", "keep") != "none")  # guard
     tb.connect(rif, range_sink)
     tb.connect(foc, image_sink)
     tb.connect(foc, (probe, 0))
@@ -378,14 +445,18 @@ def image_results(args, chain, num, geo, scn, warnings, symbols, pulse_symbols, 
     rx_times = rx_block_times(chain)
 
     rif, probe = chain["range_ifft"], chain["probe"]
-    k = rif.num_bins()
-    range_axis = [rif.range_axis_first_m(), rif.range_bin_m()]
+    # guard: the image (and the range-compressed data written with it) keeps the crop's
+    # inner bins; the focuser dropped guard bins on each side.
+    k = chain["focuser"].num_output_bins()
+    guard = chain["focuser"].config().guard_bins
+    range_axis = [rif.range_axis_first_m() + guard * rif.range_bin_m(), rif.range_bin_m()]
     slow_time_axis = [geo.track_start_m, geo.velocity_mps * num.symbol_s() * pulse_symbols]
     if getattr(args, "presum_domain", "range") == "tf":  # stress: presummed before the IFFT
         slow_time_axis[1] *= presum_factor(args)
     keep = getattr(args, "images", "keep") != "none"
     if keep:
-        compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(-1, k)
+        compressed = np.asarray(chain["range_sink"].data(), dtype=np.complex64).reshape(
+            -1, rif.num_bins())[:, guard:guard + k]
         image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
         azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
     else:  # stress: null sinks; the probe's line count and the focuser's axis

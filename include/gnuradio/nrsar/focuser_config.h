@@ -66,6 +66,13 @@ struct NRSAR_API focuser_config {
      * and the range bin spacing rho.
      */
     double range_centre_cycles = std::numeric_limits<double>::quiet_NaN();
+    /*!
+     * Guard bins dropped from each side of the output (guard): the RCMC kernel of the edge
+     * bins reads (max migration + rcmc_taps / 2) bins beyond them, zeros past the crop, so
+     * those bins carry less noise. The input is cropped g bins wider on each side and the
+     * block outputs only the K - 2 g inner bins (range_axis tag moved by g bins). 0: none.
+     */
+    unsigned guard_bins = 0;
 
     void validate() const;
 };

@@ -68,7 +68,8 @@ public:
      * \param geo platform geometry (carrier, v, track start, aperture Ta)
      * \param scn the scene: its Doppler band (compute_extent) sets the processed band
      *            (doppler_band::SCENE) and the automatic overlap
-     * \param num_range_bins K, the vector length of both ports
+     * \param num_range_bins K, the vector length of the input; both outputs carry the
+     *        K - 2 cfg.guard_bins inner bins (num_output_bins())
      * \param first_range_m slant range of bin 0 [m] when no range_axis tag arrives
      * \param range_bin_m slant-range spacing of the bins [m]; 0: c / (2 num.fft_size Delta f)
      * \param cfg processing options (focuser_config: band, RCMC, overlap, M, FFT size)
@@ -98,6 +99,8 @@ public:
     virtual double pulse_interval_s() const = 0;
     virtual double first_range_m() const = 0;
     virtual double range_bin_m() const = 0;
+    //! Bins per output line: num_range_bins - 2 cfg.guard_bins (guard).
+    virtual unsigned num_output_bins() const = 0;
     //! Doppler band processed for the last aperture [Hz] and its number of FFT bins (the
     //! lines of one rd_map aperture; before the first aperture: those of the configured band).
     virtual double band_lo_hz() const = 0;

@@ -52,7 +52,8 @@ void bind_rd_focuser(py::module& m)
                          gr::fft::window::win_type rcmc_window,
                          double rcmc_window_param,
                          double rcmc_skip_below_bins,
-                         double range_centre_cycles) {
+                         double range_centre_cycles,
+                         unsigned guard_bins) {
                  focuser_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -68,6 +69,7 @@ void bind_rd_focuser(py::module& m)
                  c.rcmc_window_param = rcmc_window_param;
                  c.rcmc_skip_below_bins = rcmc_skip_below_bins;
                  c.range_centre_cycles = range_centre_cycles;
+                 c.guard_bins = guard_bins;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -84,6 +86,7 @@ void bind_rd_focuser(py::module& m)
              py::arg("rcmc_window_param") = 6.0,
              py::arg("rcmc_skip_below_bins") = 0.05,
              py::arg("range_centre_cycles") = std::numeric_limits<double>::quiet_NaN(),
+             py::arg("guard_bins") = 0u,
              "focuser_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &focuser_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &focuser_config::lines_per_aperture)
@@ -99,6 +102,7 @@ void bind_rd_focuser(py::module& m)
         .def_readwrite("rcmc_window_param", &focuser_config::rcmc_window_param)
         .def_readwrite("rcmc_skip_below_bins", &focuser_config::rcmc_skip_below_bins)
         .def_readwrite("range_centre_cycles", &focuser_config::range_centre_cycles)
+        .def_readwrite("guard_bins", &focuser_config::guard_bins)
         .def("validate", &focuser_config::validate);
 
     py::class_<rd_focuser, gr::block, gr::basic_block, std::shared_ptr<rd_focuser>>(
@@ -121,6 +125,7 @@ void bind_rd_focuser(py::module& m)
         .def("pulse_interval_s", &rd_focuser::pulse_interval_s)
         .def("first_range_m", &rd_focuser::first_range_m)
         .def("range_bin_m", &rd_focuser::range_bin_m)
+        .def("num_output_bins", &rd_focuser::num_output_bins)
         .def("band_lo_hz", &rd_focuser::band_lo_hz)
         .def("band_hi_hz", &rd_focuser::band_hi_hz)
         .def("band_bins", &rd_focuser::band_bins)
