@@ -72,7 +72,7 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
                 gr::io_signature::make(1, 1, sizeof(gr_complex) * num_range_bins),
                 // out: the image; optional rd_map: the range-Doppler map after RCMC.
                 gr::io_signature::make(
-                    1, 2, sizeof(gr_complex) * output_vlen(checked_vlen(num_range_bins), cfg))),
+                    1, 2, sizeof(gr_complex) * output_vlen(num_range_bins, cfg))),
       d_num(num),
       d_geo(geo),
       d_scn(scn),
