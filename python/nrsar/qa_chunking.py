@@ -33,6 +33,8 @@ from gnuradio.nrsar import backhaul, isac, params, sim
 
 # max_noutput_items per block of the chunked run: small, different, co-prime
 LIMITS = (3, 7, 5, 2, 11, 1)
+# free-running sample streams at the end of the base-station graph (see assert_same)
+STREAMS = ("sync_out", "demod_out")
 
 
 def sim_args(extra):
@@ -122,6 +124,12 @@ class qa_chunking(gr_unittest.TestCase):
         self.assertEqual(sorted(a), sorted(b))
         for key in a:
             x, y = np.asarray(a[key]), np.asarray(b[key])
+            if key in STREAMS:
+                # where a stream stops at the end of the run is up to the scheduler (stock
+                # mmse_resampler / fft_filter leave a few samples of the tail unconsumed):
+                # the common part must be identical and end within a few samples
+                self.assertLess(abs(x.size - y.size), 256, f"{what}: {key} length")
+                x, y = x[:min(x.size, y.size)], y[:min(x.size, y.size)]
             self.assertEqual(x.shape, y.shape, f"{what}: {key} shape")
             diff = np.abs(x.astype(complex) - y).max() if x.size and x.shape == y.shape \
                 else 0.0
@@ -168,6 +176,49 @@ class qa_chunking(gr_unittest.TestCase):
         self.assert_same(run_base_station(("delay", "sync", "demod", "receiver"), "default", 3,
                                           25.0), ref, "ldpc")
 
+    def test_007_channel_with_simd_volk(self):
+        # The SIMD kernels are where call boundaries change rounding (alignment, FMA body vs
+        # scalar tail): this check runs in a child process without VOLK_GENERIC. Stock
+        # channel_model is only reported (it differs at ~1e-7 there); nrsar-isac's
+        # chunk_invariant_channel must be bit-identical.
+        import subprocess
+        import sys
+        env = dict(os.environ)
+        env.pop("VOLK_GENERIC", None)
+        out = subprocess.run([sys.executable, os.path.abspath(__file__), "--channel-child"],
+                             env=env, capture_output=True, text=True, timeout=300)
+        self.assertEqual(out.returncode, 0, out.stdout + out.stderr)
+        self.assertIn("chunk_invariant_channel max diff 0", out.stdout)
+
+
+def channel_child():
+    """Channel output with normal vs tiny work() sizes upstream (SIMD VOLK)."""
+    from gnuradio import channels
+    x = np.random.default_rng(1).standard_normal((2, 60001)).astype(np.float32)
+    x = (x[0] + 1j * x[1]).astype(np.complex64)
+    taps = isac.parse_taps(isac.DEFAULT_TAPS)
+
+    def run(make, limit):
+        tb = gr.top_block()
+        src, cp, chan = blocks.vector_source_c(x.tolist()), blocks.copy(gr.sizeof_gr_complex), make()
+        sink = blocks.vector_sink_c()
+        if limit:
+            cp.set_max_noutput_items(limit)
+        tb.connect(src, cp, chan, sink)
+        tb.run()
+        return np.asarray(sink.data())
+
+    for name, make in (("channel_model", lambda: channels.channel_model(0.05, 0.3 / 64, 1.0, taps, 7)),
+                       ("chunk_invariant_channel",
+                        lambda: isac.chunk_invariant_channel(0.05, 0.3 / 64, taps, 7))):
+        a, b = run(make, 0), run(make, 3)
+        n = min(a.size, b.size)
+        print(f"{name} max diff {np.abs(a[:n] - b[:n]).max():g} ({a.size} / {b.size} samples)")
+
 
 if __name__ == "__main__":
-    gr_unittest.run(qa_chunking)
+    import sys
+    if "--channel-child" in sys.argv:
+        channel_child()
+    else:
+        gr_unittest.run(qa_chunking)
