@@ -85,17 +85,59 @@ void ofdm_demodulator::execute(const gr_complex* in, gr_complex* out)
                                2 * d_k0);
 }
 
+double phase_rotator::phase() const
+{
+    const double off = double(d_count % block);
+    return std::remainder(d_block_phase + 2.0 * M_PI * d_freq * off, 2.0 * M_PI);
+}
+
+void phase_rotator::set_phase(double phase)
+{
+    d_block_phase = std::remainder(phase, 2.0 * M_PI);
+    d_count = 0;
+    d_table_block = -1;
+}
+
+void phase_rotator::set_frequency(double freq)
+{
+    const double ph = phase();
+    d_freq = freq;
+    set_phase(ph);
+}
+
 void phase_rotator::rotate(const gr_complex* in, gr_complex* out, std::size_t n)
 {
-    constexpr std::size_t block = 512;
     const double step = 2.0 * M_PI * d_freq;
-    const gr_complex inc(float(std::cos(step)), float(std::sin(step)));
-    for (std::size_t i = 0; i < n; i += block) {
-        const std::size_t len = std::min(block, n - i);
-        // The float phasor VOLK advances is re-seeded from the double phase every block.
-        gr_complex ph(float(std::cos(d_phase)), float(std::sin(d_phase)));
-        volk_32fc_s32fc_x2_rotator_32fc(out + i, in + i, inc, &ph, len);
-        d_phase = std::remainder(d_phase + step * double(len), 2.0 * M_PI);
+    if (d_table.size() != block)
+        d_table.resize(block);
+    std::size_t i = 0;
+    while (i < n) {
+        const auto blk = std::int64_t(d_count / block);
+        const std::size_t off = std::size_t(d_count % block);
+        if (blk != d_table_block) {
+            // Blocks follow one another (d_count only grows): advance the double phase by
+            // whole blocks, then the phasors of this block from a fresh float seed.
+            if (d_table_block >= 0)
+                d_block_phase = std::remainder(
+                    d_block_phase + step * double(block) * double(blk - d_table_block),
+                    2.0 * M_PI);
+            const gr_complex inc(float(std::cos(step)), float(std::sin(step)));
+            gr_complex ph(float(std::cos(d_block_phase)), float(std::sin(d_block_phase)));
+            std::fill(d_table.begin(), d_table.end(), gr_complex(1.0f, 0.0f));
+            volk_32fc_s32fc_x2_rotator_32fc(d_table.data(), d_table.data(), inc, &ph, block);
+            d_table_block = blk;
+        }
+        const std::size_t len = std::min(block - off, n - i);
+        // Own loop, not VOLK's multiply: its FMA kernel and its scalar tail round
+        // differently, so the value of a sample would depend on where the call began.
+        const gr_complex* t = d_table.data() + off;
+        for (std::size_t k = 0; k < len; k++) {
+            const float ar = in[i + k].real(), ai = in[i + k].imag();
+            const float br = t[k].real(), bi = t[k].imag();
+            out[i + k] = gr_complex(ar * br - ai * bi, ar * bi + ai * br);
+        }
+        i += len;
+        d_count += len;
     }
 }
 

@@ -13,7 +13,7 @@ station and images the ground with the same waveform, in one GNU Radio flowgraph
        -> rd_focuser -> nmse_probe  (reference branch: scene_echo's S = 1 echo, as nrsar-sim)
        --radar-domain tf: scene_echo on the grid (nrsar-sim's chain)
    (a) base station:
-       ofdm_mod -> blocks.delay -> channels.channel_model (noise, CFO, taps) -> ofdm_sync
+       ofdm_mod -> blocks.delay -> chunk_invariant_channel (channel_model: noise, CFO, taps) -> ofdm_sync
        -> ofdm_demod -> pusch_receiver -> PDUs -> decoded file
 
 The image, its metrics and the JSON keys are nrsar-sim's (SPEC 9); the backhaul adds
@@ -26,7 +26,7 @@ import time
 
 import numpy as np
 import pmt
-from gnuradio import analog, blocks, channels, gr
+from gnuradio import analog, blocks, gr
 
 from . import backhaul, params, progress, sim
 from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
@@ -142,14 +142,48 @@ def build_transmitter(tb, num, args, payload):
     return enc, tx, dmrs, chunks
 
 
+class chunk_invariant_channel(gr.hier_block2):
+    """channels.channel_model(noise_voltage, cfo, 1.0, taps, seed) rebuilt from the same
+    stock blocks, except the two whose rounding depends on how the scheduler cuts the stream
+    (qa_chunking): channel_model's fir_filter_ccc picks its VOLK dot-product kernel by the
+    input buffer's alignment, and its multiply_cc runs the FMA kernel on the body of a call
+    and the scalar one on its tail (1e-7 differences, bs_evm_db varying between runs). Here
+    the taps go through fft_filter_ccc (whole FFT blocks) and the CFO mixer works on vectors
+    of 8 samples (no tail): the output is a function of the input stream only. Same order
+    as channel_model: timing (mmse_resampler, ratio 1), multipath, CFO, noise. The stream's
+    last < 8 samples are dropped."""
+
+    MIX_VLEN = 8
+
+    def __init__(self, noise_voltage, frequency_offset, taps, noise_seed):
+        gr.hier_block2.__init__(self, "chunk_invariant_channel",
+                                gr.io_signature(1, 1, gr.sizeof_gr_complex),
+                                gr.io_signature(1, 1, gr.sizeof_gr_complex))
+        from gnuradio import filter as gr_filter
+        v = self.MIX_VLEN
+        timing = gr_filter.mmse_resampler_cc(0.0, 1.0)
+        multipath = gr_filter.fft_filter_ccc(1, list(taps), 1)
+        lo = analog.sig_source_c(1.0, analog.GR_SIN_WAVE, frequency_offset, 1.0, 0.0)
+        mixer = blocks.multiply_vcc(v)
+        noise = analog.fastnoise_source_c(analog.GR_GAUSSIAN, noise_voltage, noise_seed,
+                                          1024 * 8)
+        adder = blocks.add_cc()
+        self.connect(self, timing, multipath,
+                     blocks.stream_to_vector(gr.sizeof_gr_complex, v), (mixer, 0))
+        self.connect(lo, blocks.stream_to_vector(gr.sizeof_gr_complex, v), (mixer, 1))
+        self.connect(mixer, blocks.vector_to_stream(gr.sizeof_gr_complex, v), (adder, 1))
+        self.connect(noise, (adder, 0))
+        self.connect(adder, self)
+
+
 def build_base_station(tb, num, args, dmrs, source):
     """source (time-domain uplink) -> delay -> channel_model -> ofdm_sync -> ofdm_demod ->
     pusch_receiver -> message_debug (store). Returns the blocks by name."""
     mod = params.make_modulation(args.modulation)
     delay = blocks.delay(gr.sizeof_gr_complex, args.delay_samples)
     noise_voltage = 10.0 ** (-args.bs_snr_db / 20.0)  # per sample = per RE (unitary OFDM)
-    chan = channels.channel_model(noise_voltage, args.cfo_hz / num.sample_rate_hz(), 1.0,
-                                  parse_taps(args.taps), args.seed + 2)
+    chan = chunk_invariant_channel(noise_voltage, args.cfo_hz / num.sample_rate_hz(),
+                                   parse_taps(args.taps), args.seed + 2)
     sync = ofdm_sync(num, dmrs)
     demod = ofdm_demod(num)
     # ofdm_sync's backoff puts a phase slope across the subcarriers; pusch_receiver's

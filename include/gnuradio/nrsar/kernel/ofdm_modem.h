@@ -91,24 +91,33 @@ private:
  * phase_{i+1} = phase_i + 2 pi freq (freq in cycles per sample).
  *
  * VOLK's rotator (volk_32fc_s32fc_x2_rotator_32fc: float phasor, renormalised every few
- * hundred samples) runs over blocks of at most 512 samples; before each block the phasor is
- * set again from the double accumulator (wrapped to [-pi, pi)), so the phase error stays
- * below 512 times the float rounding of the increment's angle (about 3e-5 rad) instead of
- * growing with the stream length.
+ * hundred samples) makes the phasors of one block of 512 samples, seeded from the double
+ * accumulator (wrapped to [-pi, pi)) at the block's start, so the phase error stays below 512
+ * times the float rounding of the increment's angle (about 3e-5 rad) instead of growing with
+ * the stream length. The blocks are counted from the last set_phase / set_frequency, not
+ * from the start of a rotate() call, and the samples are multiplied by the block's stored
+ * phasors: the output is the same however the stream is cut into calls (chunk invariance,
+ * qa_chunking).
  */
 class NRSAR_API phase_rotator
 {
 public:
+    static constexpr std::size_t block = 512;
     explicit phase_rotator(double freq = 0.0) : d_freq(freq) {}
-    void set_frequency(double freq) { d_freq = freq; }
+    //! New frequency from the current sample on (the phase there is kept).
+    void set_frequency(double freq);
     double frequency() const { return d_freq; }
-    void set_phase(double phase) { d_phase = phase; }
-    double phase() const { return d_phase; }
+    //! Phase of the next sample; restarts the block grid there.
+    void set_phase(double phase);
+    double phase() const;
     void rotate(const gr_complex* in, gr_complex* out, std::size_t n);
 
 private:
     double d_freq = 0.0;
-    double d_phase = 0.0;
+    double d_block_phase = 0.0; // phase of the first sample of the current block
+    std::uint64_t d_count = 0;  // samples rotated since the grid (re)started
+    std::int64_t d_table_block = -1; // block whose phasors d_table holds
+    volk::vector<gr_complex> d_table;
 };
 
 /*!
