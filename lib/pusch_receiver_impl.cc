@@ -51,6 +51,9 @@ pusch_receiver_impl::pusch_receiver_impl(const numerology& num,
       d_rx(num, mod, dmrs, ldpc_alist, scrambling_id, freq_window, max_iterations)
 {
     set_tag_propagation_policy(TPP_DONT);
+    // Room for two slots of equalised REs: a slot is only finished when its REs all fit
+    // (see general_work), so none are left behind when the input ends.
+    set_min_output_buffer(0, 2 * static_cast<long>(d_rx.data_res()));
     d_slot_buf.resize(static_cast<std::size_t>(num.symbols_per_slot) * num.num_subcarriers);
     message_port_register_out(pdus_port());
 }
@@ -150,6 +153,15 @@ int pusch_receiver_impl::general_work(int noutput_items,
     while (used < avail) {
         if (d_eq_output && d_eq_pos < d_eq.size())
             break; // output 0 must take the previous slot first
+        // The slot's last symbol finishes it: take it only when all its equalised REs fit,
+        // so the scheduler calls again while input is left (at the end of the stream a
+        // remainder held back here would be lost).
+        // (A max_noutput_items below one slot falls back to draining across calls.)
+        if (d_eq_output && d_fill + 1 == sps &&
+            static_cast<std::size_t>(noutput_items - produced) < d_rx.data_res() &&
+            !(is_set_max_noutput_items() &&
+              static_cast<std::size_t>(max_noutput_items()) < d_rx.data_res()))
+            break;
         const std::uint64_t abs = base + static_cast<std::uint64_t>(used);
         while (next_tag < slot_tags.size() && slot_tags[next_tag].offset < abs)
             next_tag++;
