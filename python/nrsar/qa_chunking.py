@@ -24,9 +24,25 @@ generic VOLK kernels (VOLK_GENERIC=1, as every QA here), where it is exact."""
 import argparse
 import math
 import os
+import shutil
 import tempfile
 
 import numpy as np
+
+
+def private_fftw_wisdom():
+    """gr::fft plans with FFTW_MEASURE and shares wisdom through $HOME/.gr_fftw_wisdom; a
+    test running in parallel (ctest -j2) can rewrite it between the reference run and the
+    chunked run, so the two would use different FFT plans and differ by rounding (seen in
+    CI). A private copy of the wisdom keeps both runs on the same plans."""
+    home = tempfile.mkdtemp(prefix="qa_chunking_home_")
+    wisdom = os.path.join(os.path.expanduser("~"), ".gr_fftw_wisdom")
+    if os.path.isfile(wisdom):
+        shutil.copy(wisdom, home)
+    os.environ["HOME"] = home
+
+
+private_fftw_wisdom()
 
 from gnuradio import blocks, gr, gr_unittest
 from gnuradio.nrsar import backhaul, isac, params, sim
