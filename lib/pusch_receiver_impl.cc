@@ -178,18 +178,9 @@ int pusch_receiver_impl::general_work(int noutput_items,
             d_fill = 0;
             d_slot = pmt::to_uint64(slot_tags[next_tag].value);
         }
-        gr_complex* dst = d_slot_buf.data() + static_cast<std::size_t>(d_fill) * n;
-        const gr_complex* src = in + static_cast<std::size_t>(used) * n;
-        std::uint64_t bad = 0;
-        for (unsigned k = 0; k < n; k++) {
-            const gr_complex v = src[k];
-            if (std::isfinite(v.real()) && std::isfinite(v.imag())) {
-                dst[k] = v;
-            } else {
-                dst[k] = gr_complex(0.0f, 0.0f);
-                bad++;
-            }
-        }
+        std::size_t bad = 0;
+        const gr_complex* src = d_guard.guard(in + static_cast<std::size_t>(used) * n, n, bad);
+        std::copy(src, src + n, d_slot_buf.data() + static_cast<std::size_t>(d_fill) * n);
         if (bad) {
             d_nonfinite.note(d_logger, bad, abs);
             d_nonfinite_count += bad;

@@ -9,6 +9,7 @@
 #define INCLUDED_NRSAR_PUSCH_RECEIVER_IMPL_H
 
 #include "nonfinite_reporter.h"
+#include <gnuradio/nrsar/kernel/finite_guard.h>
 #include <gnuradio/nrsar/kernel/pusch_rx.h>
 #include <gnuradio/nrsar/pusch_receiver.h>
 #include <atomic>
@@ -28,6 +29,7 @@ private:
     std::vector<gr_complex> d_eq;       // equalised REs not yet written to output 0
     std::size_t d_eq_pos = 0;
     bool d_eq_output = false;
+    kernel::finite_guard d_guard;
     nonfinite_reporter d_nonfinite;
 
     std::atomic<std::uint64_t> d_ok{ 0 };

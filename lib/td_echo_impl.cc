@@ -127,12 +127,8 @@ int td_echo_impl::work(int noutput_items,
     if (d_bad_end > 0 && d_bad_end + hist > k0) {
         // Rare path: a non-finite sample in this call or in the history it reads: filter a
         // zeroed copy of history + input.
-        d_line.resize(hist + n);
-        for (std::size_t i = 0; i < hist + n; i++) {
-            const bool ok = std::isfinite(in[i].real()) && std::isfinite(in[i].imag());
-            d_line[i] = ok ? in[i] : gr_complex(0.0f, 0.0f);
-        }
-        x = d_line.data() + hist;
+        std::size_t in_window = 0;
+        x = d_guard.guard(in, hist + n, in_window) + hist;
     }
 
     const std::uint64_t before = d_echo.dropped_paths();

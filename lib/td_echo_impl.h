@@ -31,8 +31,6 @@ private:
     float d_sigma;
     nonfinite_reporter d_nonfinite;
     bool d_dropped_logged = false;
-    //! Zeroed copy of history + input, only while non-finite samples are in reach.
-    volk::vector<gr_complex> d_line;
     //! One past the absolute index of the last non-finite input sample (0: none yet).
     std::uint64_t d_bad_end = 0;
 
