@@ -11,6 +11,8 @@ non-finite input and parameter validation."""
 import numpy as np
 import pmt
 from gnuradio import blocks, gr, gr_unittest
+from gnuradio.nrsar.theory import ofdm_demodulate as numpy_demod
+from gnuradio.nrsar.theory import ofdm_modulate as numpy_mod
 
 try:
     from gnuradio import nrsar
@@ -19,23 +21,6 @@ except ImportError:
     import sys
     sys.path.append(os.path.join(os.path.dirname(os.path.abspath(__file__)), "bindings"))
     from gnuradio import nrsar
-
-
-def numpy_demod(x, num, fft_start):
-    n, f, cp = num.num_subcarriers, num.fft_size, num.cp_samples
-    k0 = (n // 2) & ~1
-    sym = np.asarray(x, np.complex128).reshape(-1, f + cp)
-    bins = np.fft.fft(sym[:, fft_start:fft_start + f], axis=1) / np.sqrt(f)
-    return bins[:, (np.arange(n) - k0) % f]
-
-
-def numpy_mod(grid, num):
-    n, f, cp = num.num_subcarriers, num.fft_size, num.cp_samples
-    k0 = (n // 2) & ~1
-    bins = np.zeros((grid.shape[0], f), np.complex128)
-    bins[:, (np.arange(n) - k0) % f] = grid
-    body = np.fft.ifft(bins, axis=1) * np.sqrt(f)
-    return np.concatenate([body[:, f - cp:], body], axis=1).ravel()
 
 
 class qa_ofdm_demod(gr_unittest.TestCase):

@@ -97,3 +97,28 @@ def table(modulation="qam256", snrs_db=(-20.0, 5.0, 20.0)):
 if __name__ == "__main__":
     for f, row in table().items():
         print(f.upper(), " ".join(f"{v:6.1f}" for v in row))
+
+
+def _ofdm_bins(num):
+    """FFT bin of every subcarrier: (n - k0) mod fft_size, k0 = floor(N/2) rounded down to even
+    (SPEC: the time-domain waveform's DC subcarrier)."""
+    n = num.num_subcarriers
+    return (np.arange(n) - ((n // 2) & ~1)) % num.fft_size
+
+
+def ofdm_modulate(grid, num):
+    """Grid (M, N) -> CP-OFDM time samples, float64: unitary IFFT, CP of cp_samples."""
+    f, cp = num.fft_size, num.cp_samples
+    bins = np.zeros((grid.shape[0], f), np.complex128)
+    bins[:, _ofdm_bins(num)] = grid
+    body = np.fft.ifft(bins, axis=1) * np.sqrt(f)
+    return np.concatenate([body[:, f - cp:], body], axis=1).ravel()
+
+
+def ofdm_demodulate(x, num, fft_start=None):
+    """CP-OFDM time samples -> grid (M, N), float64: unitary FFT of the fft_size samples from
+    fft_start (default cp_samples, right after the CP) of every symbol."""
+    f, cp = num.fft_size, num.cp_samples
+    start = cp if fft_start is None else fft_start
+    sym = np.asarray(x, np.complex128).reshape(-1, f + cp)
+    return (np.fft.fft(sym[:, start:start + f], axis=1) / np.sqrt(f))[:, _ofdm_bins(num)]
