@@ -497,6 +497,18 @@ void rd_focuser_impl::forecast(int, gr_vector_int& ninput_items_required)
     ninput_items_required[0] = done ? 1 : 2;
 }
 
+bool rd_focuser_impl::input_ended(int navail)
+{
+    // done() alone is not enough: the upstream may have written its last lines and set
+    // done after the scheduler counted navail, and flushing then would zero-pad lines that
+    // are already in the buffer (seen as a rare, load-dependent image difference). Read
+    // both under the buffer's lock, as the scheduler does, and require that nothing
+    // arrived since.
+    const auto& reader = detail()->input(0);
+    gr::thread::scoped_lock lock(*reader->mutex());
+    return reader->done() && reader->items_available() == navail;
+}
+
 int rd_focuser_impl::general_work(int noutput_items,
                                   gr_vector_int& ninput_items,
                                   gr_vector_const_void_star& input_items,
@@ -505,9 +517,9 @@ int rd_focuser_impl::general_work(int noutput_items,
     gr::thread::scoped_lock guard(d_setlock);
     const auto* in = static_cast<const gr_complex*>(input_items[0]);
     auto* out = static_cast<gr_complex*>(output_items[0]);
-    const bool upstream_done = detail()->input(0)->done();
     const uint64_t nread = nitems_read(0);
     const int navail = ninput_items[0];
+    const bool upstream_done = input_ended(navail);
     ensure_kernel();
     // The map is computed only while its port is connected (otherwise no extra work).
     d_want_rd = output_items.size() > 1;
