@@ -255,14 +255,19 @@ def run(args):
     with open(args.payload, "rb") as f:
         payload = f.read()
     num, geo, scn, warnings, symbols, pulse_symbols = sim.scenario_of(args)
-    if symbols < num.symbols_per_slot:
-        raise ValueError(f"symbols per aperture = {symbols} must be at least one slot")
+    if symbols < 2 * num.symbols_per_slot:
+        raise ValueError(f"symbols per aperture = {symbols} must be at least two slots "
+                         f"({2 * num.symbols_per_slot}; the last carries no payload)")
     tb = gr.top_block("nrsar-isac")
     enc, tx, dmrs, chunks = build_transmitter(tb, num, args, payload)
-    slots = symbols // num.symbols_per_slot
+    # The aperture's last slot carries no payload: it ends where the stream ends, and
+    # whether the base station sees all of it depends on how many samples the channel's
+    # stock blocks leave unconsumed at the end of the stream.
+    slots = symbols // num.symbols_per_slot - 1
     if len(chunks) > slots:
         raise ValueError(f"payload = {len(payload)} bytes needs {len(chunks)} slots, "
-                         f"the aperture has {slots}: shorten the file or lengthen --aperture-s")
+                         f"the aperture has {slots} (all but its last): shorten the file or "
+                         f"lengthen --aperture-s")
     mod = ofdm_mod(num)
     if args.radar_domain == "time":
         front = time_domain_front(mod)
