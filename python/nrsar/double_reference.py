@@ -89,14 +89,6 @@ def parse(argv):
     return parser.parse_args(argv)
 
 
-def rss_now_mb():
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024.0
-    return float("nan")
-
-
 def setup(args):
     num = params.make_numerology(args.preset)
     over = {} if args.aperture_s is None else {"aperture_s": args.aperture_s}

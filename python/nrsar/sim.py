@@ -373,6 +373,15 @@ def peak_rss_mb():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
+def rss_mb():
+    """Current resident set size of this process [MiB] (VmRSS of /proc/self/status)."""
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    return float("nan")
+
+
 def azimuth_axis_of(sink, fallback):
     """[first, step] of the focused image's azimuth axis from the focuser's tag."""
     for tag in sink.tags():

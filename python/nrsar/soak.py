@@ -28,15 +28,6 @@ from gnuradio import gr
 from . import params, sim
 
 
-def rss_mb():
-    """Current resident set size of this process [MiB] (VmRSS of /proc/self/status)."""
-    with open("/proc/self/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024.0
-    return float("nan")
-
-
 def add_arguments(parser):
     sim.add_arguments(parser)
     parser.add_argument("--minutes", type=float, default=10.0,
@@ -88,10 +79,10 @@ def run(args):
     waiter = threading.Thread(target=lambda: (tb.wait(), done.set()), daemon=True)
     waiter.start()
     while True:
-        samples.append((time.perf_counter() - start, head.nitems_written(0) * tsym, rss_mb()))
+        samples.append((time.perf_counter() - start, head.nitems_written(0) * tsym, sim.rss_mb()))
         if done.wait(args.interval_s):
             break
-    samples.append((time.perf_counter() - start, head.nitems_written(0) * tsym, rss_mb()))
+    samples.append((time.perf_counter() - start, head.nitems_written(0) * tsym, sim.rss_mb()))
     wall = time.perf_counter() - start
     cpu = time.process_time() - cpu0
 
