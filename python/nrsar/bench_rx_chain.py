@@ -15,19 +15,15 @@ integrate_cc(D, vlen) sums D consecutive vectors: the boxcar presum. The stock c
 crop (every one of the 3333 bins goes on) and no fast FFT size: that is what a stock flowgraph
 does. A second stock row puts keep_one_in_n (the paper's drop-by-10 shortcut) in place of the
 sum. Rates are input symbols per second (flowgraph) and CPU time in work() per symbol (GNU
-Radio performance counters, child process).
+Radio performance counters).
 """
 
-import json
-import os
-import subprocess
-import sys
 
 import numpy as np
 from gnuradio import blocks, fft, gr
 
 from gnuradio import nrsar
-from gnuradio.nrsar import benchutil
+from gnuradio.nrsar import benchutil, sim
 
 VLEN = 3333
 D = 10
@@ -78,27 +74,17 @@ def build_stock(tb, n_items, y, s, drop=False):
     return [mul, ifft, pre]
 
 
-def _work_time_child(n_items):
-    """Child with the performance counters on: work() CPU us per input symbol, per chain."""
+def work_time_per_symbol(n_items):
+    """work() CPU us per input symbol, per chain (GNU Radio's performance counters)."""
     y, s = _data()
     result = {}
     for name, build in (("ours", build_ours), ("stock", build_stock),
                         ("stock_drop", lambda tb, n, y, s: build_stock(tb, n, y, s, True))):
         tb = gr.top_block()
         used = build(tb, n_items, y, s)
-        tb.run()
+        sim.run_with_counters(tb)
         result[name] = sum(b.pc_work_time_total() for b in used) / n_items / 1e3
-    print(json.dumps(result))
-
-
-def work_time_per_symbol(n_items):
-    env = dict(os.environ, GR_CONF_PERFCOUNTERS_ON="True",
-               PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
-    code = ("from gnuradio.nrsar import bench_rx_chain as b\n"
-            f"b._work_time_child({int(n_items)})\n")
-    out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
-                         capture_output=True, text=True).stdout
-    return json.loads(out.strip().splitlines()[-1])
+    return result
 
 
 def run(quick=False):

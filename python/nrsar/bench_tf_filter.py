@@ -14,17 +14,13 @@ the same repeating 256-QAM data.
 """
 
 import importlib.util
-import json
 import math
-import os
-import subprocess
-import sys
 
 import numpy as np
 from gnuradio import blocks, gr
 
 from gnuradio import nrsar
-from gnuradio.nrsar import benchutil
+from gnuradio.nrsar import benchutil, sim
 
 VLEN = 3333
 SNR_DB = 5.0
@@ -100,9 +96,9 @@ def _build_rf(tb, n_items, y, s, vlen, radar_peer):
     return [div]
 
 
-def _work_time_child(n_items, with_radar):
-    """Runs in a child process with GNU Radio's performance counters on: CPU time spent
-    in work() per symbol [us] by our block and by the stock chain's five blocks."""
+def work_time_per_symbol(n_items, with_radar):
+    """{wf, wf_stock, rf[, rf_radar]}: CPU time spent in work() per symbol [us] by our block
+    and by the stock chain's five blocks (GNU Radio's performance counters)."""
     y, s = _data(VLEN)
     result = {}
     cases = [("wf", _build_wf, False), ("wf_stock", _build_wf, True), ("rf", _build_rf, False)]
@@ -111,23 +107,11 @@ def _work_time_child(n_items, with_radar):
     for name, build, peer in cases:
         tb = gr.top_block()
         used = build(tb, n_items, y, s, VLEN, peer)
-        tb.run()
+        sim.run_with_counters(tb)
         # high_res_timer ticks (ns on Linux) per item each block produced
         per_item = sum(b.pc_work_time_total() / max(1, b.nitems_written(0)) for b in used)
         result[name] = per_item / 1e3
-    print(json.dumps(result))
-
-
-def work_time_per_symbol(n_items, with_radar):
-    """{wf, wf_stock, rf[, rf_radar]}: work() time per symbol [us]. The counters are read
-    from the configuration at start-up, hence the child process."""
-    env = dict(os.environ, GR_CONF_PERFCOUNTERS_ON="True",
-               PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
-    code = ("import sys\nfrom gnuradio.nrsar import bench_tf_filter as b\n"
-            f"b._work_time_child({int(n_items)}, {bool(with_radar)})\n")
-    out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
-                         capture_output=True, text=True).stdout
-    return json.loads(out.strip().splitlines()[-1])
+    return result
 
 
 def run(quick=False):
