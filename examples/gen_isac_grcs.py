@@ -115,6 +115,14 @@ def payload_from_file(g, x, y):
     g.c("to_pdus", "pdus", "encoder", "pdus")
 
 
+def payload_strobe(g, comment):
+    """The live graphs' backhaul payload: a 1000-byte PDU every 50 ms into the encoder."""
+    g.add("payload_strobe", "blocks_message_strobe", (8, 420), comment,
+          msg="pmt.cons(pmt.make_dict(), pmt.init_u8vector(1000, [i % 251 for i in range(1000)]))",
+          period="50")
+    g.c("payload_strobe", "strobe", "encoder", "pdus")
+
+
 def uav_tx(g, x, y):
     g.add("encoder", "nrsar_pusch_encoder", (x, y),
           "TB per slot: header, payload, CRC24A, scrambling (uncoded; an alist file adds LDPC)",
@@ -357,11 +365,7 @@ def isac_gui():
     g.param("symbol_rate", "Symbols per second (throttle)", "4800", (8, 200), "eng_float",
             "24000 = real time at sdr20; lower it on a slow machine", "r")
     g.param("decoded", "Decoded file", "/dev/null", (200, 200), "str", "", "d")
-    g.add("payload_strobe", "blocks_message_strobe", (8, 420),
-          "a 1000-byte PDU every 50 ms (20 kB/s of backhaul payload)",
-          msg="pmt.cons(pmt.make_dict(), pmt.init_u8vector(1000, [i % 251 for i in range(1000)]))",
-          period="50")
-    g.c("payload_strobe", "strobe", "encoder", "pdus")
+    payload_strobe(g, "a 1000-byte PDU every 50 ms (20 kB/s of backhaul payload)")
     uav_tx(g, 200, 420)
     g.add("throttle", "blocks_throttle", (700, 420), "slow time at symbol_rate",
           type="complex", samples_per_second="symbol_rate", vlen=N, ignoretag="True")
@@ -395,11 +399,7 @@ def sdr_graph(gid, title, description, front_end):
     common_vars(g)
     sdr_params(g)
     g.param("decoded", "Decoded file", "/dev/null", (8, 300), "str", "", "d")
-    g.add("payload_strobe", "blocks_message_strobe", (8, 420),
-          "a 1000-byte PDU every 50 ms",
-          msg="pmt.cons(pmt.make_dict(), pmt.init_u8vector(1000, [i % 251 for i in range(1000)]))",
-          period="50")
-    g.c("payload_strobe", "strobe", "encoder", "pdus")
+    payload_strobe(g, "a 1000-byte PDU every 50 ms")
     uav_tx(g, 200, 420)
     modulator(g, "modulator", 700, 420)
     g.add("tx_level", "blocks_multiply_const_vxx", (880, 420), "", type="complex",
