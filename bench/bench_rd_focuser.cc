@@ -35,6 +35,17 @@ static rd_block paper_block(unsigned K, unsigned M)
     return b;
 }
 
+// K x M complex Gaussian samples (seeded: every benchmark focuses the same data).
+static std::vector<gr_complex> gaussian_block(unsigned K, unsigned M)
+{
+    std::mt19937 rng(1);
+    std::normal_distribution<float> g;
+    std::vector<gr_complex> in(static_cast<size_t>(K) * M);
+    for (auto& x : in)
+        x = gr_complex(g(rng), g(rng));
+    return in;
+}
+
 static void run(benchmark::State& state, doppler_band band, bool rcmc)
 {
     const unsigned K = static_cast<unsigned>(state.range(0));
@@ -45,11 +56,8 @@ static void run(benchmark::State& state, doppler_band band, bool rcmc)
     cfg.rcmc = rcmc;
     cfg.rcmc_skip_below_bins = 0.0;
     rd_focuser f(cfg, b);
-    std::mt19937 rng(1);
-    std::normal_distribution<float> g;
-    std::vector<gr_complex> in(static_cast<size_t>(K) * M), out(in.size());
-    for (auto& x : in)
-        x = gr_complex(g(rng), g(rng));
+    const std::vector<gr_complex> in = gaussian_block(K, M);
+    std::vector<gr_complex> out(in.size());
     for (auto _ : state) {
         f.focus(in.data(), out.data());
         benchmark::DoNotOptimize(out.data());
@@ -78,11 +86,8 @@ static void run_range_major(benchmark::State& state, bool map)
     focuser_config cfg;
     cfg.rcmc_skip_below_bins = 0.0;
     rd_focuser f(cfg, b);
-    std::mt19937 rng(1);
-    std::normal_distribution<float> g;
-    std::vector<gr_complex> in(static_cast<size_t>(K) * M), out(in.size());
-    for (auto& x : in)
-        x = gr_complex(g(rng), g(rng));
+    const std::vector<gr_complex> in = gaussian_block(K, M);
+    std::vector<gr_complex> out(in.size());
     std::vector<gr_complex> rd(static_cast<size_t>(f.fft_size()) * K);
     for (auto _ : state) {
         f.focus_range_major(in.data(), M, out.data(), 0, M, map ? rd.data() : nullptr);
