@@ -9,8 +9,9 @@
 '''
 gr-nrsar: SAR imaging inside a UAV's 5G NR uplink data backhaul.
 
-Blocks: nr_isac_tx, scene_echo, tf_filter, range_ifft; shared parameter types
-numerology, geometry, scene (see params.py for builders from presets and strings).
+The C++ blocks and kernels (bindings), the shared parameter types and their builders
+(params), the options of the imaging chain (options.SimOptions) and the chain itself as a
+hier block (imaging_chain); the rooms of the package: docs/architecture.md.
 '''
 
 # import pybind11 generated symbols into the nrsar namespace
@@ -19,3 +20,5 @@ from .nrsar_python import *
 from .params import (make_numerology, make_geometry, make_scene, make_srs, make_dmrs,
                      make_modulation, make_tx_mode, make_filter, parse_target)
 from .scenes import (make_map, make_beam, load_scene_file, SceneFileError)
+from .options import SimOptions, IsacOptions, SoakOptions, OptionError
+from .chain import imaging_chain

@@ -1,0 +1,87 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""Flowgraph throughput of range_ifft against gnuradio.fft.fft_vcc, same run.
+
+N = 3333 subcarriers with a Hamming window, no crop. The peer is fft_vcc (inverse, same
+window, one FFTW thread) at the same transform size. For the padded sizes it runs twice:
+fed symbols already padded to the FFT size (padding for free, and no 1/sqrt(N) scale: this
+favours the peer, whose input items of 4096 or 3360 complex also get page-sized buffers
+of a few hundred kB where 3333-complex items get 13.6 MB ones), and padded by stock blocks
+from the same 3333-vectors our block reads (the chain a user would build).
+"""
+
+import numpy as np
+from gnuradio import blocks, fft, gr
+
+from gnuradio import nrsar
+from gnuradio.nrsar.bench import benchutil
+
+N = 3333
+
+
+def _symbols(n, length, count=8, seed=2):
+    rng = np.random.default_rng(seed)
+    x = np.zeros((count, length), dtype=np.complex64)
+    x[:, :n] = rng.normal(size=(count, n)) + 1j * rng.normal(size=(count, n))
+    return x.ravel().tolist()
+
+
+def run(quick=False):
+    n_items = 2000 if quick else 20000
+    num = nrsar.make_numerology("paper")
+    rows = []
+    x_n = _symbols(N, N)
+    for nfft in (N, nrsar.fast_fft_size(N), 4096):
+        def ours(tb, items, nfft=nfft):
+            src = blocks.vector_source_c(x_n, True, N)
+            head = blocks.head(gr.sizeof_gr_complex * N, items)
+            blk = nrsar.range_ifft(num, nfft, fft.window.WIN_HAMMING)
+            tb.connect(src, head, blk, blocks.null_sink(gr.sizeof_gr_complex * blk.num_bins()))
+
+        x_pad = _symbols(N, nfft)
+        window = list(fft.window.hamming(N)) + [0.0] * (nfft - N)
+
+        def peer(tb, items, nfft=nfft, x_pad=x_pad, window=window):
+            src = blocks.vector_source_c(x_pad, True, nfft)
+            head = blocks.head(gr.sizeof_gr_complex * nfft, items)
+            f = fft.fft_vcc(nfft, False, window, False, 1)
+            tb.connect(src, head, f, blocks.null_sink(gr.sizeof_gr_complex * nfft))
+
+        def peer_padded(tb, items, nfft=nfft, window=window):
+            # The stock way to pad 3333-vectors to nfft: vector_to_stream, stream_mux with
+            # a null_source, stream_to_vector.
+            src = blocks.vector_source_c(x_n, True, N)
+            head = blocks.head(gr.sizeof_gr_complex * N, items)
+            v2s = blocks.vector_to_stream(gr.sizeof_gr_complex, N)
+            mux = blocks.stream_mux(gr.sizeof_gr_complex, [N, nfft - N])
+            s2v = blocks.stream_to_vector(gr.sizeof_gr_complex, nfft)
+            f = fft.fft_vcc(nfft, False, window, False, 1)
+            tb.connect(src, head, v2s, (mux, 0))
+            tb.connect(blocks.null_source(gr.sizeof_gr_complex), (mux, 1))
+            tb.connect(mux, s2v, f, blocks.null_sink(gr.sizeof_gr_complex * nfft))
+
+        a = benchutil.items_per_second(ours, n_items)
+        b = benchutil.items_per_second(peer, n_items)
+        rows.append(benchutil.row(f"range_ifft N 3333 fft {nfft}", a,
+                                  f"fft.fft_vcc {nfft} (inverse, Hamming)"
+                                  + (", fed pre-padded symbols" if nfft > N else ""), b,
+                                  fft_size=nfft))
+        if nfft > N:
+            c = benchutil.items_per_second(peer_padded, n_items)
+            rows.append(benchutil.row(f"range_ifft N 3333 fft {nfft}", a,
+                                      f"fft.fft_vcc {nfft} padded by stream_mux", c,
+                                      fft_size=nfft))
+    # The block at the fast size against the stock block at the unpadded size: the speed
+    # a user gains by padding.
+    rows.append(benchutil.row(f"range_ifft fft {rows[1]['fft_size']} vs fft_vcc 3333",
+                              rows[1]["ours"], "fft.fft_vcc 3333", rows[0]["peer_rate"]))
+    return rows
+
+
+if __name__ == "__main__":
+    for r in run(quick=True):
+        print(r)

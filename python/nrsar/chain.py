@@ -1,0 +1,278 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""The imaging chain, built in one place: a hier block and the graph around it.
+
+    nr_isac_tx -> head -> echo front -+-> imaging_chain --> image, range-compressed data
+                      |  (transmit grid)  ^     (tf_filter -> range_ifft -> [cheby_presum]
+                      +-------------------+      -> rd_focuser, the same for the reference
+                                                 echo S = 1, Z = 0 -> nmse_probe)
+
+`imaging_chain` (nrsar.imaging_chain) is the receive side as a gr.hier_block2: inputs
+0 = echo, 1 = transmit grid, 2 = reference echo (N-vectors, TF domain); outputs 0 = focused
+image, 1 = range-compressed data, 2 = reference image (K-vectors / range-bin vectors). Its
+blocks are attributes (filter, range_ifft, presum, focuser, focuser_ref, probe).
+
+`build(tb, opts, sc)` wires the whole simulation into a top block (the transmitter, the echo
+front, the chain and its sinks) and returns the blocks by name. Hooks instead of patches:
+`tx=` replaces the grid source, `echo_front=` the radar channel (nrsar-isac's time-domain
+echo), `keep_reference=True` keeps the reference image in a sink too.
+"""
+
+import math
+import os
+import time
+
+from gnuradio import blocks, fft, gr
+
+from . import params, progress, results, runtime, scenario
+from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_config,
+                           nmse_probe, nr_isac_tx, presum_domain, presum_method, range_ifft,
+                           rd_focuser, scene_echo, tf_filter)
+from .options import check_out_dir
+from .scenario import fft_size_of
+
+PRESUM_METHODS = {"drop": presum_method.DROP, "boxcar": presum_method.BOXCAR,
+                  "cheby": presum_method.CHEBY, "filter_drop": presum_method.FILTER_DROP}
+BANDS = {"scene": doppler_band.SCENE, "estimate": doppler_band.ESTIMATE,
+         "full": doppler_band.FULL}
+
+
+def rcmc_guard_bins(opts, sc, nfft, r_max_m):
+    """Range bins the RCMC reads beyond an image edge at slant range r_max_m: the largest
+    migration over the focuser's processed band (scene band with the focuser's margin, or
+    the pulse rate for --band full), hyperbolic, eq. (41), plus rcmc_taps / 2 kernel bins."""
+    num, geo = sc.num, sc.geo
+    ext = params.compute_extent(geo, sc.scene)
+    bw = ext.max_doppler_hz - ext.min_doppler_hz
+    margin = 0.1 * bw + 2.0 / geo.aperture_s  # the focuser's automatic band margin
+    f_max = max(abs(ext.min_doppler_hz - margin), abs(ext.max_doppler_hz + margin))
+    if opts.band == "full":
+        f_max = 0.5 / (num.symbol_s() * sc.pulse_symbols * opts.presum_factor())
+    u = 299792458.0 / geo.carrier_hz * f_max / (2.0 * geo.velocity_mps)
+    rho = num.range_bin_m(nfft)
+    if u * u < 0.99:
+        mig = r_max_m * (1.0 / math.sqrt(1.0 - u * u) - 1.0) / rho
+    else:
+        mig = r_max_m * u * u / 2.0 / rho  # the focuser's fallback, eq. (40)
+    return int(math.ceil(mig)) + opts.rcmc_taps // 2
+
+
+def range_crop(opts, sc, nfft):
+    """(crop [first, last] slant range [m] for range_ifft, guard bins): the scene's swath
+    +- --range-margin-m (at least 16 bins, so the probe has target-free bins for SNR_out),
+    widened by the RCMC's reach that the focuser drops again (cfg.guard_bins); (0, 0) and no
+    guard keeps every bin (--range-crop off)."""
+    if opts.range_crop == "off":
+        return (0.0, 0.0), 0
+    num = sc.num
+    extent = params.compute_extent(sc.geo, sc.scene)
+    rho = num.range_bin_m(nfft)
+    margin = max(opts.range_margin_m, 16 * rho)
+    crop = (max(0.0, extent.min_slant_range_m - margin), extent.max_slant_range_m + margin)
+    g = rcmc_guard_bins(opts, sc, nfft, crop[1])  # the far edge migrates most
+    return (max(0.0, crop[0] - g * rho), crop[1] + g * rho), g
+
+
+def focuser_config_of(opts, sc, guard_bins):
+    """The rd_focuser configuration of the options: the focuser sees pulses D times further
+    apart behind a presummer (which also tags the new pulse interval on its first output)."""
+    cfg = focuser_config()
+    cfg.symbols_per_pulse = sc.pulse_symbols * opts.presum_factor()
+    cfg.band = BANDS[opts.band]
+    cfg.rcmc_taps = opts.rcmc_taps
+    cfg.guard_bins = guard_bins
+    cfg.lines_per_aperture = sc.symbols // cfg.symbols_per_pulse
+    return cfg
+
+
+def memory_estimate_bytes(rif, foc, symbols, keep):
+    """Bytes the chain holds at once: per branch the focuser's processing block, its
+    output aperture and its band tables (K x (before + 2 M + after + 2.5 B), B processed
+    Doppler bins; ESTIMATE also keeps K x fft_size spectra), and with --images keep the
+    range-compressed data and the image of the aperture, twice (the sinks' vectors and
+    the numpy arrays written from them). Measured: paper, 0.1 s, --range-crop off:
+    estimate 4.4 GiB, peak RSS 5.0 GiB."""
+    k = rif.num_bins()
+    m = foc.lines_per_aperture()
+    block = k * (foc.overlap_before() + 2 * m + foc.overlap_after() + 2.5 * foc.band_bins())
+    if foc.config().band == doppler_band.ESTIMATE:
+        block += k * foc.fft_size()
+    sinks = 2 * (k * symbols + foc.num_output_bins() * m) if keep else 0
+    return int(8 * (2 * block + sinks))
+
+
+def check_memory(rif, foc, symbols, keep, limit_bytes=None):
+    """Refuses (ValueError) a chain that would need more than half the machine's memory,
+    naming the size and the options that reduce it (an uncropped range window at the full
+    pulse rate is the usual culprit)."""
+    need = memory_estimate_bytes(rif, foc, symbols, keep)
+    if limit_bytes is None:
+        limit_bytes = 0.5 * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    if need > limit_bytes:
+        raise ValueError(
+            f"the imaging chain needs about {need / 2**30:.1f} GiB ({rif.num_bins()} range "
+            f"bins x {foc.lines_per_aperture()} lines per aperture, {symbols} symbols kept), "
+            f"more than {limit_bytes / 2**30:.1f} GiB (half the memory): use --range-crop on, "
+            f"--presum cheby, a shorter --aperture-s or --images none")
+
+
+class imaging_chain(gr.hier_block2):
+    """The receive side of SPEC 3-8 for one options object and scenario (module doc)."""
+
+    def __init__(self, opts, sc, keep_images=True):
+        num, geo, scn = sc.num, sc.geo, sc.scene
+        n = num.num_subcarriers
+        filter_type = params.make_filter(opts.filter)
+        nfft = fft_size_of(opts, n)
+        crop, guard = range_crop(opts, sc, nfft)
+        cfg = focuser_config_of(opts, sc, guard)
+        decim = opts.presum_factor()
+
+        def range_and_focus():
+            """(block taking the filtered TF pulses, range IFFT, focuser, presummer)"""
+            rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
+            foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                             rif.range_bin_m(), cfg)
+            if decim == 1:
+                return rif, rif, foc, None, [(rif, foc)]
+            method = PRESUM_METHODS[opts.presum]
+            if opts.presum_domain == "tf":  # presum the TF pulses, range-compress D x fewer
+                pre = cheby_presum(num, geo, scn, method, decim, presum_domain.TF, n,
+                                   symbols_per_pulse=sc.pulse_symbols)
+                return pre, rif, foc, pre, [(pre, rif, foc)]
+            pre = cheby_presum(num, geo, scn, method, decim, presum_domain.RANGE,
+                               rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
+                               symbols_per_pulse=sc.pulse_symbols)
+            return rif, rif, foc, pre, [(rif, pre, foc)]
+
+        entry, rif, foc, pre, paths = range_and_focus()
+        entry_ref, rif_ref, foc_ref, _, paths_ref = range_and_focus()
+        k = foc.num_output_bins()  # the image's bins (the crop minus the guard bins)
+        gr.hier_block2.__init__(
+            self, "imaging_chain",
+            gr.io_signature.makev(3, 3, [gr.sizeof_gr_complex * n] * 3),
+            gr.io_signature.makev(3, 3, [gr.sizeof_gr_complex * k,
+                                         gr.sizeof_gr_complex * rif.num_bins(),
+                                         gr.sizeof_gr_complex * k]))
+        for path in paths + paths_ref:
+            self.connect(*path)
+        tff = tf_filter(n, filter_type, opts.snr_db, opts.estimate_snr)
+        tff.set_constant_modulus_path(opts.cm_path == "on")
+        tff.set_threads(opts.filter_threads)
+        # The reference branch is the same chain fed with S = 1 and Z = 0 (SPEC 8): the
+        # reference echo, filtered against an all-ones grid, so the filter's scale (WF's
+        # 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's randomness.
+        ones = blocks.vector_source_c([1.0 + 0.0j] * n, True, n)
+        tff_ref = tf_filter(n, filter_type, opts.snr_db, False)
+        probe = nmse_probe(num, geo, scn,
+                           constellation(params.make_modulation(opts.modulation)).points(),
+                           filter_type, opts.snr_db, k, reference_input=True,
+                           symbols_per_aperture=sc.symbols)
+        self.connect((self, 0), (tff, 0))
+        self.connect((self, 1), (tff, 1))
+        self.connect((self, 2), (tff_ref, 0))
+        self.connect(ones, (tff_ref, 1))
+        if sc.pulse_symbols == 1:
+            self.connect(tff, entry)
+            self.connect(tff_ref, entry_ref)
+        else:
+            # Pilot-only imaging: the pulses are the SRS symbols, one every spp symbols at
+            # symbol_in_slot of every SRS slot; both branches keep exactly those. (The
+            # focuser takes pulse p at p spp Tsym: the symbol_in_slot Tsym offset, 13 x
+            # 41.7 us = 2.7 cm of track, is below a tenth of a resolution cell.)
+            for source, sink in ((tff, entry), (tff_ref, entry_ref)):
+                self.connect(source,
+                             blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, sc.pulse_symbols,
+                                                sc.srs.symbol_in_slot),
+                             sink)
+        check_memory(rif, foc, sc.symbols, keep_images)
+        self.connect(foc, (self, 0))
+        self.connect(rif, (self, 1))
+        self.connect(foc_ref, (self, 2))
+        self.connect(foc, (probe, 0))
+        self.connect(foc_ref, (probe, 1))
+        self.filter, self.filter_ref = tff, tff_ref
+        self.range_ifft, self.presum, self.focuser, self.focuser_ref = rif, pre, foc, foc_ref
+        self.probe = probe
+
+
+def make_echo(opts, sc):
+    """scene_echo for point targets, extended_scene_echo for a YAML scene file."""
+    sf = sc.scene_file
+    if sf is None:
+        return scene_echo(sc.num, sc.geo, sc.scene, opts.snr_db, opts.seed + 1)
+    from .nrsar_python import antenna_beam, extended_scene_echo
+    return extended_scene_echo(sc.num, sc.geo, sf.points, sf.maps, sf.beam or antenna_beam(),
+                               opts.snr_db, opts.seed + 1)
+
+
+def scene_echo_front(tb, opts, sc, grid):
+    """The TF-domain radar channel (build's default): scene_echo on the grid.
+    Returns (echo block, echo endpoint, reference-echo endpoint)."""
+    echo = make_echo(opts, sc)
+    tb.connect(grid, echo)
+    return echo, (echo, 0), (echo, 1)
+
+
+def make_transmitter(opts, sc):
+    """nr_isac_tx of --mode, --modulation and --seed."""
+    return nr_isac_tx(sc.num, params.make_modulation(opts.modulation),
+                      params.make_tx_mode(sc.tx_mode), sc.srs, opts.seed)
+
+
+def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=False):
+    """Wires transmitter -> head (one aperture) -> echo front -> imaging_chain -> sinks into
+    tb. The sinks hold the range-compressed data, the focused image (vector sinks, or null
+    sinks with --images none) and, with keep_reference, the reference image. Returns the
+    blocks by name (tx, head, echo, chain, filter, range_ifft, presum, focuser, focuser_ref,
+    probe, range_sink, image_sink, reference_sink)."""
+    n = sc.num.num_subcarriers
+    keep = opts.images != "none"
+    if tx is None:
+        tx = make_transmitter(opts, sc)
+    head = blocks.head(gr.sizeof_gr_complex * n, sc.symbols)
+    tb.connect(tx, head)
+    echo, echo_out, ref_out = echo_front(tb, opts, sc, head)
+    chain = imaging_chain(opts, sc, keep)
+    k, bins = chain.focuser.num_output_bins(), chain.range_ifft.num_bins()
+    if keep:
+        range_sink = blocks.vector_sink_c(bins, sc.symbols)
+        image_sink = blocks.vector_sink_c(k, sc.symbols)
+    else:  # metrics only
+        range_sink = blocks.null_sink(gr.sizeof_gr_complex * bins)
+        image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
+    reference_sink = (blocks.vector_sink_c(k, sc.symbols) if keep_reference
+                      else blocks.null_sink(gr.sizeof_gr_complex * k))
+    tb.connect(echo_out, (chain, 0))
+    tb.connect(head, (chain, 1))
+    tb.connect(ref_out, (chain, 2))
+    tb.connect((chain, 0), image_sink)
+    tb.connect((chain, 1), range_sink)
+    tb.connect((chain, 2), reference_sink)
+    return {"tx": tx, "head": head, "echo": echo, "chain": chain, "filter": chain.filter,
+            "range_ifft": chain.range_ifft, "presum": chain.presum, "focuser": chain.focuser,
+            "focuser_ref": chain.focuser_ref, "probe": chain.probe, "range_sink": range_sink,
+            "image_sink": image_sink, "reference_sink": reference_sink}
+
+
+def simulate_graph(opts, keep_reference=False):
+    """One run of nrsar-sim for validated SimOptions: builds the graph, runs one aperture
+    (Ctrl-C: runtime.Interrupted, nothing written), writes the images into opts.out.
+    Returns (the JSON dict of SPEC 9, the blocks by name)."""
+    sc = scenario.of(opts)
+    check_out_dir(opts.out)
+    tb = gr.top_block("nrsar-sim")
+    graph = build(tb, opts, sc, keep_reference=keep_reference)
+    start = time.perf_counter()
+    # progress: percent of the aperture's symbols through the filter (stderr, if enabled)
+    with progress.polling("symbols", sc.symbols, lambda: graph["filter"].nitems_written(0)):
+        runtime.run(tb)
+    return results.image_results(opts, graph, sc, time.perf_counter() - start), graph
+
+
+def simulate(opts):
+    """nrsar-sim's JSON dict of one run (simulate_graph)."""
+    return simulate_graph(opts)[0]

@@ -1,0 +1,70 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""What every gr-nrsar program does around its work: the parser generated from its options
+class, validation before any work, one-line errors and exit codes.
+
+    sys.exit(cli.main("nrsar-sim", SimOptions, chain.simulate, __doc__))
+
+Exit codes: 0 done; 1 the program's own verdict (nrsar-soak's leak test failed); 2 bad usage
+or a run that could not be done (one line on stderr naming the flag, the value and the limit,
+never a traceback); 130 interrupted by Ctrl-C (the graph is stopped, no result is written as
+if finished).
+"""
+
+import argparse
+import json
+import sys
+
+from . import progress, runtime
+from .options import check_out_dir
+
+EXIT_USAGE = 2
+EXIT_INTERRUPTED = 130
+
+
+def parser_of(prog, options_cls, doc):
+    parser = argparse.ArgumentParser(prog=prog, description=doc,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    options_cls.add_arguments(parser)
+    progress.add_arguments(parser)
+    return parser
+
+
+def print_result(result, as_json):
+    if as_json:
+        print(json.dumps(result))
+    else:
+        for key, value in result.items():
+            print(f"{key:28s} {value}")
+
+
+def main(prog, options_cls, run, doc, argv=None, verdict=lambda result: 0):
+    """Parses argv into options_cls, validates them and the output folder, runs run(opts)
+    and prints its result dict (JSON with --json); returns the exit code."""
+    runtime.quiet_gnuradio_logs()
+    parser = parser_of(prog, options_cls, doc)
+    namespace = parser.parse_args(argv)  # argparse's own errors exit 2 too
+    try:
+        opts = options_cls.from_args(namespace)
+        check_out_dir(opts.out)
+    except ValueError as err:
+        print(f"{prog}: error: {err}", file=sys.stderr)
+        return EXIT_USAGE
+    progress.configure(progress.from_args(namespace))
+    try:
+        result = run(opts)
+    except (runtime.Interrupted, KeyboardInterrupt):
+        progress.finish()
+        print(f"{prog}: interrupted: stopped before the end, no result written",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except (ValueError, RuntimeError, OSError) as err:
+        progress.finish()
+        print(f"{prog}: error: {err}", file=sys.stderr)
+        return EXIT_USAGE
+    progress.finish()
+    print_result(result, opts.json)
+    return verdict(result)

@@ -1,0 +1,274 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""The one ISAC graph (nrsar-isac). The UAV's uplink carries a payload file to the base
+station and images the ground with the same waveform, in one GNU Radio flowgraph:
+
+  payload -> PDUs -> pusch_encoder -> nr_isac_tx(dmrs) -> head -+-> ofdm_mod -+
+                                                                |             |
+   (b) radar, --radar-domain time:                              |             |
+       ofdm_mod -> td_echo -> ofdm_demod -> tf_filter(., grid) -> range_ifft -> [presum]
+       -> rd_focuser -> nmse_probe  (reference branch: scene_echo's S = 1 echo, as nrsar-sim)
+       --radar-domain tf: scene_echo on the grid (nrsar-sim's chain)
+   (a) base station:
+       ofdm_mod -> blocks.delay -> chunk_invariant_channel (channel_model: noise, CFO, taps) -> ofdm_sync
+       -> ofdm_demod -> pusch_receiver -> PDUs -> decoded file
+
+The image, its metrics and the JSON keys are nrsar-sim's (SPEC 9); the backhaul adds
+payload_identical, backhaul_ber, backhaul_bler, throughput_mbps and the receiver's numbers.
+"""
+
+import math
+import os
+import time
+
+import numpy as np
+import pmt
+from gnuradio import analog, blocks, gr
+
+from . import backhaul, chain, params, progress, results, runtime, scenario
+from .options import OptionError, check_out_dir, parse_taps
+from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
+                           pusch_receiver, scene_echo, srs_config, td_echo)
+
+def time_domain_front(ofdm_source):
+    """echo_front for chain.build: the radar echo through the time domain,
+    ofdm_source (ofdm_mod of the grid) -> td_echo -> ofdm_demod (FFT window after the CP:
+    the TF model of SPEC 3 exactly); the reference echo (S = 1, no noise) is scene_echo's
+    second output, as in nrsar-sim (its noisy output goes to a null sink)."""
+    def front(tb, opts, sc, grid):
+        num, geo, scn = sc.num, sc.geo, sc.scene
+        echo = td_echo(num, geo, scn, opts.snr_db, opts.seed + 1, opts.echo_taps)
+        demod = ofdm_demod(num)
+        tb.connect(ofdm_source, echo, demod)
+        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1)
+        tb.connect(grid, ref)
+        tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
+        front.demod = demod
+        return echo, demod, (ref, 1)
+    return front
+
+
+def common_noise_front(domain, noise_seed):
+    """echo_front for comparing the two radar paths under the SAME noise: the echo is
+    noise-free (td_echo / scene_echo with +inf SNR) and one seeded complex Gaussian noise
+    stream of sigma^2 = total RCS / 10^(snr_db/10) per RE is added on the grid after it, so
+    two runs differ only by the echo model (qa_isac, docs/isac.md)."""
+    def front(tb, opts, sc, grid):
+        num, geo, scn = sc.num, sc.geo, sc.scene
+        n = num.num_subcarriers
+        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1)
+        tb.connect(grid, ref)
+        if domain == "time":
+            echo, demod = td_echo(num, geo, scn, math.inf, opts.seed + 1, opts.echo_taps), \
+                ofdm_demod(num)
+            tb.connect(grid, ofdm_mod(num), echo, demod)
+            clean = demod
+            tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * n))
+        else:
+            echo, clean = ref, (ref, 0)
+        sigma = math.sqrt(sum(t.rcs for t in scn.targets) / 10.0 ** (opts.snr_db / 10.0))
+        noise = analog.noise_source_c(analog.GR_GAUSSIAN, sigma, noise_seed)
+        add = blocks.add_vcc(n)
+        tb.connect(clean, (add, 0))
+        tb.connect(noise, blocks.stream_to_vector(gr.sizeof_gr_complex, n), (add, 1))
+        return echo, add, (ref, 1)
+    return front
+
+
+def build_transmitter(tb, num, opts, payload):
+    """pusch_encoder (the payload queued as PDUs of one slot's capacity each, deterministic)
+    -> nr_isac_tx(dmrs). Returns (encoder, tx, dmrs, chunks)."""
+    mod = params.make_modulation(opts.modulation)
+    dmrs = params.make_dmrs(opts.dmrs, num)
+    enc = pusch_encoder(num, mod, dmrs, opts.ldpc_alist(), 0, max(1, len(payload) + 1))
+    tx = nr_isac_tx(num, mod, params.make_tx_mode("data"), srs_config(), opts.seed, dmrs)
+    tb.connect(enc, tx)
+    per_slot = enc.payload_bits_per_slot() // 8
+    if per_slot <= 0:
+        raise ValueError(f"payload bytes per slot = {per_slot} must be > 0")
+    chunks = [payload[i:i + per_slot] for i in range(0, len(payload), per_slot)]
+    for chunk in chunks:  # queued before start: chunk s goes out in slot s
+        enc.to_basic_block()._post(pmt.intern("pdus"), backhaul.make_pdu(chunk))
+    return enc, tx, dmrs, chunks
+
+
+class chunk_invariant_channel(gr.hier_block2):
+    """channels.channel_model(noise_voltage, cfo, 1.0, taps, seed) rebuilt from the same
+    stock blocks, except the two whose rounding depends on how the scheduler cuts the stream
+    (qa_chunking): channel_model's fir_filter_ccc picks its VOLK dot-product kernel by the
+    input buffer's alignment, and its multiply_cc runs the FMA kernel on the body of a call
+    and the scalar one on its tail (1e-7 differences, bs_evm_db varying between runs). Here
+    the taps go through fft_filter_ccc (whole FFT blocks) and the CFO mixer works on vectors
+    of 8 samples (no tail): the output is a function of the input stream only. Same order
+    as channel_model: timing (mmse_resampler, ratio 1), multipath, CFO, noise. The stream's
+    last < 8 samples are dropped."""
+
+    MIX_VLEN = 8
+
+    def __init__(self, noise_voltage, frequency_offset, taps, noise_seed):
+        gr.hier_block2.__init__(self, "chunk_invariant_channel",
+                                gr.io_signature(1, 1, gr.sizeof_gr_complex),
+                                gr.io_signature(1, 1, gr.sizeof_gr_complex))
+        from gnuradio import filter as gr_filter
+        v = self.MIX_VLEN
+        timing = gr_filter.mmse_resampler_cc(0.0, 1.0)
+        multipath = gr_filter.fft_filter_ccc(1, list(taps), 1)
+        lo = analog.sig_source_c(1.0, analog.GR_SIN_WAVE, frequency_offset, 1.0, 0.0)
+        mixer = blocks.multiply_vcc(v)
+        noise = analog.fastnoise_source_c(analog.GR_GAUSSIAN, noise_voltage, noise_seed,
+                                          1024 * 8)
+        adder = blocks.add_cc()
+        self.connect(self, timing, multipath,
+                     blocks.stream_to_vector(gr.sizeof_gr_complex, v), (mixer, 0))
+        self.connect(lo, blocks.stream_to_vector(gr.sizeof_gr_complex, v), (mixer, 1))
+        self.connect(mixer, blocks.vector_to_stream(gr.sizeof_gr_complex, v), (adder, 1))
+        self.connect(noise, (adder, 0))
+        self.connect(adder, self)
+
+
+def build_base_station(tb, num, opts, dmrs, source):
+    """source (time-domain uplink) -> delay -> channel_model -> ofdm_sync -> ofdm_demod ->
+    pusch_receiver -> message_debug (store). Returns the blocks by name."""
+    mod = params.make_modulation(opts.modulation)
+    delay = blocks.delay(gr.sizeof_gr_complex, opts.delay_samples)
+    noise_voltage = 10.0 ** (-opts.bs_snr_db / 20.0)  # per sample = per RE (unitary OFDM)
+    chan = chunk_invariant_channel(noise_voltage, opts.cfo_hz / num.sample_rate_hz(),
+                                   parse_taps(opts.taps), opts.seed + 2)
+    sync = ofdm_sync(num, dmrs)
+    demod = ofdm_demod(num)
+    # ofdm_sync's backoff puts a phase slope across the subcarriers; pusch_receiver's
+    # channel estimate removes it before its fit (docs/isac.md, "Backoff slope")
+    rx = pusch_receiver(num, mod, dmrs, opts.ldpc_alist(), 0)
+    store = blocks.message_debug()
+    tb.connect(source, delay, chan, sync, demod, rx)
+    tb.msg_connect((rx, "pdus"), (store, "store"))
+    return {"delay": delay, "channel": chan, "sync": sync, "demod": demod, "receiver": rx,
+            "store": store}
+
+
+def backhaul_results(num, enc, bs, chunks, payload, out_path):
+    """Writes the decoded file (payload of every CRC-ok, non-filler TB in slot order) and
+    returns the backhaul's JSON keys. A TB that failed its CRC delivers nothing: every
+    payload bit of its slot counts as an error in backhaul_ber."""
+    store, rx = bs["store"], bs["receiver"]
+    delivered = {}
+    failed_slots = []
+    for i in range(store.num_messages()):
+        meta, data = backhaul.pdu_to_python(store.get_message(i))
+        if not meta.get("crc_ok"):
+            failed_slots.append(int(meta.get("slot", -1)))
+        elif not meta.get("filler"):
+            delivered[int(meta["slot"])] = data
+    decoded = b"".join(delivered[s] for s in sorted(delivered))
+    results.write_bytes(out_path, decoded)
+    bit_errors = 0
+    for s, chunk in enumerate(chunks):
+        got = delivered.get(s)
+        if got is None or len(got) != len(chunk):
+            bit_errors += 8 * len(chunk)
+        else:
+            diff = np.bitwise_xor(np.frombuffer(got, np.uint8), np.frombuffer(chunk, np.uint8))
+            bit_errors += int(np.unpackbits(diff).sum())
+    ok, bad = int(rx.graphok()), int(rx.graphfailed())
+    slot_s = num.symbols_per_slot * num.symbol_s()
+    good_bits = 8 * sum(len(c) for s, c in enumerate(chunks) if delivered.get(s) == c)
+    sync = bs["sync"]
+    return {
+        "payload_identical": decoded == payload,
+        "payload_bytes": len(payload),
+        "decoded_bytes": len(decoded),
+        "decoded_file": os.path.abspath(out_path),
+        "backhaul_ber": bit_errors / (8.0 * len(payload)) if payload else 0.0,
+        "backhaul_bler": bad / float(ok + bad) if ok + bad else None,
+        "graphok": ok,
+        "graphfailed": bad,
+        "failed_slots": failed_slots[:32],  # the first 32
+        "failed_payload_slots": [s for s in failed_slots if 0 <= s < len(chunks)],
+        "payload_slots": len(chunks),
+        # delivered payload bits over the air time of the slots that carried the payload
+        "throughput_mbps": good_bits / (len(chunks) * slot_s) / 1e6 if chunks else 0.0,
+        "capacity_mbps": enc.throughput_bps() / 1e6,
+        "code_rate": float(enc.code_rate()),
+        "sync_locked": bool(sync.locked()),
+        "sync_cfo_hz": float(sync.cfo_hz()),
+        "sync_timing_samples": int(sync.timing_samples()),
+        "bs_snr_est_db": float(rx.last_snr_db()),
+        "bs_evm_db": float(rx.last_evm_db()),
+    }
+
+
+def check_link(opts, num):
+    """The backhaul's rules that need the numerology (before any block is built)."""
+    df = num.subcarrier_spacing_hz
+    if not abs(opts.cfo_hz) < df:
+        raise OptionError(f"--cfo-hz = {opts.cfo_hz:g} must be below the subcarrier spacing "
+                          f"{df:g} Hz in magnitude: ofdm_sync estimates the fractional CFO "
+                          f"only (docs/isac.md)")
+
+
+def run(opts):
+    """The one ISAC graph of validated IsacOptions; returns nrsar-isac's JSON dict."""
+    with open(opts.payload, "rb") as f:
+        payload = f.read()
+    sc = scenario.of(opts)
+    num, symbols = sc.num, sc.symbols
+    check_link(opts, num)
+    check_out_dir(opts.out)
+    if symbols < 2 * num.symbols_per_slot:
+        raise OptionError(f"--aperture-s: symbols per aperture = {symbols} must be at least "
+                          f"two slots ({2 * num.symbols_per_slot}; the last carries no payload)")
+    tb = gr.top_block("nrsar-isac")
+    enc, tx, dmrs, chunks = build_transmitter(tb, num, opts, payload)
+    # The aperture's last slot carries no payload: it ends where the stream ends, and
+    # whether the base station sees all of it depends on how many samples the channel's
+    # stock blocks leave unconsumed at the end of the stream.
+    slots = symbols // num.symbols_per_slot - 1
+    if len(chunks) > slots:
+        raise OptionError(f"--payload = {opts.payload!r}: {len(payload)} bytes need "
+                          f"{len(chunks)} slots, the aperture has {slots} (all but its last): "
+                          f"shorten the file or lengthen --aperture-s")
+    mod = ofdm_mod(num)
+    if opts.radar_domain == "time":
+        front = time_domain_front(mod)
+        graph = chain.build(tb, opts, sc, tx=tx, echo_front=front)
+        graph["radar_demod"] = front.demod
+    else:
+        graph = chain.build(tb, opts, sc, tx=tx)
+    tb.connect(graph["head"], mod)
+    bs = build_base_station(tb, num, opts, dmrs, mod)
+    start = time.perf_counter()
+    # progress (stderr, if enabled): the aperture's symbols through the radar filter
+    with progress.polling("symbols", symbols, lambda: graph["filter"].nitems_written(0)):
+        runtime.run(tb)
+    runtime_s = time.perf_counter() - start
+    result = results.image_results(opts, graph, sc, runtime_s)
+    result.update(backhaul_results(num, enc, bs, chunks, payload,
+                                   os.path.join(opts.out, "decoded.bin")))
+    bs_times = {name: bs[name].pc_work_time_total() / 1e9
+                for name in ("sync", "demod", "receiver")}
+    # CPU time in work() of every block we hold (channel_model is a hier block: not counted)
+    named = {"pusch_encoder": enc, "nr_isac_tx": tx, "ofdm_mod": mod, "delay": bs["delay"],
+             "radar_echo": graph["echo"], **{f"radar_{k}": graph[k] for k in
+                                               ("filter", "range_ifft", "focuser", "probe")},
+             **{f"bs_{k}": bs[k] for k in ("sync", "demod", "receiver")}}
+    if opts.radar_domain == "time":
+        named["radar_ofdm_demod"] = graph["radar_demod"]
+    result.update({
+        "radar_domain": opts.radar_domain,
+        "dmrs": opts.dmrs,
+        "ldpc": opts.ldpc_alist() or "none",
+        "bs_snr_db": opts.bs_snr_db,
+        "cfo_hz": opts.cfo_hz,
+        "delay_samples": opts.delay_samples,
+        "taps": opts.taps,
+        "samples": symbols * (num.cp_samples + num.fft_size),
+        "sample_rate_hz": num.sample_rate_hz(),
+        "bs_rx_runtime_s": sum(bs_times.values()),
+        "bs_rx_block_s": bs_times,
+        "block_cpu_s": {k: round(b.pc_work_time_total() / 1e9, 3) for k, b in named.items()},
+        "peak_rss_mb": runtime.peak_rss_mb(),
+    })
+    return result

@@ -1,0 +1,366 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""The options of the imaging chain: one typed, validated object from the command line to GRC.
+
+Each option is a dataclass field with its type, default, allowed values and help; the
+command-line parser is generated from the fields (`SimOptions.add_arguments(parser)`,
+`SimOptions.from_args(namespace)`), scripts build the object directly
+(`SimOptions(preset="small", target=["300,100"])`), and `validate()` checks every field and
+the rules between them before any work starts. A broken rule raises OptionError (a
+ValueError) whose message names the flag, the value and the limit, e.g.
+`--decim = 0 must be at least 1`; the apps answer it with exit code 2.
+
+    SimOptions    nrsar-sim: numerology, scene, filter, range / azimuth processing, outputs
+    IsacOptions   nrsar-isac: SimOptions plus the backhaul (payload, DMRS, channel)
+    SoakOptions   nrsar-soak: SimOptions plus the soak's duration and leak bound
+"""
+
+import dataclasses
+import math
+import os
+import tempfile
+import typing
+
+from . import params
+
+# 38.211 5.2.1's c_init has 31 bits; the chain seeds the noise with seed + 1 and the
+# base station's channel with seed + 2.
+SEED_MAX = 2**31 - 3
+
+
+class OptionError(ValueError):
+    """An option broke a rule; the message names the flag, the value and the limit."""
+
+
+def option(default, help, *, choices=None, at_least=None, above=None, at_most=None,
+           below=None, finite=True, metavar=None):
+    """A dataclass field with what the parser and validate() need to know about it."""
+    meta = {"help": help, "choices": choices, "at_least": at_least, "above": above,
+            "at_most": at_most, "below": below, "finite": finite, "metavar": metavar}
+    if isinstance(default, list):
+        return dataclasses.field(default_factory=lambda: list(default), metadata=meta)
+    return dataclasses.field(default=default, metadata=meta)
+
+
+def flag_of(name):
+    return "--" + name.replace("_", "-")
+
+
+def _base_type(annotation):
+    """(python type, optional?) of a field annotation: float, Optional[int], List[str], ..."""
+    if isinstance(annotation, str):
+        annotation = eval(annotation, vars(typing))  # from __future__-style annotations
+    origin = typing.get_origin(annotation)
+    if origin is typing.Union:
+        inner = [a for a in typing.get_args(annotation) if a is not type(None)]
+        return _base_type(inner[0])[0], True
+    if origin is list:
+        return list, True
+    return annotation, False
+
+
+class _Options:
+    """Parser generation and validation shared by every options dataclass."""
+
+    @classmethod
+    def add_arguments(cls, parser):
+        """Adds one flag per field (types, choices and defaults from the dataclass)."""
+        hints = typing.get_type_hints(cls)
+        for f in dataclasses.fields(cls):
+            meta = f.metadata
+            kind, optional = _base_type(hints[f.name])
+            default = f.default if f.default is not dataclasses.MISSING else f.default_factory()
+            help_text = meta["help"] + _limits_text(meta)
+            if kind is bool:
+                parser.add_argument(flag_of(f.name), action="store_true", help=help_text)
+                continue
+            kwargs = {"default": default, "help": help_text, "metavar": meta["metavar"]}
+            if kind is list:
+                kwargs.update(action="append", default=None)
+            elif kind in (int, float):
+                kwargs["type"] = kind
+            if meta["choices"] is not None:
+                kwargs["choices"] = list(meta["choices"])
+                kwargs.pop("metavar")
+            if default is not None and kind is not list:
+                kwargs["help"] += " (default %(default)s)"
+            parser.add_argument(flag_of(f.name), **kwargs)
+        return parser
+
+    @classmethod
+    def from_args(cls, namespace):
+        """The options of an argparse namespace (extra attributes, e.g. --progress, are
+        ignored), validated."""
+        values = {f.name: getattr(namespace, f.name) for f in dataclasses.fields(cls)
+                  if hasattr(namespace, f.name)}
+        opts = cls(**values)
+        opts.validate()
+        return opts
+
+    @classmethod
+    def parse(cls, argv, prog=None):
+        """The options of command-line words, as the program would parse them, validated."""
+        import argparse
+        return cls.from_args(cls.add_arguments(argparse.ArgumentParser(prog=prog))
+                             .parse_args(argv))
+
+    def replace(self, **changes):
+        """A copy with some fields changed, validated."""
+        opts = dataclasses.replace(self, **changes)
+        opts.validate()
+        return opts
+
+    def validate(self):
+        """Checks every field (type, finiteness, range, choices), then the rules between
+        fields (check()). Raises OptionError."""
+        hints = typing.get_type_hints(type(self))
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            kind, optional = _base_type(hints[f.name])
+            if value is None:
+                if not optional:
+                    raise OptionError(f"{flag_of(f.name)} must be given")
+                continue
+            setattr(self, f.name, _checked(f.name, value, kind, f.metadata))
+        self.check()
+        return self
+
+    def check(self):
+        """Rules between fields (subclasses extend it)."""
+
+
+def _limits_text(meta):
+    parts = []
+    for key, word in (("at_least", ">="), ("above", ">"), ("at_most", "<="), ("below", "<")):
+        if meta[key] is not None:
+            parts.append(f"{word} {meta[key]:g}")
+    return f"; {', '.join(parts)}" if parts else ""
+
+
+def _checked(name, value, kind, meta):
+    """value converted to kind and checked against meta's rules (OptionError otherwise)."""
+    flag = flag_of(name)
+    if kind is bool:
+        if not isinstance(value, bool):
+            raise OptionError(f"{flag} = {value!r} must be true or false")
+        return value
+    if kind is list:
+        if isinstance(value, str) or not all(isinstance(v, str) for v in value):
+            raise OptionError(f"{flag} = {value!r} must be a list of strings")
+        return list(value)
+    if kind in (int, float):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise OptionError(f"{flag} = {value!r} must be a number")
+        if kind is int:
+            if isinstance(value, float) and not value.is_integer():
+                raise OptionError(f"{flag} = {value!r} must be a whole number")
+            value = int(value)
+        else:
+            value = float(value)
+            if meta["finite"] and not math.isfinite(value):
+                raise OptionError(f"{flag} = {value} must be finite")
+            if math.isnan(value):
+                raise OptionError(f"{flag} = nan must be a number")
+        rules = (("at_least", lambda v, b: v >= b, "must be at least"),
+                 ("above", lambda v, b: v > b, "must be above"),
+                 ("at_most", lambda v, b: v <= b, "must be at most"),
+                 ("below", lambda v, b: v < b, "must be below"))
+        for key, ok, words in rules:
+            if meta[key] is not None and not ok(value, meta[key]):
+                raise OptionError(f"{flag} = {value:g} {words} {meta[key]:g}")
+    elif not isinstance(value, str):
+        raise OptionError(f"{flag} = {value!r} must be text")
+    if meta["choices"] is not None and value not in meta["choices"]:
+        raise OptionError(f"{flag} = {value!r} must be one of {', '.join(meta['choices'])}")
+    return value
+
+
+def check_out_dir(path, flag="--out"):
+    """Creates the output folder and proves it writable with a scratch file, before any
+    work starts (a root process passes os.access() everywhere, so only a write tells)."""
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise OptionError(f"{flag} = {path!r} is a file, not a folder")
+    try:
+        os.makedirs(path, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=path, prefix=".nrsar-write-test-"):
+            pass
+    except OSError as err:
+        raise OptionError(f"{flag} = {path!r} is not a writable folder: "
+                          f"{err.strerror or err}") from None
+    return path
+
+
+# The pulse modes of the transmit grid: (tx mode, SRS period in slots)
+MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
+
+# --presum choices (cheby_presum methods; none = no presummer)
+PRESUM = ("none", "drop", "boxcar", "cheby", "filter_drop")
+
+# Presumming factor when --presum is given without --decim
+DEFAULT_DECIM = 10
+
+
+@dataclasses.dataclass
+class SimOptions(_Options):
+    """Options of one run of the imaging chain (nrsar-sim, and the base of the others)."""
+    preset: str = option("paper", "OFDM numerology preset: paper = 3333 x 30 kHz, 24 kHz PRF; "
+                         "small = 512 subcarriers; tiny = 64 (tests); nr273; sdr20",
+                         choices=None)
+    geometry: str = option("paper", "platform preset (fc 3.5 GHz, v 50 m/s, H 1000 m)")
+    aperture_s: typing.Optional[float] = option(
+        None, "slow-time span to simulate [s] (default: the geometry's, 2 s)", above=0.0,
+        at_most=3600.0)
+    scene: str = option("paper3", "point targets: a preset (paper3, single), "
+                        "'X,Y[,RCS[,PHASE_DEG]];...' in metres, or a YAML scene file (maps, "
+                        "speckle, beam; see nrsar.scenes)")
+    target: typing.Optional[typing.List[str]] = option(
+        None, "add a point target (ground range X, along-track Y in metres, RCS linear "
+        "power, phase in degrees); repeatable, replaces --scene; the first is the reference "
+        "target", metavar="X,Y[,RCS[,PHASE_DEG]]")
+    filter: str = option("wf", "per-RE filter: rf = 1/s, mf = conj(s), wf = Wiener (eq. 25)",
+                         choices=sorted(params.FILTERS))
+    snr_db: float = option(-20.0, "input SNR per RE: sum of RCS powers / noise power [dB]",
+                           at_least=-200.0, at_most=300.0)
+    estimate_snr: bool = option(False, "let the Wiener filter estimate SNR_in from the data")
+    modulation: str = option("qam256", "constellation of the data REs (38.211 Gray mapping, "
+                             "unit power)", choices=sorted(params.MODULATIONS))
+    mode: str = option("data", "data = every RE (data-aided); srs2 / srs20 = SRS pilot only, "
+                       "one comb-4 symbol every 2 / 20 slots", choices=sorted(MODES))
+    fft_size: str = option("fast", "range IFFT size: 'fast' (next fast size >= N), 'exact' "
+                           "(N) or a number >= N")
+    band: str = option("scene", "azimuth processing band: the scene's Doppler band from the "
+                       "geometry, estimated from the data, or the full PRF",
+                       choices=["scene", "estimate", "full"])
+    rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
+                            at_least=2, at_most=256)
+    range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "
+                                   "[m] (at least 16 range bins; the chain crops the RCMC's "
+                                   "reach wider and the focuser drops it again)",
+                                   at_least=0.0, at_most=1e5)
+    presum: str = option("none", "azimuth presummer after the range IFFT (cheby_presum), "
+                         "both branches", choices=list(PRESUM))
+    decim: typing.Optional[int] = option(
+        None, f"presumming factor D (pulses per output pulse; needs --presum; default "
+        f"{DEFAULT_DECIM})", at_least=1, at_most=4096)
+    presum_domain: str = option("range", "presum after the range IFFT (range) or before it "
+                                "(tf: saves D-1 of every D IFFTs)", choices=["range", "tf"])
+    range_crop: str = option("on", "crop the range-compressed data to the scene's swath +- "
+                             "margin (off: keep every IFFT bin)", choices=["on", "off"])
+    images: str = option("keep", "keep the range-compressed data and the image in memory and "
+                         "write .npy/.png (keep), or send them to null sinks (none: metrics "
+                         "only, the memory of a streaming receiver)", choices=["keep", "none"])
+    cm_path: str = option("on", "tf_filter's constant-modulus shortcut (PSK/QPSK data: "
+                          "g = c conj(s))", choices=["on", "off"])
+    filter_threads: int = option(1, "threads per tf_filter work() call", at_least=1,
+                                 at_most=2)
+    seed: int = option(1, "seed of the data PRBS (31-bit c_init) and the noise (seed + 1)",
+                       at_least=0, at_most=SEED_MAX)
+    out: str = option("nrsar-out", "output folder (created; checked writable before the run)")
+    json: bool = option(False, "print one JSON object on stdout")
+
+    def check(self):
+        if self.decim is not None and self.presum == "none":
+            raise OptionError(f"--decim = {self.decim} needs a presummer: give --presum "
+                              f"({', '.join(PRESUM[1:])}), or leave --decim out")
+        text = self.fft_size.strip().lower()
+        if text not in ("fast", "exact"):
+            try:
+                size = int(text)
+            except ValueError:
+                raise OptionError(f"--fft-size = {self.fft_size!r} must be 'fast', 'exact' "
+                                  f"or a whole number") from None
+            if size < 1:
+                raise OptionError(f"--fft-size = {size} must be at least 1")
+        if not self.out.strip():
+            raise OptionError("--out = '' must name a folder")
+
+    def presum_factor(self):
+        """D of the presummer (1 without one)."""
+        if self.presum == "none":
+            return 1
+        return self.decim if self.decim is not None else DEFAULT_DECIM
+
+
+DEFAULT_TAPS = "1,0,0,0.3+0.2j,0,0,0,0,-0.1j"
+
+
+@dataclasses.dataclass
+class IsacOptions(SimOptions):
+    """nrsar-isac: the imaging chain's options plus the backhaul's."""
+    payload: str = option("/usr/share/common-licenses/GPL-3", "file sent over the backhaul")
+    dmrs: str = option("pusch2", "PUSCH DMRS layout: pusch1, pusch2, pusch4 or 'l0,l1,..'")
+    ldpc: str = option("none", "alist of a gr-fec LDPC code, or 'none' = uncoded (LDPC costs "
+                       "~43 ms CPU per paper slot), 'default' = the module's n = 1800 code")
+    bs_snr_db: float = option(50.0, "per-RE SNR at the base station [dB] (taps normalised to "
+                              "unit energy)", at_least=-50.0, at_most=200.0)
+    cfo_hz: float = option(9000.0, "carrier frequency offset UAV -> base station [Hz]; "
+                           "ofdm_sync estimates |CFO| < Delta f (30 kHz at paper)")
+    delay_samples: int = option(1234, "timing offset before the burst [samples]",
+                                at_least=0, at_most=10**9)
+    taps: str = option(DEFAULT_TAPS, "multipath taps of the channel, comma-separated complex "
+                       "at the sample rate, normalised to unit energy ('1' = flat)")
+    radar_domain: str = option("time", "radar echo through ofdm_mod -> td_echo -> ofdm_demod "
+                               "(time) or scene_echo on the grid (tf)", choices=["time", "tf"])
+    echo_taps: int = option(32, "td_echo fractional-delay FIR length", at_least=2,
+                            at_most=1024)
+
+    def check(self):
+        super().check()
+        if self.mode != "data":
+            raise OptionError(f"--mode = {self.mode!r} must be data (the grid is the PUSCH)")
+        if not os.path.isfile(self.payload):
+            raise OptionError(f"--payload = {self.payload!r} is not a readable file")
+        if self.ldpc not in ("none", "default", "") and not os.path.isfile(self.ldpc):
+            raise OptionError(f"--ldpc = {self.ldpc!r} must be none, default or an alist file "
+                              f"that exists")
+        parse_taps(self.taps)
+        params.make_dmrs(self.dmrs)
+
+    def ldpc_alist(self):
+        """The alist path of --ldpc ('' = uncoded)."""
+        from . import backhaul
+        if self.ldpc in ("none", ""):
+            return ""
+        return backhaul.DEFAULT_ALIST if self.ldpc == "default" else self.ldpc
+
+
+def parse_taps(text):
+    """'1,0,0.3+0.2j' -> taps normalised to unit energy (OptionError names --taps)."""
+    import numpy as np
+    try:
+        taps = np.array([complex(t.replace(" ", "")) for t in text.split(",") if t.strip()],
+                        np.complex128)
+    except ValueError:
+        raise OptionError(f"--taps = {text!r} must be comma-separated complex numbers "
+                          f"like 1,0.3+0.2j") from None
+    energy = float(np.sum(np.abs(taps) ** 2))
+    if taps.size == 0 or not math.isfinite(energy) or energy == 0:
+        raise OptionError(f"--taps = {text!r} must hold at least one finite non-zero tap")
+    return [complex(t) for t in taps / math.sqrt(energy)]
+
+
+@dataclasses.dataclass
+class SoakOptions(SimOptions):
+    """nrsar-soak: a long stream through the chain, RSS sampled; presums by default."""
+    presum: str = option("cheby", "azimuth presummer after the range IFFT (cheby_presum), "
+                         "both branches", choices=list(PRESUM))
+    images: str = option("none", "keep (write) the images or not; a streaming receiver keeps "
+                         "none", choices=["keep", "none"])
+    out: str = option("nrsar-soak-out", "output folder (created; checked writable first)")
+    minutes: float = option(10.0, "radar time to stream [min]", above=0.0, at_most=10080.0)
+    interval_s: float = option(2.0, "wall time between RSS samples [s]", above=0.0,
+                               at_most=3600.0)
+    warmup: float = option(0.25, "fraction of the radar time excluded from the fit (buffers, "
+                           "FFT plans, allocator arenas fill first); at least 2 apertures",
+                           at_least=0.0, below=1.0)
+    max_slope_mb_per_min: float = option(2.0, "largest RSS slope accepted [MiB per minute of "
+                                         "radar time]", at_least=0.0)
+
+    def check(self):
+        super().check()
+        if self.images != "none":
+            raise OptionError(f"--images = {self.images!r} must be none: a soak streams "
+                              f"without end, and kept images would grow with it")

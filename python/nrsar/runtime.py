@@ -1,0 +1,78 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""What a run costs and how it ends: performance counters, memory, an interruptible run.
+
+    runtime.run(tb)                 # tb.run() with GNU Radio's performance counters on;
+                                    # Ctrl-C stops the graph and raises Interrupted
+    runtime.rx_block_times(chain)   # CPU seconds in work() per receive block
+    runtime.peak_rss_mb(), runtime.rss_mb()
+"""
+
+import os
+import resource
+
+from gnuradio import gr
+
+
+class Interrupted(Exception):
+    """Ctrl-C stopped the flowgraph: its sinks hold an unfinished aperture, so nothing that
+    depends on them may be written as if it were a result."""
+
+
+def run(tb, counters=True):
+    """tb.run(), with GNU Radio's performance counters on (the executors read
+    GR_CONF_PERFCOUNTERS_ON when they start, so setting it for the run is enough).
+
+    GNU Radio's own wait() swallows Ctrl-C (it stops the graph and returns as if it had
+    finished); here Ctrl-C stops the graph, waits for its threads and raises Interrupted."""
+    old = os.environ.get("GR_CONF_PERFCOUNTERS_ON")
+    if counters:
+        os.environ["GR_CONF_PERFCOUNTERS_ON"] = "True"
+    try:
+        tb.handle_sigint = False
+        tb.start()
+        try:
+            tb.wait()
+        except KeyboardInterrupt:
+            tb.stop()
+            tb.wait()
+            raise Interrupted("interrupted: the flowgraph was stopped before the end of "
+                              "the aperture") from None
+    finally:
+        if counters:
+            if old is None:
+                os.environ.pop("GR_CONF_PERFCOUNTERS_ON", None)
+            else:
+                os.environ["GR_CONF_PERFCOUNTERS_ON"] = old
+
+
+def rx_block_times(blocks_by_name):
+    """CPU time [s] each block of the receive chain (main branch: filter, range IFFT,
+    presummer, focuser, probe) spent in work(), from pc_work_time_total (high-resolution
+    timer ticks, ns on Linux). The reference branch and the generator are excluded."""
+    names = ("filter", "range_ifft", "presum", "focuser", "probe")
+    return {name: blocks_by_name[name].pc_work_time_total() / 1e9 for name in names
+            if blocks_by_name.get(name) is not None}
+
+
+def peak_rss_mb():
+    """Peak resident set size of this process so far [MiB] (ru_maxrss is in KiB on Linux)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def rss_mb():
+    """Current resident set size of this process [MiB] (VmRSS of /proc/self/status)."""
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    return float("nan")
+
+
+def quiet_gnuradio_logs():
+    """Large vectors make GNU Radio's buffer allocator warn about alignment padding on
+    every connection; the apps keep errors only."""
+    gr.logging().set_default_level(gr.log_levels.err)

@@ -1,0 +1,123 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""The scenario an options object describes: numerology, geometry, scene and pulse grid.
+
+    scn = scenario.of(opts)     # Scenario(num, geo, scene, ...), checked (check_scenario)
+
+Every failure is a ValueError that names the flag it came from (`--preset = 'huge': ...`),
+raised before any block is built.
+"""
+
+import dataclasses
+import os
+import typing
+
+from . import params
+from .nrsar_python import range_ifft, srs_config
+from .options import MODES, OptionError
+
+# A point-target scene file costs one complex rotation per target, subcarrier and symbol;
+# above this many targets nrsar-sim says what it is about to do.
+MANY_TARGETS = 10000
+
+
+@dataclasses.dataclass
+class Scenario:
+    num: object          # numerology
+    geo: object          # geometry
+    scene: object        # point targets (a scene file's extent for maps)
+    scene_file: typing.Any  # scenes.SceneFile of --scene FILE, or None
+    tx_mode: str         # "data" or "srs"
+    srs: object          # SRS layout of the grid
+    pulse_symbols: int   # symbols per slow-time sample (1 for data)
+    symbols: int         # symbols per aperture M
+    warnings: list
+
+
+def grid_of_mode(mode_arg, num):
+    """(tx mode name, SRS layout, symbols per pulse) of a --mode value. The SRS band is
+    the paper's (subcarriers 1667..1954) where it fits, else centred."""
+    mode, period = MODES[mode_arg]
+    srs = srs_config()
+    if period:
+        srs.period_slots = period
+    if mode != "data" and srs.start_subcarrier + srs.num_subcarriers() > num.num_subcarriers:
+        srs.start_subcarrier = (num.num_subcarriers - srs.num_subcarriers()) // 2
+    return mode, srs, params.symbols_per_pulse(mode, num, srs)
+
+
+def fft_size_of(opts, num_subcarriers):
+    """The range IFFT size of --fft-size."""
+    text = opts.fft_size.strip().lower()
+    if text == "exact":
+        return num_subcarriers
+    if text == "fast":
+        return range_ifft.fast_fft_size(num_subcarriers)
+    size = int(text)
+    if size < num_subcarriers:
+        raise OptionError(f"--fft-size = {size} must be at least the {num_subcarriers} "
+                          f"subcarriers of --preset {opts.preset}")
+    return size
+
+
+def _flagged(flag, value, func, *args, **kwargs):
+    """func(...) with a ValueError's message prefixed by the flag and its value."""
+    try:
+        return func(*args, **kwargs)
+    except OptionError:
+        raise
+    except ValueError as err:
+        raise OptionError(f"{flag} = {value!r}: {err}") from None
+
+
+def load_scene(opts):
+    """(scene, scene file or None) of --target / --scene. A --scene value is a scene file if
+    such a file exists, else a preset or target text; a value that is none of these names
+    all three."""
+    if opts.target:
+        return _flagged("--target", opts.target, params.make_scene, opts.target), None
+    if os.path.isfile(opts.scene):
+        from . import scenes
+        sf = _flagged("--scene", opts.scene, scenes.load_scene_file, opts.scene)
+        sf.extent_scene = scenes.bounding_scene(sf.points, sf.maps)
+        return sf.extent_scene, sf
+    try:
+        return params.make_scene(opts.scene), None
+    except ValueError as err:
+        looks_like_path = (os.sep in opts.scene or opts.scene.endswith((".yaml", ".yml"))
+                           or not any(c.isdigit() for c in opts.scene))
+        if looks_like_path:
+            raise OptionError(f"--scene = {opts.scene!r} is no file that exists, no preset "
+                              f"(paper3, single) and no target text 'X,Y[,RCS[,PHASE_DEG]];"
+                              f"...'") from None
+        raise OptionError(f"--scene = {opts.scene!r}: {err}") from None
+
+
+def of(opts):
+    """The Scenario of validated options; check_scenario's warnings travel with it."""
+    num = _flagged("--preset", opts.preset, params.make_numerology, opts.preset)
+    overrides = {} if opts.aperture_s is None else {"aperture_s": opts.aperture_s}
+    geo = _flagged("--geometry", opts.geometry, params.make_geometry, opts.geometry,
+                   **overrides)
+    scn, sf = load_scene(opts)
+    warnings = []
+    if sf is not None:  # the scene file's numerology and geometry replace the presets
+        num = sf.numerology or num
+        if sf.geometry is not None:
+            fields = ("carrier_hz", "velocity_mps", "height_m", "track_start_m", "aperture_s")
+            geo = params.make_geometry("paper", **{**{k: getattr(sf.geometry, k)
+                                                      for k in fields}, **overrides})
+        n_points = len(sf.points.targets) if sf.points is not None else 0
+        if n_points > MANY_TARGETS:
+            warnings.append(f"the scene file has {n_points} point targets: the echo costs "
+                            f"one rotation per target, subcarrier and symbol; a "
+                            f"reflectivity map (maps:) is far cheaper for dense scenes")
+    fft_size_of(opts, num.num_subcarriers)  # refused here, before any block is built
+    mode, srs, pulse_symbols = grid_of_mode(opts.mode, num)
+    warnings = list(params.check_scenario(num, geo, scn, pulse_symbols)) + warnings
+    symbols = int(geo.symbols_per_aperture(num))
+    return Scenario(num=num, geo=geo, scene=scn, scene_file=sf, tx_mode=mode, srs=srs,
+                    pulse_symbols=pulse_symbols, symbols=symbols, warnings=warnings)
