@@ -136,8 +136,12 @@ def _limits_text(meta):
     parts = []
     for key, word in (("at_least", ">="), ("above", ">"), ("at_most", "<="), ("below", "<")):
         if meta[key] is not None:
-            parts.append(f"{word} {meta[key]:g}")
+            parts.append(f"{word} {_number(meta[key])}")
     return f"; {', '.join(parts)}" if parts else ""
+
+
+def _number(value):
+    return str(value) if isinstance(value, int) else f"{value:g}"
 
 
 def _checked(name, value, kind, meta):
@@ -170,7 +174,7 @@ def _checked(name, value, kind, meta):
                  ("below", lambda v, b: v < b, "must be below"))
         for key, ok, words in rules:
             if meta[key] is not None and not ok(value, meta[key]):
-                raise OptionError(f"{flag} = {value:g} {words} {meta[key]:g}")
+                raise OptionError(f"{flag} = {_number(value)} {words} {_number(meta[key])}")
     elif not isinstance(value, str):
         raise OptionError(f"{flag} = {value!r} must be text")
     if meta["choices"] is not None and value not in meta["choices"]:

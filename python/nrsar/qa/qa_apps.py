@@ -1,0 +1,180 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""The doors of the programs (docs/robustness.md, "Command line"): every bad or edge input a
+new user might type gets exit code 2 and one line on stderr that names the flag, the value
+and the limit, before any work starts (never a traceback, never a silent run); Ctrl-C stops
+a run with exit code 130 and leaves no unfinished image behind.
+
+The programs run as a user runs them: apps/<program> of this tree (or of NRSAR_APPS_DIR, e.g.
+/usr/local/bin for the installed ones) with this interpreter."""
+
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+from gnuradio import gr_unittest
+
+APPS = os.environ.get("NRSAR_APPS_DIR") or os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "apps")
+
+# (program, flags, text the one-line message must contain). Each row breaks one rule of an
+# otherwise valid command line; the expected text is the rule, written here, not read from
+# the code.
+BAD_INPUTS = [
+    ("nrsar-sim", ["--decim", "0", "--presum", "cheby"], "--decim = 0 must be at least 1"),
+    ("nrsar-sim", ["--decim", "-3"], "--decim = -3 must be at least 1"),
+    ("nrsar-sim", ["--decim", "0"], "--decim = 0 must be at least 1"),
+    ("nrsar-sim", ["--decim", "5"], "--decim = 5 needs a presummer"),
+    ("nrsar-sim", ["--decim", "5000", "--presum", "cheby"], "--decim = 5000 must be at most"),
+    ("nrsar-sim", ["--decim", "x"], "--decim: invalid int value"),
+    ("nrsar-sim", ["--seed", "-1"], "--seed = -1 must be at least 0"),
+    ("nrsar-sim", ["--seed", "2147483647"], "--seed = 2147483647 must be at most"),
+    ("nrsar-sim", ["--range-margin-m", "-1"], "--range-margin-m = -1 must be at least 0"),
+    ("nrsar-sim", ["--range-margin-m", "nan"], "--range-margin-m = nan must be finite"),
+    ("nrsar-sim", ["--snr-db", "nan"], "--snr-db = nan must be finite"),
+    ("nrsar-sim", ["--snr-db", "inf"], "--snr-db = inf must be finite"),
+    ("nrsar-sim", ["--aperture-s", "0"], "--aperture-s = 0 must be above 0"),
+    ("nrsar-sim", ["--aperture-s", "-2"], "--aperture-s = -2 must be above 0"),
+    ("nrsar-sim", ["--aperture-s", "nan"], "--aperture-s = nan must be finite"),
+    ("nrsar-sim", ["--rcmc-taps", "0"], "--rcmc-taps = 0 must be at least 2"),
+    ("nrsar-sim", ["--filter-threads", "3"], "--filter-threads = 3 must be at most 2"),
+    ("nrsar-sim", ["--filter", "zf"], "--filter: invalid choice: 'zf'"),
+    ("nrsar-sim", ["--modulation", "qam1024"], "--modulation: invalid choice"),
+    ("nrsar-sim", ["--mode", "srs40"], "--mode: invalid choice"),
+    ("nrsar-sim", ["--band", "half"], "--band: invalid choice"),
+    ("nrsar-sim", ["--presum", "sum"], "--presum: invalid choice"),
+    ("nrsar-sim", ["--no-such-flag"], "unrecognized arguments: --no-such-flag"),
+    ("nrsar-sim", ["--preset", "huge"], "--preset = 'huge': numerology preset 'huge' is unknown"),
+    ("nrsar-sim", ["--geometry", "long"], "--geometry = 'long': geometry preset 'long' is unknown"),
+    ("nrsar-sim", ["--scene", "nosuchfile"], "--scene = 'nosuchfile' is no file that exists"),
+    ("nrsar-sim", ["--scene", "no/such/scene.yaml"], "is no file that exists"),
+    ("nrsar-sim", ["--scene", "300"], "--scene = '300': target 0 '300': has 1 field"),
+    ("nrsar-sim", ["--target", "300,abc"], "--target = ['300,abc']: target 0 '300,abc': y_m"),
+    ("nrsar-sim", ["--target", "300,nan"], "--target = ['300,nan']: target 0 y_m = nan"),
+    ("nrsar-sim", ["--fft-size", "10"], "--fft-size = 10 must be at least the 64 subcarriers"),
+    ("nrsar-sim", ["--fft-size", "0"], "--fft-size = 0 must be at least 1"),
+    ("nrsar-sim", ["--fft-size", "big"], "--fft-size = 'big' must be 'fast', 'exact'"),
+    ("nrsar-sim", ["--out", ""], "--out = '' must name a folder"),
+    ("nrsar-sim", ["--preset", "nr273", "--aperture-s", "0.01"], "cyclic prefix too short"),
+    ("nrsar-isac", ["--cfo-hz", "45000"], "--cfo-hz = 45000 must be below the subcarrier spacing"),
+    ("nrsar-isac", ["--cfo-hz", "nan"], "--cfo-hz = nan must be finite"),
+    ("nrsar-isac", ["--payload", "/nonexistent/payload.bin"], "--payload = '/nonexistent/payload.bin' is not a readable file"),
+    ("nrsar-isac", ["--mode", "srs2"], "--mode = 'srs2' must be data"),
+    ("nrsar-isac", ["--taps", "0,0"], "--taps = '0,0' must hold at least one finite non-zero tap"),
+    ("nrsar-isac", ["--taps", "1,x"], "--taps = '1,x' must be comma-separated complex numbers"),
+    ("nrsar-isac", ["--delay-samples", "-1"], "--delay-samples = -1 must be at least 0"),
+    ("nrsar-isac", ["--bs-snr-db", "nan"], "--bs-snr-db = nan must be finite"),
+    ("nrsar-isac", ["--dmrs", "pusch3"], "dmrs preset 'pusch3' is unknown"),
+    ("nrsar-isac", ["--ldpc", "/nonexistent.alist"], "--ldpc = '/nonexistent.alist' must be none, default or an alist file"),
+    ("nrsar-isac", ["--echo-taps", "0"], "--echo-taps = 0 must be at least 2"),
+    ("nrsar-soak", ["--minutes", "-1"], "--minutes = -1 must be above 0"),
+    ("nrsar-soak", ["--minutes", "0"], "--minutes = 0 must be above 0"),
+    ("nrsar-soak", ["--minutes", "nan"], "--minutes = nan must be finite"),
+    ("nrsar-soak", ["--interval-s", "0"], "--interval-s = 0 must be above 0"),
+    ("nrsar-soak", ["--warmup", "1"], "--warmup = 1 must be below 1"),
+    ("nrsar-soak", ["--images", "keep"], "--images = 'keep' must be none"),
+    ("nrsar-soak", ["--max-slope-mb-per-min", "-1"], "--max-slope-mb-per-min = -1 must be at least 0"),
+]
+
+# The small valid scenario each row breaks one rule of.
+BASE = ["--preset", "tiny", "--aperture-s", "0.02"]
+
+
+def run_app(program, flags, **kwargs):
+    return subprocess.run([sys.executable, os.path.join(APPS, program)] + flags,
+                          capture_output=True, text=True, timeout=300, **kwargs)
+
+
+class qa_apps(gr_unittest.TestCase):
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="qa_apps_")
+
+    def assert_refused(self, program, flags, expected):
+        proc = run_app(program, BASE + ["--out", os.path.join(self.dir, "out")] + flags)
+        where = f"{program} {' '.join(flags)}"
+        self.assertEqual(proc.returncode, 2, f"{where}: exit {proc.returncode}\n{proc.stderr}")
+        self.assertNotIn("Traceback", proc.stderr, where)
+        self.assertIn(expected, proc.stderr, where)
+        self.assertEqual(proc.stdout, "", where)
+        # the message is the last line; argparse's own errors add the usage before it
+        last = proc.stderr.strip().splitlines()[-1]
+        self.assertTrue(last.startswith(f"{program}: error: "), f"{where}: {last}")
+
+    def test_001_every_bad_input_is_refused_with_its_flag(self):
+        for program, flags, expected in BAD_INPUTS:
+            with self.subTest(program=program, flags=flags):
+                self.assert_refused(program, flags, expected)
+
+    def test_002_out_checked_before_the_run(self):
+        # a file, a path under a file (refused for root too) and a place that cannot be
+        # created: each refused at once, and nothing of the run is left anywhere
+        plain = os.path.join(self.dir, "plain")
+        with open(plain, "w") as f:
+            f.write("x")
+        for out, expected in ((plain, "is a file, not a folder"),
+                              (os.path.join(plain, "sub"), "is not a writable folder"),
+                              ("/proc/nrsar-out", "is not a writable folder")):
+            with self.subTest(out=out):
+                start = time.monotonic()
+                proc = run_app("nrsar-sim", ["--preset", "small", "--out", out])
+                self.assertEqual(proc.returncode, 2, proc.stderr)
+                self.assertIn(f"--out = '{out}' {expected}", proc.stderr)
+                self.assertNotIn("Traceback", proc.stderr)
+                # refused before the 2 s paper aperture is simulated (that takes minutes)
+                self.assertLess(time.monotonic() - start, 120)
+
+    def test_003_ctrl_c_stops_cleanly_and_writes_no_image(self):
+        out = os.path.join(self.dir, "interrupted")
+        # 10 s of the small preset (240 000 symbols): tens of seconds of work
+        proc = subprocess.Popen([sys.executable, os.path.join(APPS, "nrsar-sim"), "--preset",
+                                 "small", "--aperture-s", "10", "--target", "300,250",
+                                 "--images", "keep", "--out", out], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+        # the folder appears when the options have been checked; the run then takes minutes
+        deadline = time.monotonic() + 120
+        while not os.path.isdir(out) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        time.sleep(3.0)
+        proc.send_signal(signal.SIGINT)
+        stdout, stderr = proc.communicate(timeout=120)
+        self.assertEqual(proc.returncode, 130, stderr)
+        self.assertNotIn("Traceback", stderr)
+        self.assertEqual(stderr.strip().splitlines()[-1],
+                         "nrsar-sim: interrupted: stopped before the end, no result written")
+        self.assertEqual(stdout, "")
+        self.assertEqual(os.listdir(out), [])
+
+    def test_004_atomic_writer_leaves_complete_files_or_none(self):
+        import numpy as np
+        from gnuradio.nrsar import results
+        path = os.path.join(self.dir, "image.npy")
+        data = np.arange(1000, dtype=np.complex64)
+        results.write_npy(path, data)
+        np.testing.assert_array_equal(np.load(path), data)
+
+        class Interrupt(BaseException):
+            pass
+
+        def interrupted_write(tmp):
+            with open(tmp, "wb") as f:
+                f.write(b"partial")
+            raise Interrupt()
+
+        # an interruption while writing keeps the old complete file and leaves no temporary
+        with self.assertRaises(Interrupt):
+            with results.atomic(path) as tmp:
+                interrupted_write(tmp)
+        np.testing.assert_array_equal(np.load(path), data)
+        self.assertEqual(os.listdir(self.dir), ["image.npy"])
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_apps)
