@@ -172,7 +172,7 @@ def backhaul_results(num, enc, bs, chunks, payload, out_path):
         else:
             diff = np.bitwise_xor(np.frombuffer(got, np.uint8), np.frombuffer(chunk, np.uint8))
             bit_errors += int(np.unpackbits(diff).sum())
-    ok, bad = int(rx.graphok()), int(rx.graphfailed())
+    ok, bad = int(rx.blocks_ok()), int(rx.blocks_failed())
     slot_s = num.symbols_per_slot * num.symbol_s()
     good_bits = 8 * sum(len(c) for s, c in enumerate(chunks) if delivered.get(s) == c)
     sync = bs["sync"]
@@ -183,8 +183,8 @@ def backhaul_results(num, enc, bs, chunks, payload, out_path):
         "decoded_file": os.path.abspath(out_path),
         "backhaul_ber": bit_errors / (8.0 * len(payload)) if payload else 0.0,
         "backhaul_bler": bad / float(ok + bad) if ok + bad else None,
-        "graphok": ok,
-        "graphfailed": bad,
+        "blocks_ok": ok,
+        "blocks_failed": bad,
         "failed_slots": failed_slots[:32],  # the first 32
         "failed_payload_slots": [s for s in failed_slots if 0 <= s < len(chunks)],
         "payload_slots": len(chunks),
