@@ -13,6 +13,7 @@ raised before any block is built.
 
 import dataclasses
 import os
+import sys
 import typing
 
 from . import params
@@ -112,9 +113,11 @@ def of(opts):
                                                       for k in fields}, **overrides})
         n_points = len(sf.points.targets) if sf.points is not None else 0
         if n_points > MANY_TARGETS:
-            warnings.append(f"the scene file has {n_points} point targets: the echo costs "
-                            f"one rotation per target, subcarrier and symbol; a "
-                            f"reflectivity map (maps:) is far cheaper for dense scenes")
+            text = (f"the scene file has {n_points} point targets: the echo costs one "
+                    f"rotation per target, subcarrier and symbol; a reflectivity map (maps:) "
+                    f"is far cheaper for dense scenes")
+            print(f"warning: {text}", file=sys.stderr)  # before the long run, not after it
+            warnings.append(text)
     fft_size_of(opts, num.num_subcarriers)  # refused here, before any block is built
     mode, srs, pulse_symbols = grid_of_mode(opts.mode, num)
     warnings = list(params.check_scenario(num, geo, scn, pulse_symbols)) + warnings
