@@ -120,9 +120,16 @@ def check_memory(rif, foc, symbols, keep, limit_bytes=None):
 
 
 class imaging_chain(gr.hier_block2):
-    """The receive side of SPEC 3-8 for one options object and scenario (module doc)."""
+    """The receive side of SPEC 3-8 for one options object (module doc).
 
-    def __init__(self, opts, sc, keep_images=True):
+    sc: the options' scenario (default: scenario.of(opts)). reference=False leaves the
+    reference branch out (a radio's graph has no noise-free echo): inputs 0 = echo, 1 = grid,
+    outputs 0 = image, 1 = range-compressed data, and the probe measures against its PSF
+    model (nmse_probe, reference_input false). The probe's metrics dict of every aperture
+    also leaves on the hier block's message port "metrics"."""
+
+    def __init__(self, opts, sc=None, keep_images=True, reference=True):
+        sc = scenario.of(opts) if sc is None else sc
         num, geo, scn = sc.num, sc.geo, sc.scene
         n = num.num_subcarriers
         filter_type = params.make_filter(opts.filter)
@@ -149,41 +156,50 @@ class imaging_chain(gr.hier_block2):
             return rif, rif, foc, pre, [(rif, pre, foc)]
 
         entry, rif, foc, pre, paths = range_and_focus()
-        entry_ref, rif_ref, foc_ref, _, paths_ref = range_and_focus()
+        branches = [(entry, paths)]
+        if reference:
+            entry_ref, rif_ref, foc_ref, _, paths_ref = range_and_focus()
+            branches.append((entry_ref, paths_ref))
         k = foc.num_output_bins()  # the image's bins (the crop minus the guard bins)
+        vec = gr.sizeof_gr_complex
         gr.hier_block2.__init__(
             self, "imaging_chain",
-            gr.io_signature.makev(3, 3, [gr.sizeof_gr_complex * n] * 3),
-            gr.io_signature.makev(3, 3, [gr.sizeof_gr_complex * k,
-                                         gr.sizeof_gr_complex * rif.num_bins(),
-                                         gr.sizeof_gr_complex * k]))
-        for path in paths + paths_ref:
-            self.connect(*path)
+            gr.io_signature.makev(len(branches) + 1, len(branches) + 1,
+                                  [vec * n] * (len(branches) + 1)),
+            gr.io_signature.makev(len(branches) + 1, len(branches) + 1,
+                                  [vec * k, vec * rif.num_bins()] + [vec * k] * reference))
+        self.message_port_register_hier_out("metrics")
+        for _, path in branches:
+            for blocks_in_path in path:
+                self.connect(*blocks_in_path)
         tff = tf_filter(n, filter_type, opts.snr_db, opts.estimate_snr)
         tff.set_constant_modulus_path(opts.cm_path == "on")
         tff.set_threads(opts.filter_threads)
-        # The reference branch is the same chain fed with S = 1 and Z = 0 (SPEC 8): the
-        # reference echo, filtered against an all-ones grid, so the filter's scale (WF's
-        # 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's randomness.
-        ones = blocks.vector_source_c([1.0 + 0.0j] * n, True, n)
-        tff_ref = tf_filter(n, filter_type, opts.snr_db, False)
         probe = nmse_probe(num, geo, scn,
                            constellation(params.make_modulation(opts.modulation)).points(),
-                           filter_type, opts.snr_db, k, reference_input=True,
+                           filter_type, opts.snr_db, k, reference_input=reference,
                            symbols_per_aperture=sc.symbols)
         self.connect((self, 0), (tff, 0))
         self.connect((self, 1), (tff, 1))
-        self.connect((self, 2), (tff_ref, 0))
-        self.connect(ones, (tff_ref, 1))
-        if sc.pulse_symbols == 1:
-            self.connect(tff, entry)
-            self.connect(tff_ref, entry_ref)
-        else:
-            # Pilot-only imaging: the pulses are the SRS symbols, one every spp symbols at
-            # symbol_in_slot of every SRS slot; both branches keep exactly those. (The
-            # focuser takes pulse p at p spp Tsym: the symbol_in_slot Tsym offset, 13 x
-            # 41.7 us = 2.7 cm of track, is below a tenth of a resolution cell.)
-            for source, sink in ((tff, entry), (tff_ref, entry_ref)):
+        filters = [tff]
+        if reference:
+            # The reference branch is the same chain fed with S = 1 and Z = 0 (SPEC 8): the
+            # reference echo, filtered against an all-ones grid, so the filter's scale (WF's
+            # 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's
+            # randomness.
+            ones = blocks.vector_source_c([1.0 + 0.0j] * n, True, n)
+            tff_ref = tf_filter(n, filter_type, opts.snr_db, False)
+            self.connect((self, 2), (tff_ref, 0))
+            self.connect(ones, (tff_ref, 1))
+            filters.append(tff_ref)
+        for source, (sink, _) in zip(filters, branches):
+            if sc.pulse_symbols == 1:
+                self.connect(source, sink)
+            else:
+                # Pilot-only imaging: the pulses are the SRS symbols, one every spp symbols
+                # at symbol_in_slot of every SRS slot; both branches keep exactly those. (The
+                # focuser takes pulse p at p spp Tsym: the symbol_in_slot Tsym offset, 13 x
+                # 41.7 us = 2.7 cm of track, is below a tenth of a resolution cell.)
                 self.connect(source,
                              blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, sc.pulse_symbols,
                                                 sc.srs.symbol_in_slot),
@@ -191,12 +207,32 @@ class imaging_chain(gr.hier_block2):
         check_memory(rif, foc, sc.symbols, keep_images)
         self.connect(foc, (self, 0))
         self.connect(rif, (self, 1))
-        self.connect(foc_ref, (self, 2))
         self.connect(foc, (probe, 0))
-        self.connect(foc_ref, (probe, 1))
-        self.filter, self.filter_ref = tff, tff_ref
-        self.range_ifft, self.presum, self.focuser, self.focuser_ref = rif, pre, foc, foc_ref
+        if reference:
+            self.connect(foc_ref, (self, 2))
+            self.connect(foc_ref, (probe, 1))
+        self.msg_connect(probe, "metrics", self, "metrics")
+        self.filter, self.range_ifft, self.presum, self.focuser = tff, rif, pre, foc
+        self.filter_ref = filters[1] if reference else None
+        self.focuser_ref = foc_ref if reference else None
         self.probe = probe
+
+    # The probe's last metrics, for GRC's function probes and GUI labels
+    def nmse_db(self):
+        return self.probe.nmse_db()
+
+    def snr_out_db(self):
+        return self.probe.snr_out_db()
+
+
+def layout(opts):
+    """(image bins K, range-compressed bins) of the chain the options build, without
+    building it (the vector lengths of imaging_chain's outputs, for GRC)."""
+    sc = scenario.of(opts)
+    nfft = fft_size_of(opts, sc.num.num_subcarriers)
+    crop, guard = range_crop(opts, sc, nfft)
+    bins = range_ifft(sc.num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop).num_bins()
+    return bins - 2 * guard, bins
 
 
 def make_echo(opts, sc):

@@ -25,6 +25,7 @@ import tempfile
 import typing
 
 from . import params
+from .nrsar_python import geometry as geometry_type, numerology as numerology_type
 
 # 38.211 5.2.1's c_init has 31 bits; the chain seeds the noise with seed + 1 and the
 # base station's channel with seed + 2.
@@ -212,8 +213,9 @@ class SimOptions(_Options):
     """Options of one run of the imaging chain (nrsar-sim, and the base of the others)."""
     preset: str = option("paper", "OFDM numerology preset: paper = 3333 x 30 kHz, 24 kHz PRF; "
                          "small = 512 subcarriers; tiny = 64 (tests); nr273; sdr20",
-                         choices=None)
-    geometry: str = option("paper", "platform preset (fc 3.5 GHz, v 50 m/s, H 1000 m)")
+                         choices=list(numerology_type.preset_names()))
+    geometry: str = option("paper", "platform preset (fc 3.5 GHz, v 50 m/s, H 1000 m; short: "
+                           "0.1 s)", choices=list(geometry_type.preset_names()))
     aperture_s: typing.Optional[float] = option(
         None, "slow-time span to simulate [s] (default: the geometry's, 2 s)", above=0.0,
         at_most=3600.0)
