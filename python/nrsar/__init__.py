@@ -17,5 +17,6 @@ numerology, geometry, scene (see params.py for builders from presets and strings
 from .nrsar_python import *
 
 from .params import (make_numerology, make_geometry, make_scene, make_srs, make_dmrs,
-                     make_modulation, make_tx_mode, make_filter, parse_target)
+                     make_modulation, make_tx_mode, make_filter, make_presum_method,
+                     make_presum_domain, make_doppler_band, make_colormap, parse_target)
 from .scenes import (make_map, make_beam, load_scene_file, SceneFileError)

@@ -63,8 +63,8 @@ import pmt
 from gnuradio import blocks, gr
 
 from . import params, sim
-from .nrsar_python import (constellation, doppler_band, focuser_config, nmse_probe,
-                           nr_isac_tx, rd_focuser, tag_keys)
+from .nrsar_python import (constellation, focuser_config, nmse_probe, nr_isac_tx, rd_focuser,
+                           tag_keys)
 
 C = 299792458.0
 COLS = 128        # subcarriers per column block of the work files
@@ -292,8 +292,7 @@ def fast_focuser_geometry(args, num, geo, scn, symbols, fast):
     pulse_symbols = sim.grid_of_mode(args.mode, num)[2] * sim.presum_factor(args)
     cfg = focuser_config()
     cfg.symbols_per_pulse = pulse_symbols
-    cfg.band = {"scene": doppler_band.SCENE, "estimate": doppler_band.ESTIMATE,
-                "full": doppler_band.FULL}[args.band]
+    cfg.band = params.DOPPLER_BANDS[args.band]
     cfg.rcmc_taps = args.rcmc_taps
     cfg.lines_per_aperture = symbols // pulse_symbols
     foc = rd_focuser(num, geo, scn, fast["range_bins"], fast["range_axis_m"][0],

@@ -11,20 +11,25 @@ The one place where GRC `make:` lines, the apps and scripts turn user input into
 """
 
 from .nrsar_python import (numerology, geometry, scene, point_target, srs_config, dmrs_config,
-                           modulation, tx_mode, filter_type, check_scenario, compute_extent)
+                           modulation, tx_mode, filter_type, presum_method, presum_domain,
+                           doppler_band, beam_mode, image_colormap, check_scenario,
+                           compute_extent)
 
-MODULATIONS = {
-    "qpsk": modulation.QPSK,
-    "qam16": modulation.QAM16,
-    "qam64": modulation.QAM64,
-    "qam256": modulation.QAM256,
-    "psk8": modulation.PSK8,
-    "psk16": modulation.PSK16,
-}
 
-TX_MODES = {"data": tx_mode.DATA, "srs": tx_mode.SRS, "data_srs": tx_mode.DATA_SRS}
+def _names(enum):
+    """{'qam256': modulation.QAM256, ...}: the bound enum's members by lower-case name, in
+    the C++ declaration order; the one table of names the apps, scripts and GRC accept."""
+    return {name.lower(): member for name, member in enum.__members__.items()}
 
-FILTERS = {"rf": filter_type.RF, "mf": filter_type.MF, "wf": filter_type.WF}
+
+MODULATIONS = _names(modulation)
+TX_MODES = _names(tx_mode)
+FILTERS = _names(filter_type)
+PRESUM_METHODS = _names(presum_method)
+PRESUM_DOMAINS = _names(presum_domain)
+DOPPLER_BANDS = _names(doppler_band)
+BEAM_MODES = _names(beam_mode)
+COLORMAPS = _names(image_colormap)
 
 
 def _lookup(table, kind, name):
@@ -47,6 +52,22 @@ def make_tx_mode(name):
 
 def make_filter(name):
     return _lookup(FILTERS, "filter", name)
+
+
+def make_presum_method(name):
+    return _lookup(PRESUM_METHODS, "presum method", name)
+
+
+def make_presum_domain(name):
+    return _lookup(PRESUM_DOMAINS, "presum domain", name)
+
+
+def make_doppler_band(name):
+    return _lookup(DOPPLER_BANDS, "doppler band", name)
+
+
+def make_colormap(name):
+    return _lookup(COLORMAPS, "colormap", name)
 
 
 def _with_overrides(obj, overrides, kind):

@@ -17,8 +17,8 @@ import math
 
 import numpy as np
 
-MODULATIONS = ("qpsk", "qam16", "qam64", "qam256", "psk8", "psk16")
-FILTERS = ("rf", "mf", "wf")
+# Only the names come from the bindings' enums (params.py); the statistics are numpy's own.
+from .params import FILTERS, MODULATIONS
 
 
 def _name(value, allowed, kind):
