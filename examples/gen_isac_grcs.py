@@ -14,6 +14,8 @@ import sys
 
 import yaml
 
+from grc_layout import layout, wrap
+
 OUT = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 
 
@@ -41,7 +43,7 @@ class Graph:
     def add(self, bname, bid, coord, comment="", **params):
         name = bname
         p = {k.rstrip("_"): q(v) for k, v in params.items()}
-        p["comment"] = q(comment)
+        p["comment"] = q(wrap(comment))
         self.blocks.append({"name": name, "id": bid, "parameters": p,
                             "states": {"coordinate": list(coord), "rotation": 0,
                                        "state": "enabled"}})
@@ -76,6 +78,7 @@ class Graph:
             "connections": self.conns,
             "metadata": {"file_format": 1, "grc_version": q("3.10.5.1")},
         }
+        layout([doc["options"]] + self.blocks)
         with open(f"{OUT}/{self.gid}.grc", "w") as f:
             yaml.dump(doc, f, sort_keys=False, width=100, default_flow_style=None)
 
