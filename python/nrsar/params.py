@@ -41,33 +41,23 @@ def _lookup(table, kind, name):
         raise ValueError(f"{kind} '{name}' is unknown; choose one of {sorted(table)}") from None
 
 
-def make_modulation(name):
-    """'qam256' -> modulation.QAM256 (enum values pass through)."""
-    return _lookup(MODULATIONS, "modulation", name)
+def _builder(table, kind):
+    """make_X(name): a name of table (any case) -> its enum member; members pass through;
+    ValueError names the kind, the name and the choices."""
+    def make(name):
+        return _lookup(table, kind, name)
+    first = next(iter(table))
+    make.__doc__ = f"'{first}' -> {table[first]!r} (enum values pass through)."
+    return make
 
 
-def make_tx_mode(name):
-    return _lookup(TX_MODES, "tx mode", name)
-
-
-def make_filter(name):
-    return _lookup(FILTERS, "filter", name)
-
-
-def make_presum_method(name):
-    return _lookup(PRESUM_METHODS, "presum method", name)
-
-
-def make_presum_domain(name):
-    return _lookup(PRESUM_DOMAINS, "presum domain", name)
-
-
-def make_doppler_band(name):
-    return _lookup(DOPPLER_BANDS, "doppler band", name)
-
-
-def make_colormap(name):
-    return _lookup(COLORMAPS, "colormap", name)
+make_modulation = _builder(MODULATIONS, "modulation")
+make_tx_mode = _builder(TX_MODES, "tx mode")
+make_filter = _builder(FILTERS, "filter")
+make_presum_method = _builder(PRESUM_METHODS, "presum method")
+make_presum_domain = _builder(PRESUM_DOMAINS, "presum domain")
+make_doppler_band = _builder(DOPPLER_BANDS, "doppler band")
+make_colormap = _builder(COLORMAPS, "colormap")
 
 
 def _with_overrides(obj, overrides, kind):
