@@ -7,17 +7,17 @@ JOBS       ?= 2
 PYTHON     := /usr/bin/python3
 DEMO_OUT   ?= demo-out
 
-DEB_PACKAGES := build-essential cmake ccache pkg-config git \
-	gnuradio gnuradio-dev gr-radar libvolk2-dev libfftw3-dev pybind11-dev \
-	python3-dev python3-numpy python3-matplotlib python3-yaml python3-pygccxml castxml \
-	libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth zlib1g-dev clang libclang-rt-14-dev \
-	python3-soapysdr $(GRC_PACKAGES)
-
 # gnuradio-companion needs the introspection data of GTK 3 and PangoCairo (its
 # gi.require_version checks), which the gnuradio package does not depend on: without them it
 # stops with "Namespace Gtk not available". Cairo for pygobject (a gnuradio dependency, named
 # for GRC's sake) and GTK's SVG loader for the Adwaita icons (a Recommends of GTK).
 GRC_PACKAGES := gir1.2-gtk-3.0 gir1.2-pango-1.0 python3-gi-cairo librsvg2-common
+
+DEB_PACKAGES := build-essential cmake ccache pkg-config git \
+	gnuradio gnuradio-dev gr-radar libvolk2-dev libfftw3-dev pybind11-dev \
+	python3-dev python3-numpy python3-matplotlib python3-yaml python3-pygccxml castxml \
+	libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth zlib1g-dev clang libclang-rt-14-dev \
+	python3-soapysdr $(GRC_PACKAGES)
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(PREFIX) \
 	-DPython_EXECUTABLE=$(PYTHON) -DPYTHON_EXECUTABLE=$(PYTHON) -DENABLE_DOXYGEN=OFF
