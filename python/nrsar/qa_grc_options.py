@@ -27,9 +27,11 @@ from gnuradio import nrsar
 
 
 def _repo_root():
-    """The source tree (grc/ and examples/), found upwards from this file wherever it lies."""
+    """The source tree (grc/*.block.yml and examples/), found upwards from this file wherever
+    it lies (the build tree has grc/ and examples/ folders without them)."""
     d = os.path.dirname(os.path.abspath(__file__))
-    while not (os.path.isdir(os.path.join(d, "grc")) and os.path.isdir(os.path.join(d, "examples"))):
+    while not (glob.glob(os.path.join(d, "grc", "*.block.yml"))
+               and glob.glob(os.path.join(d, "examples", "*.grc"))):
         parent = os.path.dirname(d)
         if parent == d:
             raise RuntimeError("grc/ and examples/ not found above " + __file__)
