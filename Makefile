@@ -7,16 +7,22 @@ JOBS       ?= 2
 PYTHON     := /usr/bin/python3
 DEMO_OUT   ?= demo-out
 
+# gnuradio-companion needs the introspection data of GTK 3 and PangoCairo (its
+# gi.require_version checks), which the gnuradio package does not depend on: without them it
+# stops with "Namespace Gtk not available". Cairo for pygobject (a gnuradio dependency, named
+# for GRC's sake) and GTK's SVG loader for the Adwaita icons (a Recommends of GTK).
+GRC_PACKAGES := gir1.2-gtk-3.0 gir1.2-pango-1.0 python3-gi-cairo librsvg2-common
+
 DEB_PACKAGES := build-essential cmake ccache pkg-config git \
 	gnuradio gnuradio-dev gr-radar libvolk2-dev libfftw3-dev pybind11-dev \
 	python3-dev python3-numpy python3-matplotlib python3-yaml python3-pygccxml castxml \
 	libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth zlib1g-dev clang libclang-rt-14-dev \
-	python3-soapysdr
+	python3-soapysdr $(GRC_PACKAGES)
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(PREFIX) \
 	-DPython_EXECUTABLE=$(PYTHON) -DPYTHON_EXECUTABLE=$(PYTHON) -DENABLE_DOXYGEN=OFF
 
-.PHONY: all deps configure build test test-sanitize fuzz install demo bench soak clean
+.PHONY: all deps configure runtime build test test-sanitize fuzz install demo bench soak clean
 
 all: build
 
@@ -32,10 +38,18 @@ deps:
 		DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -q --no-install-recommends $$missing; \
 	fi
 
-$(BUILD)/CMakeCache.txt:
+# Reconfigured when the top CMakeLists.txt is newer: a build directory configured before it
+# defined nrsar_runtime learns the target (cmake leaves an unchanged cache alone: touch).
+$(BUILD)/CMakeCache.txt: CMakeLists.txt
 	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
+	touch $@
 
 configure: deps $(BUILD)/CMakeCache.txt
+
+# What `make install` copies: the library, the bindings, the Python package, the apps and the
+# GRC blocks, without the GoogleTests and benchmarks (`make build` and `make test` add those).
+runtime: configure
+	cmake --build $(BUILD) -j$(JOBS) --target nrsar_runtime
 
 build: configure
 	cmake --build $(BUILD) -j$(JOBS)
@@ -73,7 +87,7 @@ fuzz: deps
 	cmake --build $(FUZZ_BUILD) -j$(JOBS) --target nrsar_fuzz
 	FUZZ_SECONDS=$(FUZZ_SECONDS) tests/fuzz/run $(FUZZ_BUILD)
 
-install: build
+install: runtime
 	cmake --install $(BUILD)
 	ldconfig
 
@@ -89,7 +103,7 @@ demo: install
 
 # Kernel benchmarks (Google Benchmark, outside ctest so VOLK uses its fast kernels), then
 # the flowgraph-level comparisons with peers; results land in docs/bench/.
-bench: install
+bench: build install
 	mkdir -p docs/bench
 	for b in $(BUILD)/bench/bench_*; do \
 		[ -x "$$b" ] || continue; \

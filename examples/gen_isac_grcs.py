@@ -14,6 +14,8 @@ import sys
 
 import yaml
 
+from grc_layout import layout, wrap
+
 OUT = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 
 
@@ -41,7 +43,7 @@ class Graph:
     def add(self, bname, bid, coord, comment="", **params):
         name = bname
         p = {k.rstrip("_"): q(v) for k, v in params.items()}
-        p["comment"] = q(comment)
+        p["comment"] = q(wrap(comment))
         self.blocks.append({"name": name, "id": bid, "parameters": p,
                             "states": {"coordinate": list(coord), "rotation": 0,
                                        "state": "enabled"}})
@@ -76,6 +78,7 @@ class Graph:
             "connections": self.conns,
             "metadata": {"file_format": 1, "grc_version": q("3.10.5.1")},
         }
+        layout([doc["options"]] + self.blocks)
         with open(f"{OUT}/{self.gid}.grc", "w") as f:
             yaml.dump(doc, f, sort_keys=False, width=100, default_flow_style=None)
 
@@ -204,14 +207,14 @@ def radar(g, x, y, rx_src, rx_port, ref_src, echo=True, tx_start="-1", sync_demo
           "rx_time alignment on: the first output is symbol 0" if tx_start != "-1" else "",
           numerology=NUM, num_subcarriers=N, fft_start="-1", tx_start_time=tx_start)
     g.add("wiener", "nrsar_tf_filter", (x + 400, y), "strip the known data off every RE, eq. (25)",
-          num_subcarriers=N, filter='"wf"', snr_db="radar_snr_db", estimate_snr="False")
+          num_subcarriers=N, filter="wf", snr_db="radar_snr_db", estimate_snr="False")
     g.add("range_compression", "nrsar_range_ifft", (x + 600, y), "keep 950 .. 1150 m",
           numerology=NUM, num_subcarriers=N, subcarrier_spacing_hz="30e3", fft_size="1024",
           window="window.WIN_RECTANGULAR", window_param="-1", r_min_m="950", r_max_m="1150")
     g.add("presum", "nrsar_cheby_presum", (x + 800, y),
           "phase-compensated Chebyshev presummer, D = 10", numerology=NUM, geometry="short",
-          scene=SCENE, method="nrsar.presum_method.CHEBY", decim="decim",
-          domain="nrsar.presum_domain.RANGE", num_bins="range_bins",
+          scene=SCENE, method="cheby", decim="decim",
+          domain="range", num_bins="range_bins",
           first_range_m="rif_probe.range_axis_first_m()", range_bin_m="rif_probe.range_bin_m()",
           num_taps="0", passband_hz="-1", stopband_hz="-1", stopband_weight="10",
           symbols_per_pulse="1", enforce_qpe_bound="True")
@@ -219,7 +222,7 @@ def radar(g, x, y, rx_src, rx_port, ref_src, echo=True, tx_start="-1", sync_demo
           numerology=NUM, geometry="short", scene=SCENE, num_range_bins="range_bins",
           first_range_m="rif_probe.range_axis_first_m()", range_bin_m="rif_probe.range_bin_m()",
           symbols_per_pulse="decim", lines_per_aperture="aperture_symbols // decim",
-          overlap_lines="-1", fast_fft_size="True", band="nrsar.doppler_band.SCENE",
+          overlap_lines="-1", fast_fft_size="True", band="scene",
           band_margin_hz="-1", estimate_threshold_db="20", hyperbolic="True", rcmc="True",
           rcmc_taps="16", rcmc_window="window.WIN_KAISER", rcmc_window_param="6.0",
           rcmc_skip_below_bins="0.05", range_centre_cycles="float('nan')")
@@ -227,7 +230,7 @@ def radar(g, x, y, rx_src, rx_port, ref_src, echo=True, tx_start="-1", sync_demo
           "image metrics of the target per aperture (PSF model as reference)",
           numerology=NUM, geometry="short", scene=SCENE,
           constellation=f"nrsar.constellation(nrsar.make_modulation('{QAM}')).points()",
-          filter="nrsar.filter_type.WF", snr_in_db="radar_snr_db", vlen="range_bins",
+          filter="wf", snr_in_db="radar_snr_db", vlen="range_bins",
           reference_input="False", lines_per_aperture="0",
           symbols_per_aperture="aperture_symbols", num_subcarriers=N, range_resolution_m="0.0",
           azimuth_resolution_m="0.0", noise_guard_cells="10.0", noise_box="[]",

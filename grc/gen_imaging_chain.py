@@ -35,7 +35,8 @@ def grc_param(f, hints):
     if meta["choices"] is not None:
         # quoted: YAML reads a bare on / off as a boolean
         lines += ["    dtype: enum", f"    default: '{default}'",
-                  "    options: [" + ", ".join(f"'{c}'" for c in meta["choices"]) + "]"]
+                  "    options: [" + ", ".join(f"'{c}'" for c in meta["choices"]) + "]",
+                  "    option_labels: [" + ", ".join(f"'{c}'" for c in meta["choices"]) + "]"]
     elif optional:
         lines += ["    dtype: raw", f"    default: '{default!r}'"]
     elif kind is bool:

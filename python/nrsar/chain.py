@@ -29,15 +29,11 @@ from gnuradio import blocks, fft, gr
 
 from . import params, progress, results, runtime, scenario
 from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_config,
-                           nmse_probe, nr_isac_tx, presum_domain, presum_method, range_ifft,
-                           rd_focuser, scene_echo, tf_filter)
+                           nmse_probe, nr_isac_tx, presum_domain, range_ifft, rd_focuser,
+                           scene_echo, tf_filter)
 from .options import check_out_dir
 from .scenario import fft_size_of
 
-PRESUM_METHODS = {"drop": presum_method.DROP, "boxcar": presum_method.BOXCAR,
-                  "cheby": presum_method.CHEBY, "filter_drop": presum_method.FILTER_DROP}
-BANDS = {"scene": doppler_band.SCENE, "estimate": doppler_band.ESTIMATE,
-         "full": doppler_band.FULL}
 
 
 def rcmc_guard_bins(opts, sc, nfft, r_max_m):
@@ -81,7 +77,7 @@ def focuser_config_of(opts, sc, guard_bins):
     apart behind a presummer (which also tags the new pulse interval on its first output)."""
     cfg = focuser_config()
     cfg.symbols_per_pulse = sc.pulse_symbols * opts.presum_factor()
-    cfg.band = BANDS[opts.band]
+    cfg.band = params.DOPPLER_BANDS[opts.band]
     cfg.rcmc_taps = opts.rcmc_taps
     cfg.guard_bins = guard_bins
     cfg.lines_per_aperture = sc.symbols // cfg.symbols_per_pulse
@@ -145,7 +141,7 @@ class imaging_chain(gr.hier_block2):
                              rif.range_bin_m(), cfg)
             if decim == 1:
                 return rif, rif, foc, None, [(rif, foc)]
-            method = PRESUM_METHODS[opts.presum]
+            method = params.PRESUM_METHODS[opts.presum]
             if opts.presum_domain == "tf":  # presum the TF pulses, range-compress D x fewer
                 pre = cheby_presum(num, geo, scn, method, decim, presum_domain.TF, n,
                                    symbols_per_pulse=sc.pulse_symbols)

@@ -201,8 +201,8 @@ def check_out_dir(path, flag="--out"):
 # The pulse modes of the transmit grid: (tx mode, SRS period in slots)
 MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
 
-# --presum choices (cheby_presum methods; none = no presummer)
-PRESUM = ("none", "drop", "boxcar", "cheby", "filter_drop")
+# --presum choices (cheby_presum's methods; none = no presummer)
+PRESUM = ("none",) + tuple(params.PRESUM_METHODS)
 
 # Presumming factor when --presum is given without --decim
 DEFAULT_DECIM = 10
@@ -239,7 +239,7 @@ class SimOptions(_Options):
                            "(N) or a number >= N")
     band: str = option("scene", "azimuth processing band: the scene's Doppler band from the "
                        "geometry, estimated from the data, or the full PRF",
-                       choices=["scene", "estimate", "full"])
+                       choices=list(params.DOPPLER_BANDS))
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "
@@ -252,7 +252,8 @@ class SimOptions(_Options):
         None, f"presumming factor D (pulses per output pulse; needs --presum; default "
         f"{DEFAULT_DECIM})", at_least=1, at_most=4096)
     presum_domain: str = option("range", "presum after the range IFFT (range) or before it "
-                                "(tf: saves D-1 of every D IFFTs)", choices=["range", "tf"])
+                                "(tf: saves D-1 of every D IFFTs)",
+                                choices=list(params.PRESUM_DOMAINS))
     range_crop: str = option("on", "crop the range-compressed data to the scene's swath +- "
                              "margin (off: keep every IFFT bin)", choices=["on", "off"])
     images: str = option("keep", "keep the range-compressed data and the image in memory and "

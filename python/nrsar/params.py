@@ -11,20 +11,25 @@ The one place where GRC `make:` lines, the apps and scripts turn user input into
 """
 
 from .nrsar_python import (numerology, geometry, scene, point_target, srs_config, dmrs_config,
-                           modulation, tx_mode, filter_type, check_scenario, compute_extent)
+                           modulation, tx_mode, filter_type, presum_method, presum_domain,
+                           doppler_band, beam_mode, image_colormap, check_scenario,
+                           compute_extent)
 
-MODULATIONS = {
-    "qpsk": modulation.QPSK,
-    "qam16": modulation.QAM16,
-    "qam64": modulation.QAM64,
-    "qam256": modulation.QAM256,
-    "psk8": modulation.PSK8,
-    "psk16": modulation.PSK16,
-}
 
-TX_MODES = {"data": tx_mode.DATA, "srs": tx_mode.SRS, "data_srs": tx_mode.DATA_SRS}
+def _names(enum):
+    """{'qam256': modulation.QAM256, ...}: the bound enum's members by lower-case name, in
+    the C++ declaration order; the one table of names the apps, scripts and GRC accept."""
+    return {name.lower(): member for name, member in enum.__members__.items()}
 
-FILTERS = {"rf": filter_type.RF, "mf": filter_type.MF, "wf": filter_type.WF}
+
+MODULATIONS = _names(modulation)
+TX_MODES = _names(tx_mode)
+FILTERS = _names(filter_type)
+PRESUM_METHODS = _names(presum_method)
+PRESUM_DOMAINS = _names(presum_domain)
+DOPPLER_BANDS = _names(doppler_band)
+BEAM_MODES = _names(beam_mode)
+COLORMAPS = _names(image_colormap)
 
 
 def _lookup(table, kind, name):
@@ -36,17 +41,23 @@ def _lookup(table, kind, name):
         raise ValueError(f"{kind} '{name}' is unknown; choose one of {sorted(table)}") from None
 
 
-def make_modulation(name):
-    """'qam256' -> modulation.QAM256 (enum values pass through)."""
-    return _lookup(MODULATIONS, "modulation", name)
+def _builder(table, kind):
+    """make_X(name): a name of table (any case) -> its enum member; members pass through;
+    ValueError names the kind, the name and the choices."""
+    def make(name):
+        return _lookup(table, kind, name)
+    first = next(iter(table))
+    make.__doc__ = f"'{first}' -> {table[first]!r} (enum values pass through)."
+    return make
 
 
-def make_tx_mode(name):
-    return _lookup(TX_MODES, "tx mode", name)
-
-
-def make_filter(name):
-    return _lookup(FILTERS, "filter", name)
+make_modulation = _builder(MODULATIONS, "modulation")
+make_tx_mode = _builder(TX_MODES, "tx mode")
+make_filter = _builder(FILTERS, "filter")
+make_presum_method = _builder(PRESUM_METHODS, "presum method")
+make_presum_domain = _builder(PRESUM_DOMAINS, "presum domain")
+make_doppler_band = _builder(DOPPLER_BANDS, "doppler band")
+make_colormap = _builder(COLORMAPS, "colormap")
 
 
 def _with_overrides(obj, overrides, kind):

@@ -36,11 +36,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .nrsar_python import (antenna_beam, beam_mode, point_target, reflectivity_map, scene)
+from .nrsar_python import (antenna_beam, point_target, reflectivity_map, scene)
 from . import params
 
-BEAM_MODES = {"whole_block": beam_mode.WHOLE_BLOCK, "azimuth": beam_mode.AZIMUTH,
-              "azimuth_elevation": beam_mode.AZIMUTH_ELEVATION}
+BEAM_MODES = params.BEAM_MODES
 
 
 def make_map(values, dx, dy, x0=0.0, y0=0.0, kind="power", scale=1.0, speckle=False, seed=0):

@@ -46,7 +46,7 @@ from . import presum_study
 LIGHT_SPEED = 299792458.0
 TARGET1 = "300,100"
 PAPER_SNRS = (-20.0, 5.0, 20.0)
-FILTERS = ("rf", "mf", "wf")
+FILTERS = tuple(params.FILTERS)
 FIGURES = ("fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "presum")
 
 

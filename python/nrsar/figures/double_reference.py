@@ -64,8 +64,8 @@ import pmt
 from gnuradio import blocks, gr
 
 from .. import chain, params, results, runtime, scenario
-from ..options import SimOptions, option
-from ..nrsar_python import (constellation, doppler_band, focuser_config, nmse_probe,
+from ..options import PRESUM, SimOptions, option
+from ..nrsar_python import (constellation, focuser_config, nmse_probe,
                            nr_isac_tx, rd_focuser, tag_keys)
 
 C = 299792458.0
@@ -77,7 +77,7 @@ ROWS = 1000       # symbols per row chunk of the echo computation
 class DoubleReferenceOptions(SimOptions):
     """nrsar-sim's options (presumming by default) plus the reference's own."""
     presum: str = option("cheby", "azimuth presummer of the fast chain (cheby_presum)",
-                         choices=["none", "drop", "boxcar", "cheby", "filter_drop"])
+                         choices=list(PRESUM))
     out: str = option("/tmp/dref/out", "output folder")
     work: str = option("/tmp/dref/work", "folder of the raw files (about 9 GB at paper-full)")
     keep_work: bool = option(False, "keep the raw files")
@@ -296,8 +296,7 @@ def fast_focuser_geometry(opts, num, geo, scn, symbols, fast):
     pulse_symbols = scenario.grid_of_mode(opts.mode, num)[2] * opts.presum_factor()
     cfg = focuser_config()
     cfg.symbols_per_pulse = pulse_symbols
-    cfg.band = {"scene": doppler_band.SCENE, "estimate": doppler_band.ESTIMATE,
-                "full": doppler_band.FULL}[opts.band]
+    cfg.band = params.DOPPLER_BANDS[opts.band]
     cfg.rcmc_taps = opts.rcmc_taps
     cfg.lines_per_aperture = symbols // pulse_symbols
     foc = rd_focuser(num, geo, scn, fast["range_bins"], fast["range_axis_m"][0],

@@ -36,8 +36,8 @@ from gnuradio import nrsar
 from gnuradio.nrsar import chain, params, results, runtime, scenario
 from gnuradio.nrsar.options import SimOptions
 
-METHODS = {"drop": nrsar.presum_method.DROP, "boxcar": nrsar.presum_method.BOXCAR,
-           "filter_drop": nrsar.presum_method.FILTER_DROP, "cheby": nrsar.presum_method.CHEBY}
+# the methods in the order of the figures' legends
+METHODS = {name: params.PRESUM_METHODS[name] for name in ("drop", "boxcar", "filter_drop", "cheby")}
 C = 299792458.0
 
 
