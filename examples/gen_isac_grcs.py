@@ -92,10 +92,12 @@ QAM = "qam16"
 def common_vars(g, y=12):
     g.var(N, "612", (200, y), "N of the sdr20 numerology (30.72 Msps, 1024 FFT, CP 256)")
     g.var("samp_rate", "nrsar.make_numerology('sdr20').sample_rate_hz()", (200, y + 80))
-    g.var("rif_probe", "nrsar.range_ifft(nrsar.make_numerology('sdr20'), 1024, "
-          "window.WIN_RECTANGULAR, -1, 950, 1150)", (360, y),
-          "the range crop (950 .. 1150 m at 1024 points), for its axis")
-    g.var("range_bins", "rif_probe.num_bins()", (360, y + 80))
+    # (decim as a dict entry: GRC's setters rewrite every name of a variable, keywords too)
+    g.var("chain_layout", "nrsar.chain.layout(nrsar.SimOptions(preset='sdr20', "
+          f"geometry='short', scene='300,2', modulation='{QAM}', presum='cheby', "
+          "**{'decim': decim}))",
+          (360, y), "the imaging chain's axes: the scene's swath +- 30 m (nrsar-sim's crop)")
+    g.var("range_bins", "chain_layout.image_bins", (360, y + 80))
     g.var("decim", "10", (560, y), "azimuth presum factor D (PRF 24 kHz -> 2.4 kHz)")
     g.var("aperture_symbols", "int(nrsar.make_geometry('short').symbols_per_aperture("
           "nrsar.make_numerology('sdr20')))", (560, y + 80),
@@ -187,8 +189,8 @@ def base_station(g, x, y, src, src_port="0", eq=False, channel=True):
 
 
 def radar(g, x, y, rx_src, rx_port, ref_src, echo=True, tx_start="-1", sync_demod=False):
-    """[td_echo] -> ofdm_demod -> tf_filter(ref) -> range_ifft -> cheby_presum -> rd_focuser
-    -> nmse_probe"""
+    """[td_echo] -> [ofdm_sync] -> ofdm_demod -> imaging_chain (tf_filter(grid) -> range_ifft
+    -> cheby_presum -> rd_focuser -> nmse_probe, built by nrsar.chain as in nrsar-sim)"""
     if echo:
         g.add("echo", "nrsar_td_echo", (x, y),
               "time-domain echo of a target 300 m off the track (per-symbol delay, Doppler)",
@@ -206,42 +208,19 @@ def radar(g, x, y, rx_src, rx_port, ref_src, echo=True, tx_start="-1", sync_demo
     g.add("radar_demod", "nrsar_ofdm_demod", (x + 200, y),
           "rx_time alignment on: the first output is symbol 0" if tx_start != "-1" else "",
           numerology=NUM, num_subcarriers=N, fft_start="-1", tx_start_time=tx_start)
-    g.add("wiener", "nrsar_tf_filter", (x + 400, y), "strip the known data off every RE, eq. (25)",
-          num_subcarriers=N, filter="wf", snr_db="radar_snr_db", estimate_snr="False")
-    g.add("range_compression", "nrsar_range_ifft", (x + 600, y), "keep 950 .. 1150 m",
-          numerology=NUM, num_subcarriers=N, subcarrier_spacing_hz="30e3", fft_size="1024",
-          window="window.WIN_RECTANGULAR", window_param="-1", r_min_m="950", r_max_m="1150")
-    g.add("presum", "nrsar_cheby_presum", (x + 800, y),
-          "phase-compensated Chebyshev presummer, D = 10", numerology=NUM, geometry="short",
-          scene=SCENE, method="cheby", decim="decim",
-          domain="range", num_bins="range_bins",
-          first_range_m="rif_probe.range_axis_first_m()", range_bin_m="rif_probe.range_bin_m()",
-          num_taps="0", passband_hz="-1", stopband_hz="-1", stopband_weight="10",
-          symbols_per_pulse="1", enforce_qpe_bound="True")
-    g.add("focuser", "nrsar_rd_focuser", (x + 1000, y), "range-Doppler focusing per aperture",
-          numerology=NUM, geometry="short", scene=SCENE, num_range_bins="range_bins",
-          first_range_m="rif_probe.range_axis_first_m()", range_bin_m="rif_probe.range_bin_m()",
-          symbols_per_pulse="decim", lines_per_aperture="aperture_symbols // decim",
-          overlap_lines="-1", fast_fft_size="True", band="scene",
-          band_margin_hz="-1", estimate_threshold_db="20", hyperbolic="True", rcmc="True",
-          rcmc_taps="16", rcmc_window="window.WIN_KAISER", rcmc_window_param="6.0",
-          rcmc_skip_below_bins="0.05", range_centre_cycles="float('nan')")
-    g.add("probe", "nrsar_nmse_probe", (x + 1200, y + 100),
-          "image metrics of the target per aperture (PSF model as reference)",
-          numerology=NUM, geometry="short", scene=SCENE,
-          constellation=f"nrsar.constellation(nrsar.make_modulation('{QAM}')).points()",
-          filter="wf", snr_in_db="radar_snr_db", vlen="range_bins",
-          reference_input="False", lines_per_aperture="0",
-          symbols_per_aperture="aperture_symbols", num_subcarriers=N, range_resolution_m="0.0",
-          azimuth_resolution_m="0.0", noise_guard_cells="10.0", noise_box="[]",
-          sidelobe_window_cells="20.0")
+    g.add("imaging", "nrsar_imaging_chain", (x + 400, y),
+          "nrsar-sim's receive chain (nrsar.imaging_chain): Wiener filter against the known "
+          "grid, range IFFT, Chebyshev presummer, RD focuser, NMSE probe on its PSF model",
+          preset="sdr20", geometry="short", scene="300,2", modulation=QAM, filter="wf",
+          snr_db="radar_snr_db", presum="cheby", decim="decim", reference="False")
+    g.add("range_null", "blocks_null_sink", (x + 640, y + 100),
+          "the range-compressed data (imaging output 1) is not kept here",
+          type="complex", vlen="chain_layout.range_bins", num_inputs="1",
+          bus_structure_sink="[[0,],]")
     g.c(rx_src, rx_port, "radar_demod", "0")
-    g.c("radar_demod", "0", "wiener", "0")
-    g.c(ref_src, "0", "wiener", "1")
-    g.c("wiener", "0", "range_compression", "0")
-    g.c("range_compression", "0", "presum", "0")
-    g.c("presum", "0", "focuser", "0")
-    g.c("focuser", "0", "probe", "0")
+    g.c("radar_demod", "0", "imaging", "0")
+    g.c(ref_src, "0", "imaging", "1")
+    g.c("imaging", "1", "range_null", "0")
 
 
 def headless_sinks(g, x, y):
@@ -250,8 +229,8 @@ def headless_sinks(g, x, y):
     g.add("image_sink", "blocks_file_sink", (x, y - 100),
           "focused image: complex64, range_bins per azimuth line", file="image",
           type="complex", vlen="range_bins", unbuffered="False", append="False")
-    g.c("probe", "metrics", "metrics_print", "print")
-    g.c("focuser", "0", "image_sink", "0")
+    g.c("imaging", "metrics", "metrics_print", "print")
+    g.c("imaging", "0", "image_sink", "0")
 
 
 def headless_params(g, y=200, symbols="2400"):
@@ -328,19 +307,19 @@ def gui_sinks(g):
           "rows: azimuth lines of the focused aperture, columns: slant range 950 .. 1150 m",
           type="float", name_='"focused image [dB]"', samp_rate="24000 / decim * range_bins",
           nrows="aperture_symbols // decim", ncols="range_bins", x_label='"slant range [m]"',
-          x_start_value="rif_probe.range_axis_first_m()",
-          x_end_value="rif_probe.range_axis_first_m() + range_bins * rif_probe.range_bin_m()",
+          x_start_value="chain_layout.first_range_m",
+          x_end_value="chain_layout.first_range_m + range_bins * chain_layout.range_bin_m",
           y_label='"azimuth line"', y_start_value="0", y_end_value="aperture_symbols // decim",
           grid="False", zmin="-30", zmax="45", mult="[]", offset="[]", nconnections="1",
           update_time="0.0", gui_hint="1, 1, 1, 1", axislabels="True", label1='""',
           color1="1", alpha1="1.0")
-    g.c("focuser", "0", "power", "0")
+    g.c("imaging", "0", "power", "0")
     g.c("power", "0", "to_db", "0")
     g.c("to_db", "0", "to_stream", "0")
     g.c("to_stream", "0", "raster", "0")
     x = 8
-    probes = [("nmse_val", "probe", "nmse_db", "NMSE [dB]", "float", "2, 0, 1, 1"),
-              ("snr_out_val", "probe", "snr_out_db", "SNR_out [dB]", "float", "2, 1, 1, 1"),
+    probes = [("nmse_val", "imaging", "nmse_db", "NMSE [dB]", "float", "2, 0, 1, 1"),
+              ("snr_out_val", "imaging", "snr_out_db", "SNR_out [dB]", "float", "2, 1, 1, 1"),
               ("blocks_ok_val", "bs_rx", "blocks_ok", "TBs ok", "int", "3, 0, 1, 1"),
               ("blocks_failed_val", "bs_rx", "blocks_failed", "TBs failed", "int", "3, 1, 1, 1"),
               ("bs_snr_val", "bs_rx", "last_snr_db", "base-station SNR estimate [dB]", "float",

@@ -92,22 +92,24 @@ inputs:
     domain: stream
     dtype: complex
     vlen: ${{{n}}}
-    multiplicity: ${{1 if reference else 0}}
+    optional: true
+    hide: ${{not reference}}
 
 outputs:
 -   label: image
     domain: stream
     dtype: complex
-    vlen: ${{{layout}[0]}}
+    vlen: ${{{layout}.image_bins}}
 -   label: range
     domain: stream
     dtype: complex
-    vlen: ${{{layout}[1]}}
+    vlen: ${{{layout}.range_bins}}
 -   label: ref_image
     domain: stream
     dtype: complex
-    vlen: ${{{layout}[0]}}
-    multiplicity: ${{1 if reference else 0}}
+    vlen: ${{{layout}.image_bins}}
+    optional: true
+    hide: ${{not reference}}
 -   domain: message
     id: metrics
     optional: true

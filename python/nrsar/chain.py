@@ -21,6 +21,7 @@ front, the chain and its sinks) and returns the blocks by name. Hooks instead of
 echo), `keep_reference=True` keeps the reference image in a sink too.
 """
 
+import dataclasses
 import math
 import os
 import time
@@ -221,14 +222,26 @@ class imaging_chain(gr.hier_block2):
         return self.probe.snr_out_db()
 
 
+@dataclasses.dataclass
+class Layout:
+    """The axes of imaging_chain's outputs: image bins K (output 0 and 2), range-compressed
+    bins (output 1), the image's first bin [m] and the bin spacing [m]."""
+    image_bins: int
+    range_bins: int
+    first_range_m: float
+    range_bin_m: float
+
+
 def layout(opts):
-    """(image bins K, range-compressed bins) of the chain the options build, without
-    building it (the vector lengths of imaging_chain's outputs, for GRC)."""
+    """The Layout of the chain the options build, without building it (GRC's vector lengths
+    and axes)."""
     sc = scenario.of(opts)
     nfft = fft_size_of(opts, sc.num.num_subcarriers)
     crop, guard = range_crop(opts, sc, nfft)
-    bins = range_ifft(sc.num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop).num_bins()
-    return bins - 2 * guard, bins
+    rif = range_ifft(sc.num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
+    return Layout(image_bins=rif.num_bins() - 2 * guard, range_bins=rif.num_bins(),
+                  first_range_m=rif.range_axis_first_m() + guard * rif.range_bin_m(),
+                  range_bin_m=rif.range_bin_m())
 
 
 def make_echo(opts, sc):
