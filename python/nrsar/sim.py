@@ -32,7 +32,7 @@ from . import params
 from . import progress
 from .nrsar_python import (constellation, focuser_config, doppler_band, nmse_probe, nr_isac_tx,
                            range_ifft, rd_focuser, scene_echo, srs_config, tag_keys, tf_filter)
-from .nrsar_python import cheby_presum, presum_domain, presum_method
+from .nrsar_python import cheby_presum, presum_config, presum_domain, presum_method
 
 MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
 
@@ -287,14 +287,16 @@ def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo
             tb.connect(rif, foc)
             return rif, rif, foc
         if tf_domain:  # stress: presum the TF pulses, then range-compress D times fewer
-            pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.TF,
-                               n, symbols_per_pulse=spp)
+            pre = cheby_presum(num, geo, scn, n, cfg=presum_config(
+                method=PRESUM[args.presum], decim=decim, domain=presum_domain.TF,
+                symbols_per_pulse=spp))
             tb.connect(pre, rif, foc)
             presummers.append(pre)
             return pre, rif, foc
-        pre = cheby_presum(num, geo, scn, PRESUM[args.presum], decim, presum_domain.RANGE,
-                           rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
-                           symbols_per_pulse=spp)
+        pre = cheby_presum(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                           rif.range_bin_m(), presum_config(
+                               method=PRESUM[args.presum], decim=decim,
+                               domain=presum_domain.RANGE, symbols_per_pulse=spp))
         presummers.append(pre)
         tb.connect(rif, pre, foc)
         return rif, rif, foc
