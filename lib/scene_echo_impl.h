@@ -10,11 +10,9 @@
 
 #include <gnuradio/nrsar/kernel/gaussian_noise.h>
 #include <gnuradio/nrsar/kernel/scene_echo.h>
+#include <gnuradio/nrsar/kernel/split_worker.h>
 #include <gnuradio/nrsar/scene_echo.h>
 #include "nonfinite_reporter.h"
-#include <condition_variable>
-#include <mutex>
-#include <thread>
 #include <vector>
 
 namespace gr {
@@ -37,19 +35,7 @@ private:
 
     // Optional second thread: takes the second half of the items of a work() call.
     unsigned d_threads = 1;
-    std::thread d_worker;
-    std::mutex d_job_mutex;
-    std::condition_variable d_job_cv;
-    struct job_t {
-        const gr_complex* in = nullptr;
-        gr_complex* out = nullptr;
-        gr_complex* ref = nullptr;
-        std::uint64_t m0 = 0;
-        int count = 0;
-        std::size_t* bad = nullptr;
-        bool pending = false;
-        bool quit = false;
-    } d_job;
+    kernel::split_worker d_split; // joined in stop() and before the kernels go
 
     void check_and_log(const scene& scn) const;
     void update_sigma();
@@ -61,8 +47,6 @@ private:
                  std::uint64_t m0,
                  int count,
                  std::size_t* bad);
-    void worker_loop();
-    void stop_worker();
 
 public:
     scene_echo_impl(const numerology& num,
