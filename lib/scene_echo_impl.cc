@@ -36,12 +36,11 @@ scene_echo_impl::scene_echo_impl(const numerology& num,
       d_geo(geo),
       d_echo(num, geo, scn), // validates num, geo and scn
       d_echo2(num, geo, scn),
-      d_noise(seed),
-      d_snr_db(snr_db)
+      d_noise(seed)
 {
     check_and_log(scn);
-    check_snr_db(snr_db);
-    update_sigma();
+    d_noise.set_signal_power(d_echo.get_scene().total_rcs());
+    d_noise.set_snr_db(snr_db);
 }
 
 void scene_echo_impl::check_and_log(const scene& scn) const
@@ -50,29 +49,15 @@ void scene_echo_impl::check_and_log(const scene& scn) const
         d_logger->warn("{}", warning);
 }
 
-void scene_echo_impl::update_sigma()
-{
-    // SNR per RE = sum of RCS powers / sigma^2 (SPEC section 2).
-    d_variance = std::isinf(d_snr_db)
-                     ? 0.0
-                     : d_echo.get_scene().total_rcs() / std::pow(10.0, d_snr_db / 10.0);
-    d_sigma = static_cast<float>(std::sqrt(d_variance));
-}
-
 void scene_echo_impl::set_snr_db(double snr_db)
 {
-    check_snr_db(snr_db);
     gr::thread::scoped_lock guard(d_setlock);
-    d_snr_db = snr_db;
-    update_sigma();
+    d_noise.set_snr_db(snr_db);
 }
 
-double scene_echo_impl::snr_db() const { return d_snr_db; }
+double scene_echo_impl::snr_db() const { return d_noise.snr_db(); }
 
-double scene_echo_impl::noise_variance() const
-{
-    return d_variance;
-}
+double scene_echo_impl::noise_variance() const { return d_noise.variance(); }
 
 void scene_echo_impl::set_scene(const scene& scn)
 {
@@ -81,7 +66,7 @@ void scene_echo_impl::set_scene(const scene& scn)
     gr::thread::scoped_lock guard(d_setlock);
     d_echo.set_scene(scn);
     d_echo2.set_scene(scn);
-    update_sigma();
+    d_noise.set_signal_power(d_echo.get_scene().total_rcs());
 }
 
 scene scene_echo_impl::get_scene() const { return d_echo.get_scene(); }
@@ -113,8 +98,8 @@ void scene_echo_impl::process(kernel::scene_echo& k,
                         in + i * n,
                         out + i * n,
                         ref ? ref + i * n : nullptr,
-                        &d_noise,
-                        d_sigma);
+                        d_noise.generator(),
+                        d_noise.sigma());
     }
 }
 

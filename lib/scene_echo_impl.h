@@ -8,7 +8,7 @@
 #ifndef INCLUDED_NRSAR_SCENE_ECHO_IMPL_H
 #define INCLUDED_NRSAR_SCENE_ECHO_IMPL_H
 
-#include <gnuradio/nrsar/kernel/gaussian_noise.h>
+#include <gnuradio/nrsar/kernel/echo_noise.h>
 #include <gnuradio/nrsar/kernel/scene_echo.h>
 #include <gnuradio/nrsar/kernel/split_worker.h>
 #include <gnuradio/nrsar/scene_echo.h>
@@ -25,10 +25,7 @@ private:
     const geometry d_geo;
     kernel::scene_echo d_echo;
     kernel::scene_echo d_echo2; //!< scratch of the second thread (same parameters)
-    kernel::gaussian_noise d_noise;
-    double d_snr_db;
-    double d_variance; //!< sigma^2, 0: no noise
-    float d_sigma;     //!< noise standard deviation (E|Z|^2 = sigma^2), 0: no noise
+    kernel::echo_noise d_noise; //!< level from the SNR and the scene's RCS, generator
     nonfinite_reporter d_nonfinite;
 
     std::vector<std::size_t> d_bad; //!< non-finite count per item of one work() call
@@ -38,7 +35,6 @@ private:
     kernel::split_worker d_split; // joined in stop() and before the kernels go
 
     void check_and_log(const scene& scn) const;
-    void update_sigma();
     //! Echo of `count` symbols starting at absolute index m0 with kernel k.
     void process(kernel::scene_echo& k,
                  const gr_complex* in,
