@@ -18,29 +18,11 @@ namespace nrsar {
 cheby_presum::sptr cheby_presum::make(const numerology& num,
                                       const geometry& geo,
                                       const scene& scn,
-                                      presum_method method,
-                                      unsigned decim,
-                                      presum_domain domain,
                                       unsigned num_bins,
                                       double first_range_m,
                                       double range_bin_m,
-                                      unsigned num_taps,
-                                      double passband_hz,
-                                      double stopband_hz,
-                                      double stopband_weight,
-                                      unsigned symbols_per_pulse,
-                                      bool enforce_qpe_bound)
+                                      const kernel::presum_config& cfg)
 {
-    kernel::presum_config cfg;
-    cfg.method = method;
-    cfg.domain = domain;
-    cfg.decim = decim;
-    cfg.num_taps = num_taps;
-    cfg.passband_hz = passband_hz;
-    cfg.stopband_hz = stopband_hz;
-    cfg.stopband_weight = stopband_weight;
-    cfg.symbols_per_pulse = symbols_per_pulse;
-    cfg.enforce_qpe_bound = enforce_qpe_bound;
     return gnuradio::make_block_sptr<cheby_presum_impl>(
         kernel::cheby_presum(num, geo, scn, num_bins, first_range_m, range_bin_m, cfg));
 }

@@ -62,31 +62,20 @@ extended_scene_echo_impl::extended_scene_echo_impl(
           gr::io_signature::make(1, 2, sizeof(gr_complex) * num.num_subcarriers)),
       d_num(num),
       d_gen(num, geo, points, maps, beam, taps, oversampling), // validates everything
-      d_noise(seed),
-      d_snr_db(snr_db)
+      d_noise(seed)
 {
-    check_snr_db(snr_db);
+    d_noise.set_snr_db(snr_db);
     const scene box = bounding_scene(points, maps);
     if (!box.targets.empty())
         for (const auto& warning : check_scenario(num, geo, box))
             d_logger->warn("{}", warning);
-    update_sigma();
-}
-
-void extended_scene_echo_impl::update_sigma()
-{
-    // SNR per RE = total scatterer power / sigma^2 (SPEC section 2).
-    d_variance =
-        std::isinf(d_snr_db) ? 0.0 : d_gen.total_power() / std::pow(10.0, d_snr_db / 10.0);
-    d_sigma = static_cast<float>(std::sqrt(d_variance));
+    d_noise.set_signal_power(d_gen.total_power());
 }
 
 void extended_scene_echo_impl::set_snr_db(double snr_db)
 {
-    check_snr_db(snr_db);
     gr::thread::scoped_lock guard(d_setlock);
-    d_snr_db = snr_db;
-    update_sigma();
+    d_noise.set_snr_db(snr_db);
 }
 
 int extended_scene_echo_impl::work(int noutput_items,
@@ -102,7 +91,7 @@ int extended_scene_echo_impl::work(int noutput_items,
     for (int i = 0; i < noutput_items; i++) {
         // eqs. (7), (8); m is the absolute slow-time index.
         const std::size_t bad = d_gen.echo(
-            m0 + i, in + i * n, out + i * n, ref ? ref + i * n : nullptr, &d_noise, d_sigma);
+            m0 + i, in + i * n, out + i * n, ref ? ref + i * n : nullptr, d_noise.generator(), d_noise.sigma());
         if (bad)
             add_item_tag(0,
                          nitems_written(0) + i,

@@ -10,7 +10,7 @@
 
 #include <gnuradio/nrsar/extended_scene_echo.h>
 #include <gnuradio/nrsar/kernel/extended_scene.h>
-#include <gnuradio/nrsar/kernel/gaussian_noise.h>
+#include <gnuradio/nrsar/kernel/echo_noise.h>
 #include "nonfinite_reporter.h"
 
 namespace gr {
@@ -21,13 +21,9 @@ class extended_scene_echo_impl : public extended_scene_echo
 private:
     const numerology d_num;
     kernel::extended_scene d_gen;
-    kernel::gaussian_noise d_noise;
-    double d_snr_db;
-    double d_variance = 0.0;
-    float d_sigma = 0.0f;
+    kernel::echo_noise d_noise; // level from the SNR and the total scatterer power
     nonfinite_reporter d_nonfinite;
 
-    void update_sigma();
 
 public:
     extended_scene_echo_impl(const numerology& num,
@@ -41,8 +37,8 @@ public:
                              double oversampling);
 
     void set_snr_db(double snr_db) override;
-    double snr_db() const override { return d_snr_db; }
-    double noise_variance() const override { return d_variance; }
+    double snr_db() const override { return d_noise.snr_db(); }
+    double noise_variance() const override { return d_noise.variance(); }
     double total_power() const override { return d_gen.total_power(); }
     std::uint64_t num_scatterers() const override { return d_gen.num_scatterers(); }
     unsigned grid_size() const override { return d_gen.grid_size(); }

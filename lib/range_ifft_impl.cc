@@ -11,7 +11,6 @@
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
 #include <sstream>
-#include <thread>
 
 namespace gr {
 namespace nrsar {
@@ -141,23 +140,17 @@ int range_ifft_impl::work(int noutput_items,
         d_tag_pending = false;
     }
     d_bad.assign(noutput_items, 0);
-    int split = noutput_items;
-    std::thread helper;
-    if (d_threads == 2 && d_helper && noutput_items >= 4) {
-        split = noutput_items / 2;
-        helper = std::thread([this, in, out, n, k, split, noutput_items] {
-            for (int i = split; i < noutput_items; i++) {
-                const gr_complex* x = d_helper_guard.guard(in + i * n, n, d_bad[i]);
-                d_helper->execute(x, out + i * k);
-            }
-        });
-    }
-    for (int i = 0; i < split; i++) {
-        const gr_complex* x = d_guard.guard(in + i * n, n, d_bad[i]);
-        d_kernel.execute(x, out + i * k);
-    }
-    if (helper.joinable())
-        helper.join();
+    // Each part with its own kernel (own FFTW plan) and guard.
+    auto part = [&](std::size_t begin, std::size_t end, unsigned p) {
+        auto& g = p == 0 ? d_guard : d_helper_guard;
+        auto& kern = p == 0 ? d_kernel : *d_helper;
+        for (std::size_t i = begin; i < end; i++)
+            kern.execute(g.guard(in + i * n, n, d_bad[i]), out + i * k);
+    };
+    if (d_threads == 2 && d_helper && noutput_items >= 4)
+        d_split.run(noutput_items, part);
+    else
+        part(0, noutput_items, 0);
     for (int i = 0; i < noutput_items; i++) {
         if (d_bad[i] > 0) {
             const std::uint64_t item = nitems_written(0) + i;

@@ -10,6 +10,7 @@
 
 #include <gnuradio/nrsar/kernel/finite_guard.h>
 #include <gnuradio/nrsar/kernel/range_ifft.h>
+#include <gnuradio/nrsar/kernel/split_worker.h>
 #include <gnuradio/nrsar/range_ifft.h>
 #include "nonfinite_reporter.h"
 #include <memory>
@@ -26,11 +27,12 @@ private:
     double d_bin_m;
     bool d_tag_pending = true;
     nonfinite_reporter d_nonfinite;
-    // Two-core split (set_threads(2)): the second half of each work() call's symbols on a
-    // std::thread with its own kernel (own FFTW plan) and guard.
+    // Two-core split (set_threads(2)): the second half of each work() call's symbols on
+    // the split worker with its own kernel (own FFTW plan) and guard.
     unsigned d_threads = 1;
     std::unique_ptr<kernel::range_ifft> d_helper;
     kernel::finite_guard d_helper_guard;
+    kernel::split_worker d_split; // last: joined before the kernels go
     std::vector<std::size_t> d_bad;
 
 public:

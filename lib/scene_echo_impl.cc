@@ -36,12 +36,11 @@ scene_echo_impl::scene_echo_impl(const numerology& num,
       d_geo(geo),
       d_echo(num, geo, scn), // validates num, geo and scn
       d_echo2(num, geo, scn),
-      d_noise(seed),
-      d_snr_db(snr_db)
+      d_noise(seed)
 {
     check_and_log(scn);
-    check_snr_db(snr_db);
-    update_sigma();
+    d_noise.set_signal_power(d_echo.get_scene().total_rcs());
+    d_noise.set_snr_db(snr_db);
 }
 
 void scene_echo_impl::check_and_log(const scene& scn) const
@@ -50,29 +49,15 @@ void scene_echo_impl::check_and_log(const scene& scn) const
         d_logger->warn("{}", warning);
 }
 
-void scene_echo_impl::update_sigma()
-{
-    // SNR per RE = sum of RCS powers / sigma^2 (SPEC section 2).
-    d_variance = std::isinf(d_snr_db)
-                     ? 0.0
-                     : d_echo.get_scene().total_rcs() / std::pow(10.0, d_snr_db / 10.0);
-    d_sigma = static_cast<float>(std::sqrt(d_variance));
-}
-
 void scene_echo_impl::set_snr_db(double snr_db)
 {
-    check_snr_db(snr_db);
     gr::thread::scoped_lock guard(d_setlock);
-    d_snr_db = snr_db;
-    update_sigma();
+    d_noise.set_snr_db(snr_db);
 }
 
-double scene_echo_impl::snr_db() const { return d_snr_db; }
+double scene_echo_impl::snr_db() const { return d_noise.snr_db(); }
 
-double scene_echo_impl::noise_variance() const
-{
-    return d_variance;
-}
+double scene_echo_impl::noise_variance() const { return d_noise.variance(); }
 
 void scene_echo_impl::set_scene(const scene& scn)
 {
@@ -81,7 +66,7 @@ void scene_echo_impl::set_scene(const scene& scn)
     gr::thread::scoped_lock guard(d_setlock);
     d_echo.set_scene(scn);
     d_echo2.set_scene(scn);
-    update_sigma();
+    d_noise.set_signal_power(d_echo.get_scene().total_rcs());
 }
 
 scene scene_echo_impl::get_scene() const { return d_echo.get_scene(); }
@@ -113,46 +98,18 @@ void scene_echo_impl::process(kernel::scene_echo& k,
                         in + i * n,
                         out + i * n,
                         ref ? ref + i * n : nullptr,
-                        &d_noise,
-                        d_sigma);
+                        d_noise.generator(),
+                        d_noise.sigma());
     }
-}
-
-void scene_echo_impl::worker_loop()
-{
-    std::unique_lock<std::mutex> lock(d_job_mutex);
-    for (;;) {
-        d_job_cv.wait(lock, [this] { return d_job.pending || d_job.quit; });
-        if (d_job.quit)
-            return;
-        lock.unlock();
-        process(d_echo2, d_job.in, d_job.out, d_job.ref, d_job.m0, d_job.count, d_job.bad);
-        lock.lock();
-        d_job.pending = false;
-        d_job_cv.notify_all();
-    }
-}
-
-void scene_echo_impl::stop_worker()
-{
-    if (!d_worker.joinable())
-        return;
-    {
-        std::lock_guard<std::mutex> lock(d_job_mutex);
-        d_job.quit = true;
-    }
-    d_job_cv.notify_all();
-    d_worker.join();
-    d_job.quit = false;
 }
 
 bool scene_echo_impl::stop()
 {
-    stop_worker();
+    d_split.stop();
     return true;
 }
 
-scene_echo_impl::~scene_echo_impl() { stop_worker(); }
+scene_echo_impl::~scene_echo_impl() {}
 
 int scene_echo_impl::work(int noutput_items,
                           gr_vector_const_void_star& input_items,
@@ -167,23 +124,15 @@ int scene_echo_impl::work(int noutput_items,
     d_bad.resize(noutput_items);
 
     if (d_threads > 1 && noutput_items >= 4) {
-        if (!d_worker.joinable())
-            d_worker = std::thread([this] { worker_loop(); });
-        const int first = noutput_items / 2;
-        {
-            std::lock_guard<std::mutex> lock(d_job_mutex);
-            d_job.in = in + first * n;
-            d_job.out = out + first * n;
-            d_job.ref = ref ? ref + first * n : nullptr;
-            d_job.m0 = m0 + first;
-            d_job.count = noutput_items - first;
-            d_job.bad = d_bad.data() + first;
-            d_job.pending = true;
-        }
-        d_job_cv.notify_all();
-        process(d_echo, in, out, ref, m0, first, d_bad.data());
-        std::unique_lock<std::mutex> lock(d_job_mutex);
-        d_job_cv.wait(lock, [this] { return !d_job.pending; });
+        d_split.run(noutput_items, [&](std::size_t begin, std::size_t end, unsigned p) {
+            process(p == 0 ? d_echo : d_echo2,
+                    in + begin * n,
+                    out + begin * n,
+                    ref ? ref + begin * n : nullptr,
+                    m0 + begin,
+                    static_cast<int>(end - begin),
+                    d_bad.data() + begin);
+        });
     } else {
         process(d_echo, in, out, ref, m0, noutput_items, d_bad.data());
     }

@@ -8,13 +8,11 @@
 #ifndef INCLUDED_NRSAR_SCENE_ECHO_IMPL_H
 #define INCLUDED_NRSAR_SCENE_ECHO_IMPL_H
 
-#include <gnuradio/nrsar/kernel/gaussian_noise.h>
+#include <gnuradio/nrsar/kernel/echo_noise.h>
 #include <gnuradio/nrsar/kernel/scene_echo.h>
+#include <gnuradio/nrsar/kernel/split_worker.h>
 #include <gnuradio/nrsar/scene_echo.h>
 #include "nonfinite_reporter.h"
-#include <condition_variable>
-#include <mutex>
-#include <thread>
 #include <vector>
 
 namespace gr {
@@ -27,32 +25,16 @@ private:
     const geometry d_geo;
     kernel::scene_echo d_echo;
     kernel::scene_echo d_echo2; //!< scratch of the second thread (same parameters)
-    kernel::gaussian_noise d_noise;
-    double d_snr_db;
-    double d_variance; //!< sigma^2, 0: no noise
-    float d_sigma;     //!< noise standard deviation (E|Z|^2 = sigma^2), 0: no noise
+    kernel::echo_noise d_noise; //!< level from the SNR and the scene's RCS, generator
     nonfinite_reporter d_nonfinite;
 
     std::vector<std::size_t> d_bad; //!< non-finite count per item of one work() call
 
     // Optional second thread: takes the second half of the items of a work() call.
     unsigned d_threads = 1;
-    std::thread d_worker;
-    std::mutex d_job_mutex;
-    std::condition_variable d_job_cv;
-    struct job_t {
-        const gr_complex* in = nullptr;
-        gr_complex* out = nullptr;
-        gr_complex* ref = nullptr;
-        std::uint64_t m0 = 0;
-        int count = 0;
-        std::size_t* bad = nullptr;
-        bool pending = false;
-        bool quit = false;
-    } d_job;
+    kernel::split_worker d_split; // joined in stop() and before the kernels go
 
     void check_and_log(const scene& scn) const;
-    void update_sigma();
     //! Echo of `count` symbols starting at absolute index m0 with kernel k.
     void process(kernel::scene_echo& k,
                  const gr_complex* in,
@@ -61,8 +43,6 @@ private:
                  std::uint64_t m0,
                  int count,
                  std::size_t* bad);
-    void worker_loop();
-    void stop_worker();
 
 public:
     scene_echo_impl(const numerology& num,

@@ -42,12 +42,13 @@ td_echo_impl::td_echo_impl(const numerology& num,
       d_num(num),
       d_geo(geo),
       d_echo(num, geo, scn, taps, kaiser_beta, beam), // validates everything
-      d_noise(seed),
-      d_snr_db(snr_db)
+      d_noise(seed)
 {
     check_and_log(scn);
-    check_snr_db(snr_db);
-    update_sigma();
+    // The unitary FFT of the demodulator maps a time-domain variance sigma^2 per sample to
+    // sigma^2 per RE.
+    d_noise.set_signal_power(d_echo.get_scene().total_rcs());
+    d_noise.set_snr_db(snr_db);
     set_history(d_echo.history() + 1); // the delay line; zeros before the stream start
     if (d_echo.band_edge() >= 0.5)
         d_logger->warn("the numerology fills the whole FFT band (num_subcarriers = {} of "
@@ -64,22 +65,10 @@ void td_echo_impl::check_and_log(const scene& scn) const
         d_logger->warn("{}", warning);
 }
 
-void td_echo_impl::update_sigma()
-{
-    // SNR per RE = sum of RCS powers / sigma^2 (SPEC section 2); the unitary FFT of the
-    // demodulator maps a time-domain variance sigma^2 per sample to sigma^2 per RE.
-    d_variance = std::isinf(d_snr_db)
-                     ? 0.0
-                     : d_echo.get_scene().total_rcs() / std::pow(10.0, d_snr_db / 10.0);
-    d_sigma = static_cast<float>(std::sqrt(d_variance));
-}
-
 void td_echo_impl::set_snr_db(double snr_db)
 {
-    check_snr_db(snr_db);
     gr::thread::scoped_lock guard(d_setlock);
-    d_snr_db = snr_db;
-    update_sigma();
+    d_noise.set_snr_db(snr_db);
 }
 
 void td_echo_impl::set_scene(const scene& scn)
@@ -88,7 +77,7 @@ void td_echo_impl::set_scene(const scene& scn)
     check_and_log(scn);
     gr::thread::scoped_lock guard(d_setlock);
     d_echo.set_scene(scn);
-    update_sigma();
+    d_noise.set_signal_power(d_echo.get_scene().total_rcs());
 }
 
 scene td_echo_impl::get_scene() const { return d_echo.get_scene(); }
@@ -132,7 +121,7 @@ int td_echo_impl::work(int noutput_items,
     }
 
     const std::uint64_t before = d_echo.dropped_paths();
-    d_echo.process(k0, x, out, n, &d_noise, d_sigma);
+    d_echo.process(k0, x, out, n, d_noise.generator(), d_noise.sigma());
     if (d_echo.dropped_paths() > before && !d_dropped_logged) {
         d_logger->warn("a target's delay exceeds one OFDM symbol ({} samples) at sample {}: "
                        "left out (see dropped_paths())",

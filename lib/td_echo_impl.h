@@ -8,8 +8,8 @@
 #ifndef INCLUDED_NRSAR_TD_ECHO_IMPL_H
 #define INCLUDED_NRSAR_TD_ECHO_IMPL_H
 
+#include <gnuradio/nrsar/kernel/echo_noise.h>
 #include <gnuradio/nrsar/kernel/finite_guard.h>
-#include <gnuradio/nrsar/kernel/gaussian_noise.h>
 #include <gnuradio/nrsar/kernel/td_echo.h>
 #include <gnuradio/nrsar/td_echo.h>
 #include "nonfinite_reporter.h"
@@ -24,18 +24,14 @@ private:
     const numerology d_num;
     const geometry d_geo;
     kernel::td_echo d_echo;
-    kernel::gaussian_noise d_noise;
+    kernel::echo_noise d_noise; // level from the SNR and the scene's RCS, generator
     kernel::finite_guard d_guard;
-    double d_snr_db;
-    double d_variance;
-    float d_sigma;
     nonfinite_reporter d_nonfinite;
     bool d_dropped_logged = false;
     //! One past the absolute index of the last non-finite input sample (0: none yet).
     std::uint64_t d_bad_end = 0;
 
     void check_and_log(const scene& scn) const;
-    void update_sigma();
 
 public:
     td_echo_impl(const numerology& num,
@@ -48,8 +44,8 @@ public:
                  const kernel::antenna_beam& beam);
 
     void set_snr_db(double snr_db) override;
-    double snr_db() const override { return d_snr_db; }
-    double noise_variance() const override { return d_variance; }
+    double snr_db() const override { return d_noise.snr_db(); }
+    double noise_variance() const override { return d_noise.variance(); }
     void set_scene(const scene& scn) override;
     scene get_scene() const override;
     unsigned taps() const override { return d_echo.fir().taps(); }

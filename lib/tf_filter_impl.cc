@@ -10,7 +10,6 @@
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
-#include <thread>
 
 namespace gr {
 namespace nrsar {
@@ -104,8 +103,11 @@ int tf_filter_impl::work(int noutput_items,
         add_item_tag(0, tag);
 
     d_bad.assign(noutput_items, 0);
-    int split = noutput_items;
-    std::thread helper;
+    auto part = [&](std::size_t begin, std::size_t end, unsigned p) {
+        auto& kern = p == 0 ? d_kernel : *d_helper;
+        for (std::size_t i = begin; i < end; i++)
+            d_bad[i] = kern.process(y + i * vlen, s + i * vlen, out + i * vlen);
+    };
     if (d_threads == 2 && noutput_items >= 4 && !d_kernel.estimate_snr()) {
         // second kernel, same settings (WF's SNR_in as the first kernel uses it now)
         if (!d_helper)
@@ -116,16 +118,10 @@ int tf_filter_impl::work(int noutput_items,
         if (d_helper->snr_db() != d_kernel.effective_snr_db())
             d_helper->set_snr_db(d_kernel.effective_snr_db());
         d_helper->set_constant_modulus_path(d_kernel.constant_modulus_path());
-        split = noutput_items / 2;
-        helper = std::thread([this, y, s, out, vlen, split, noutput_items] {
-            for (int i = split; i < noutput_items; i++)
-                d_bad[i] = d_helper->process(y + i * vlen, s + i * vlen, out + i * vlen);
-        });
+        d_split.run(noutput_items, part);
+    } else {
+        part(0, noutput_items, 0);
     }
-    for (int i = 0; i < split; i++)
-        d_bad[i] = d_kernel.process(y + i * vlen, s + i * vlen, out + i * vlen);
-    if (helper.joinable())
-        helper.join();
     for (int i = 0; i < noutput_items; i++) {
         const std::size_t bad = d_bad[i];
         if (bad > 0) {

@@ -8,6 +8,7 @@
 #ifndef INCLUDED_NRSAR_TF_FILTER_IMPL_H
 #define INCLUDED_NRSAR_TF_FILTER_IMPL_H
 
+#include <gnuradio/nrsar/kernel/split_worker.h>
 #include <gnuradio/nrsar/kernel/tf_filter.h>
 #include <gnuradio/nrsar/tf_filter.h>
 #include "nonfinite_reporter.h"
@@ -24,10 +25,11 @@ private:
     nonfinite_reporter d_nonfinite;
     std::vector<gr::tag_t> d_tags; // tags of input 0 in the current work() call
     // Two-core split (set_threads(2)): the second half of each work() call's items runs
-    // on a std::thread with this second kernel (settings mirrored from d_kernel).
+    // on the split worker with this second kernel (settings mirrored from d_kernel).
     unsigned d_threads = 1;
     std::unique_ptr<kernel::tf_filter> d_helper;
     std::vector<std::size_t> d_bad; // non-finite count per item of the current call
+    kernel::split_worker d_split;   // last: joined before the kernels go
 
 public:
     tf_filter_impl(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool estimate_snr);

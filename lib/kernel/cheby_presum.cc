@@ -5,7 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
-#include "../param_check.h"
+#include "param_check.h"
 #include <gnuradio/filter/pm_remez.h>
 #include <gnuradio/nrsar/kernel/cheby_presum.h>
 #include <volk/volk.h>

@@ -5,7 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
-#include "../param_check.h"
+#include "param_check.h"
 #include <gnuradio/nrsar/kernel/ofdm_modem.h>
 #include <volk/volk.h>
 #include <algorithm>

@@ -5,7 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
-#include "../param_check.h"
+#include "param_check.h"
 #include <gnuradio/nrsar/kernel/fft_size.h>
 #include <gnuradio/nrsar/kernel/rd_focuser.h>
 #include <volk/volk.h>

@@ -5,7 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
-#include "../param_check.h"
+#include "param_check.h"
 #include "bessel_i0.h"
 #include <gnuradio/nrsar/kernel/sinc_interpolator.h>
 #include <cmath>

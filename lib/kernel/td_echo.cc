@@ -5,7 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
-#include "../param_check.h"
+#include "param_check.h"
 #include "bessel_i0.h"
 #include "gaussian_noise_impl.h" // noise_detail::avx2_available()
 #include "td_echo_impl.h"

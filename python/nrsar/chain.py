@@ -30,8 +30,8 @@ from gnuradio import blocks, fft, gr
 
 from . import params, progress, results, runtime, scenario
 from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_config,
-                           nmse_probe, nr_isac_tx, presum_domain, range_ifft, rd_focuser,
-                           scene_echo, tf_filter)
+                           nmse_probe, nr_isac_tx, presum_config, presum_domain, range_ifft,
+                           rd_focuser, scene_echo, tf_filter)
 from .options import check_out_dir
 from .scenario import fft_size_of
 
@@ -144,12 +144,14 @@ class imaging_chain(gr.hier_block2):
                 return rif, rif, foc, None, [(rif, foc)]
             method = params.PRESUM_METHODS[opts.presum]
             if opts.presum_domain == "tf":  # presum the TF pulses, range-compress D x fewer
-                pre = cheby_presum(num, geo, scn, method, decim, presum_domain.TF, n,
-                                   symbols_per_pulse=sc.pulse_symbols)
+                pre = cheby_presum(num, geo, scn, n, cfg=presum_config(
+                    method=method, decim=decim, domain=presum_domain.TF,
+                    symbols_per_pulse=sc.pulse_symbols))
                 return pre, rif, foc, pre, [(pre, rif, foc)]
-            pre = cheby_presum(num, geo, scn, method, decim, presum_domain.RANGE,
-                               rif.num_bins(), rif.range_axis_first_m(), rif.range_bin_m(),
-                               symbols_per_pulse=sc.pulse_symbols)
+            pre = cheby_presum(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                               rif.range_bin_m(), presum_config(
+                                   method=method, decim=decim, domain=presum_domain.RANGE,
+                                   symbols_per_pulse=sc.pulse_symbols))
             return rif, rif, foc, pre, [(rif, pre, foc)]
 
         entry, rif, foc, pre, paths = range_and_focus()

@@ -40,37 +40,24 @@ public:
      * \param num numerology (Tsym, Delta f, N)
      * \param geo geometry (fc, v, H, track start, Ta)
      * \param scn scene: Doppler band (compute_extent), scene centre, eq. (P-36) bound
-     * \param method CHEBY (default), DROP, BOXCAR or FILTER_DROP
-     * \param decim D >= 1; refused above eq. (P-36) unless enforce_qpe_bound is false
-     *        (not for DROP)
-     * \param domain RANGE (after range_ifft, default) or TF (before it; num_bins = N)
      * \param num_bins K, complex samples per pulse
      * \param first_range_m slant range of bin 0 [m] (RANGE; a range_axis tag wins)
      * \param range_bin_m bin spacing [m] (RANGE; a range_axis tag wins)
-     * \param num_taps FIR length L (CHEBY, FILTER_DROP); 0 = 4 D
-     * \param passband_hz passband half-width [Hz]; <= 0: from the scene (CHEBY: the
-     *        Doppler spread left after compensation; FILTER_DROP: half the scene band),
-     *        plus 10 % of the band + 2 / Ta
-     * \param stopband_hz stopband edge [Hz]; <= 0: PRF / (2 D)
-     * \param stopband_weight Parks-McClellan stopband weight (passband 1), default 10
-     * \param symbols_per_pulse input pulse interval in OFDM symbols (default 1)
-     * \param enforce_qpe_bound refuse D above eq. (P-36) (default true)
+     * \param cfg method (CHEBY, DROP, BOXCAR, FILTER_DROP), decimation D (refused above
+     *        eq. (P-36) unless enforce_qpe_bound is false; not for DROP), domain (RANGE after
+     *        range_ifft, TF before it with num_bins = N), FIR length (0 = 4 D), passband
+     *        half-width (<= 0: from the scene, CHEBY: the Doppler spread left after
+     *        compensation; FILTER_DROP: half the scene band; plus 10 % of the band + 2 / Ta),
+     *        stopband edge (<= 0: PRF / (2 D)), Parks-McClellan stopband weight, input pulse
+     *        interval in OFDM symbols: see kernel::presum_config
      */
     static sptr make(const numerology& num,
                      const geometry& geo,
                      const scene& scn,
-                     presum_method method = presum_method::CHEBY,
-                     unsigned decim = 10,
-                     presum_domain domain = presum_domain::RANGE,
                      unsigned num_bins = 256,
                      double first_range_m = 0.0,
                      double range_bin_m = 1.0,
-                     unsigned num_taps = 0,
-                     double passband_hz = -1.0,
-                     double stopband_hz = -1.0,
-                     double stopband_weight = 10.0,
-                     unsigned symbols_per_pulse = 1,
-                     bool enforce_qpe_bound = true);
+                     const kernel::presum_config& cfg = kernel::presum_config());
 
     //! eq. (P-36) bound for these parameters.
     static unsigned max_decim(const numerology& num,

@@ -82,8 +82,8 @@ public:
     virtual std::uint64_t nonfinite_count() const = 0;
     /*!
      * Threads per work() call, 1 (default) or 2: with 2, the second half of the call's
-     * symbols is transformed on a second std::thread with its own FFT plan. See
-     * docs/performance.md ("Two cores") for when it pays.
+     * symbols is transformed on a persistent second thread (kernel::split_worker) with its
+     * own FFT plan. See docs/performance.md ("Two cores") for when it pays.
      */
     virtual void set_threads(unsigned threads) = 0;
     virtual unsigned threads() const = 0;

@@ -78,9 +78,9 @@ public:
     virtual std::uint64_t nonfinite_count() const = 0;
 
     /*!
-     * Threads computing the echo: 1 (default, the scheduler's thread) or 2 (a second
-     * thread takes the second half of each work() call of at least 4 symbols). The
-     * output does not depend on it. See docs/blocks/scene_echo.md for when it pays.
+     * Threads computing the echo: 1 (default, the scheduler's thread) or 2 (a
+     * persistent second thread, kernel::split_worker, takes the second half of each work()
+     * call of at least 4 symbols). The output does not depend on it. See docs/blocks/scene_echo.md for when it pays.
      */
     virtual void set_threads(unsigned threads) = 0;
     virtual unsigned threads() const = 0;

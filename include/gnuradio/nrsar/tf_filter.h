@@ -66,8 +66,9 @@ public:
     virtual void set_constant_modulus_path(bool on) = 0;
     /*!
      * Threads per work() call, 1 (default) or 2: with 2, the second half of the call's
-     * items is filtered on a second std::thread (not while estimate_snr is on: the
-     * estimator needs the vectors in order). See docs/performance.md for when it pays.
+     * items is filtered on a persistent second thread (kernel::split_worker; not while
+     * estimate_snr is on: the estimator needs the vectors in order). See
+     * docs/performance.md for when it pays.
      */
     virtual void set_threads(unsigned threads) = 0;
     virtual unsigned threads() const = 0;

@@ -43,15 +43,15 @@ def run(quick=False):
     n_items = 4000 if quick else 40000
     rows = []
     x = _pulses(K)
-    probe = nrsar.cheby_presum(num, geo, scn, nrsar.presum_method.CHEBY, D,
-                               nrsar.presum_domain.RANGE, K, 1000.0, 1.5)
+    probe = nrsar.cheby_presum(num, geo, scn, K, 1000.0, 1.5, nrsar.presum_config(
+        method=nrsar.presum_method.CHEBY, decim=D, domain=nrsar.presum_domain.RANGE))
     taps = [complex(t) for t in probe.prototype()]
 
     def ours(tb, items, method=nrsar.presum_method.CHEBY):
         src = blocks.vector_source_c(x, True, K)
         head = blocks.head(gr.sizeof_gr_complex * K, items)
-        blk = nrsar.cheby_presum(num, geo, scn, method, D, nrsar.presum_domain.RANGE, K,
-                                 1000.0, 1.5)
+        blk = nrsar.cheby_presum(num, geo, scn, K, 1000.0, 1.5, nrsar.presum_config(
+            method=method, decim=D, domain=nrsar.presum_domain.RANGE))
         tb.connect(src, head, blk, blocks.null_sink(gr.sizeof_gr_complex * K))
 
     def peer_streams(tb, items):
@@ -101,8 +101,8 @@ def run(quick=False):
     def before(tb, items):
         src = blocks.vector_source_c(xs, True, n)
         head = blocks.head(gr.sizeof_gr_complex * n, items)
-        pre = nrsar.cheby_presum(num, geo, scn, nrsar.presum_method.CHEBY, D,
-                                 nrsar.presum_domain.TF, n)
+        pre = nrsar.cheby_presum(num, geo, scn, n, cfg=nrsar.presum_config(
+            method=nrsar.presum_method.CHEBY, decim=D, domain=nrsar.presum_domain.TF))
         rif = nrsar.range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, first, r_max)
         tb.connect(src, head, pre, rif, blocks.null_sink(gr.sizeof_gr_complex * rif.num_bins()))
 
@@ -114,8 +114,8 @@ def run(quick=False):
         else:
             rif = nrsar.range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0)
         first_m = rif.range_axis_first_m()
-        pre = nrsar.cheby_presum(num, geo, scn, nrsar.presum_method.CHEBY, D,
-                                 nrsar.presum_domain.RANGE, rif.num_bins(), first_m, rho)
+        pre = nrsar.cheby_presum(num, geo, scn, rif.num_bins(), first_m, rho, nrsar.presum_config(
+            method=nrsar.presum_method.CHEBY, decim=D, domain=nrsar.presum_domain.RANGE))
         tb.connect(src, head, rif, pre, blocks.null_sink(gr.sizeof_gr_complex * rif.num_bins()))
 
     r_before = benchutil.items_per_second(before, n_sym, repeats=2)

@@ -52,9 +52,10 @@ def build_ours(tb, n_items, y, s):
     rif = nrsar.range_ifft(num, nrsar.range_ifft.fast_fft_size(VLEN),
                            fft.window.WIN_RECTANGULAR, -1.0,
                            ext.min_slant_range_m - 30.0, ext.max_slant_range_m + 30.0)
-    pre = nrsar.cheby_presum(num, geo, scn, nrsar.presum_method.BOXCAR, D,
-                             nrsar.presum_domain.RANGE, rif.num_bins(),
-                             rif.range_axis_first_m(), rif.range_bin_m())
+    pre = nrsar.cheby_presum(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                             rif.range_bin_m(), nrsar.presum_config(
+                                 method=nrsar.presum_method.BOXCAR, decim=D,
+                                 domain=nrsar.presum_domain.RANGE))
     head = blocks.head(gr.sizeof_gr_complex * rif.num_bins(), n_items // D)
     tb.connect(sy, (tff, 0))
     tb.connect(ss, (tff, 1))

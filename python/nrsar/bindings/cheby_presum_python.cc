@@ -27,6 +27,7 @@ void bind_cheby_presum(py::module& m)
     using gr::nrsar::presum_domain;
     using gr::nrsar::presum_method;
     using cheby_presum = gr::nrsar::cheby_presum;
+    using gr::nrsar::kernel::presum_config;
 
     py::enum_<presum_method>(m, "presum_method", "Azimuth presumming method [P-2.2]")
         .value("CHEBY", presum_method::CHEBY)
@@ -39,6 +40,48 @@ void bind_cheby_presum(py::module& m)
         .value("TF", presum_domain::TF)
         .export_values();
 
+    py::class_<presum_config>(m, "presum_config", "Options of cheby_presum")
+        .def(py::init([](presum_method method,
+                         presum_domain domain,
+                         unsigned decim,
+                         unsigned num_taps,
+                         double passband_hz,
+                         double stopband_hz,
+                         double stopband_weight,
+                         unsigned symbols_per_pulse,
+                         bool enforce_qpe_bound) {
+                 presum_config c;
+                 c.method = method;
+                 c.domain = domain;
+                 c.decim = decim;
+                 c.num_taps = num_taps;
+                 c.passband_hz = passband_hz;
+                 c.stopband_hz = stopband_hz;
+                 c.stopband_weight = stopband_weight;
+                 c.symbols_per_pulse = symbols_per_pulse;
+                 c.enforce_qpe_bound = enforce_qpe_bound;
+                 return c;
+             }),
+             py::arg("method") = presum_method::CHEBY,
+             py::arg("domain") = presum_domain::RANGE,
+             py::arg("decim") = 10u,
+             py::arg("num_taps") = 0u,
+             py::arg("passband_hz") = -1.0,
+             py::arg("stopband_hz") = -1.0,
+             py::arg("stopband_weight") = 10.0,
+             py::arg("symbols_per_pulse") = 1u,
+             py::arg("enforce_qpe_bound") = true,
+             "presum_config with every field as a keyword (defaults as in C++)")
+        .def_readwrite("method", &presum_config::method)
+        .def_readwrite("domain", &presum_config::domain)
+        .def_readwrite("decim", &presum_config::decim)
+        .def_readwrite("num_taps", &presum_config::num_taps)
+        .def_readwrite("passband_hz", &presum_config::passband_hz)
+        .def_readwrite("stopband_hz", &presum_config::stopband_hz)
+        .def_readwrite("stopband_weight", &presum_config::stopband_weight)
+        .def_readwrite("symbols_per_pulse", &presum_config::symbols_per_pulse)
+        .def_readwrite("enforce_qpe_bound", &presum_config::enforce_qpe_bound);
+
     py::class_<cheby_presum, gr::block, gr::basic_block, std::shared_ptr<cheby_presum>>(
         m, "cheby_presum", D(cheby_presum))
 
@@ -46,18 +89,10 @@ void bind_cheby_presum(py::module& m)
              py::arg("num"),
              py::arg("geo"),
              py::arg("scn"),
-             py::arg("method") = presum_method::CHEBY,
-             py::arg("decim") = 10,
-             py::arg("domain") = presum_domain::RANGE,
              py::arg("num_bins") = 256,
              py::arg("first_range_m") = 0.0,
              py::arg("range_bin_m") = 1.0,
-             py::arg("num_taps") = 0,
-             py::arg("passband_hz") = -1.0,
-             py::arg("stopband_hz") = -1.0,
-             py::arg("stopband_weight") = 10.0,
-             py::arg("symbols_per_pulse") = 1,
-             py::arg("enforce_qpe_bound") = true,
+             py::arg("cfg") = presum_config(),
              D(cheby_presum, make))
         .def_static("max_decim",
                     &cheby_presum::max_decim,

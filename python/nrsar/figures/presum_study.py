@@ -82,8 +82,10 @@ def single_pulse(d, preset, seconds, snr_db, seed=1):
     tb.connect(rif, sinks["none"])
     blks = {}
     for name, m in METHODS.items():
-        blks[name] = nrsar.cheby_presum(num, geo, scn, m, d, nrsar.presum_domain.RANGE, k,
-                                        rif.range_axis_first_m(), rif.range_bin_m())
+        blks[name] = nrsar.cheby_presum(num, geo, scn, k, rif.range_axis_first_m(),
+                                        rif.range_bin_m(), nrsar.presum_config(
+                                            method=m, decim=d,
+                                            domain=nrsar.presum_domain.RANGE))
         sinks[name] = blocks.vector_sink_c(k)
         tb.connect(rif, blks[name], sinks[name])
     tb.run()
@@ -154,9 +156,9 @@ def qpe_check(preset, d_list):
             scn = params.make_scene([(x0, y)])
             # CHEBY with D taps here (a compensated boxcar): long Remez designs at D ~ 3000
             # would only cost time; the point is the compensation.
-            blk = nrsar.cheby_presum(num, geo, scn, m, d, nrsar.presum_domain.RANGE, 1, r0, 1.0,
-                                     num_taps=d if name == "cheby" else 0,
-                                     enforce_qpe_bound=False)
+            blk = nrsar.cheby_presum(num, geo, scn, 1, r0, 1.0, nrsar.presum_config(
+                method=m, decim=d, domain=nrsar.presum_domain.RANGE,
+                num_taps=d if name == "cheby" else 0, enforce_qpe_bound=False))
             tp = np.arange(pulses) * t
             r = np.sqrt(r0 ** 2 + (geo.velocity_mps * tp - y) ** 2)
             x = np.exp(-4j * np.pi * np.mod(f * r / C, 1.0)).astype(np.complex64)

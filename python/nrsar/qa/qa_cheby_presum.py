@@ -107,7 +107,8 @@ class qa_cheby_presum(gr_unittest.TestCase):
         geo = nrsar.make_geometry("paper")
         scn = nrsar.make_scene("paper3")
         d = 12
-        blk = nrsar.cheby_presum(PAPER, geo, scn, nrsar.CHEBY, d, nrsar.RANGE, 256, 1000.0, 1.5)
+        blk = nrsar.cheby_presum(PAPER, geo, scn, 256, 1000.0, 1.5,
+            nrsar.presum_config(method=nrsar.CHEBY, decim=d, domain=nrsar.RANGE))
         h = np.array(blk.prototype())
         self.assertEqual(len(h), 4 * d)
         self.assertTrue(blk.equiripple())
@@ -138,8 +139,9 @@ class qa_cheby_presum(gr_unittest.TestCase):
     def test_002_compensation_table_eq25_27(self):
         geo = geometry(1.0)
         scn = nrsar.make_scene([(800.0, 20.0), (800.0, 30.0)])
-        blk = nrsar.cheby_presum(NUM, geo, scn, nrsar.CHEBY, 8, nrsar.RANGE, K, R_FIRST, RHO,
-                                 symbols_per_pulse=SPP)
+        blk = nrsar.cheby_presum(NUM, geo, scn, K, R_FIRST, RHO,
+            nrsar.presum_config(method=nrsar.CHEBY, decim=8, domain=nrsar.RANGE,
+                                symbols_per_pulse=SPP))
         f = FC + 0.5 * (N_SUB - 1) * NUM.subcarrier_spacing_hz
         self.assertAlmostEqual(blk.phase_frequency_hz(3), f, delta=1e-3)
         yc = 25.0
@@ -176,8 +178,9 @@ class qa_cheby_presum(gr_unittest.TestCase):
         key = pmt.intern("marker")
         tags = [gr.tag_utils.python_to_tag((p, key, pmt.from_long(p), pmt.PMT_F))
                 for p in (0, 2 * d, 2 * d + 1, 5 * d)]
-        blk = nrsar.cheby_presum(NUM, geo, scn, nrsar.DROP, d, nrsar.RANGE, k, 900.0, 2.0,
-                                 symbols_per_pulse=SPP)
+        blk = nrsar.cheby_presum(NUM, geo, scn, k, 900.0, 2.0,
+            nrsar.presum_config(method=nrsar.DROP, decim=d, domain=nrsar.RANGE,
+                                symbols_per_pulse=SPP))
         out, otags = run_presum(data, blk, tags)
         np.testing.assert_array_equal(out.astype(np.complex64),
                                       data[::d].astype(np.complex64))
@@ -200,8 +203,9 @@ class qa_cheby_presum(gr_unittest.TestCase):
         d, pulses, k = 4, 40, 3
         rng = np.random.default_rng(4)
         data = (rng.standard_normal((pulses, k)) + 1j * rng.standard_normal((pulses, k)))
-        blk = nrsar.cheby_presum(NUM, geo, scn, nrsar.BOXCAR, d, nrsar.RANGE, k, 900.0, 2.0,
-                                 symbols_per_pulse=SPP)
+        blk = nrsar.cheby_presum(NUM, geo, scn, k, 900.0, 2.0,
+            nrsar.presum_config(method=nrsar.BOXCAR, decim=d, domain=nrsar.RANGE,
+                                symbols_per_pulse=SPP))
         out, _ = run_presum(data, blk)
         want = data.reshape(-1, d, k).sum(1)
         np.testing.assert_allclose(out, want, atol=1e-5)
@@ -216,8 +220,9 @@ class qa_cheby_presum(gr_unittest.TestCase):
         data = echo([(800.0, 50.0, 1.0)], pulses)  # the first target only
         full = focus(data, geo, scn)
         d = 10
-        blk = nrsar.cheby_presum(NUM, geo, scn, nrsar.CHEBY, d, nrsar.RANGE, K, R_FIRST, RHO,
-                                 symbols_per_pulse=SPP)
+        blk = nrsar.cheby_presum(NUM, geo, scn, K, R_FIRST, RHO,
+            nrsar.presum_config(method=nrsar.CHEBY, decim=d, domain=nrsar.RANGE,
+                                symbols_per_pulse=SPP))
         pres = focus(data, geo, scn, blk)
         self.assertLessEqual(abs(pres.shape[0] * d - full.shape[0]), d)
         (az_f, irw_af), (rg_f, irw_rf) = peak_and_irw(full)
@@ -243,11 +248,13 @@ class qa_cheby_presum(gr_unittest.TestCase):
         tf = np.exp(-4j * np.pi * np.mod(np.outer(r, fn) / C, 1.0))
         rc = np.fft.ifft(tf, NFFT, axis=1) * NFFT / np.sqrt(N_SUB)  # eq. (29), all bins
         d = 8
-        b_tf = nrsar.cheby_presum(NUM, geo, scn, nrsar.CHEBY, d, nrsar.TF, N_SUB,
-                                  symbols_per_pulse=SPP)
+        b_tf = nrsar.cheby_presum(NUM, geo, scn, N_SUB,
+            cfg=nrsar.presum_config(method=nrsar.CHEBY, decim=d, domain=nrsar.TF,
+                                symbols_per_pulse=SPP))
         first = 10 * NFFT * RHO  # 960 m: IFFT bin k is at first + k RHO (range period 96 m)
-        b_rc = nrsar.cheby_presum(NUM, geo, scn, nrsar.CHEBY, d, nrsar.RANGE, NFFT, first, RHO,
-                                  symbols_per_pulse=SPP)
+        b_rc = nrsar.cheby_presum(NUM, geo, scn, NFFT, first, RHO,
+            nrsar.presum_config(method=nrsar.CHEBY, decim=d, domain=nrsar.RANGE,
+                                symbols_per_pulse=SPP))
         o_tf, _ = run_presum(tf, b_tf)
         o_rc, _ = run_presum(rc, b_rc)
         o_tf = np.fft.ifft(o_tf, NFFT, axis=1) * NFFT / np.sqrt(N_SUB)
@@ -260,9 +267,11 @@ class qa_cheby_presum(gr_unittest.TestCase):
     def test_007_warns_when_output_prf_below_band(self):
         geo = nrsar.make_geometry("paper")
         scn = nrsar.make_scene("paper3")
-        blk = nrsar.cheby_presum(PAPER, geo, scn, nrsar.CHEBY, 200, nrsar.RANGE, 8, 1000.0, 1.5)
+        blk = nrsar.cheby_presum(PAPER, geo, scn, 8, 1000.0, 1.5,
+            nrsar.presum_config(method=nrsar.CHEBY, decim=200, domain=nrsar.RANGE))
         self.assertTrue(any("output PRF 120" in w for w in blk.warnings()), blk.warnings())
-        blk = nrsar.cheby_presum(PAPER, geo, scn, nrsar.CHEBY, 10, nrsar.RANGE, 8, 1000.0, 1.5)
+        blk = nrsar.cheby_presum(PAPER, geo, scn, 8, 1000.0, 1.5,
+            nrsar.presum_config(method=nrsar.CHEBY, decim=10, domain=nrsar.RANGE))
         self.assertEqual(blk.warnings(), [])
 
     def test_008_large_vectors_do_not_stall(self):
@@ -271,7 +280,8 @@ class qa_cheby_presum(gr_unittest.TestCase):
         geo = nrsar.make_geometry("paper")
         scn = nrsar.make_scene("paper3")
         d, pulses, k = 10, 95, 4096
-        blk = nrsar.cheby_presum(PAPER, geo, scn, nrsar.CHEBY, d, nrsar.RANGE, k, 0.0, 1.5)
+        blk = nrsar.cheby_presum(PAPER, geo, scn, k, 0.0, 1.5,
+            nrsar.presum_config(method=nrsar.CHEBY, decim=d, domain=nrsar.RANGE))
         data = np.ones((pulses, k), np.complex64)
         out, _ = run_presum(data, blk)
         self.assertEqual(len(out), (pulses - 1 - blk.lookahead()) // d + 1)
@@ -301,11 +311,12 @@ class qa_cheby_presum(gr_unittest.TestCase):
     # invalid parameters: one test per rule
     def bad(self, text, **kw):
         args = dict(num=PAPER, geo=nrsar.make_geometry("paper"), scn=nrsar.make_scene("paper3"),
-                    method=nrsar.CHEBY, decim=10, domain=nrsar.RANGE, num_bins=8,
-                    first_range_m=1000.0, range_bin_m=1.5)
-        args.update(kw)
+                    num_bins=8, first_range_m=1000.0, range_bin_m=1.5)
+        cfg = dict(method=nrsar.CHEBY, decim=10, domain=nrsar.RANGE)
+        for key, value in kw.items():
+            (args if key in args else cfg)[key] = value
         with self.assertRaises(ValueError) as ctx:
-            nrsar.cheby_presum(**args)
+            nrsar.cheby_presum(cfg=nrsar.presum_config(**cfg), **args)
         self.assertIn(text, str(ctx.exception))
 
     def test_100_decim_zero(self):

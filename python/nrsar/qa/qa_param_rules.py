@@ -94,11 +94,11 @@ def probe(**kw):
 
 def presum(**kw):
     a = dict(num=nrsar.numerology.preset("paper"), geo=nrsar.geometry.preset("paper"),
-             scn=scn(), method=nrsar.presum_method.CHEBY, decim=10,
-             domain=nrsar.presum_domain.RANGE, num_bins=64, first_range_m=1000.0,
-             range_bin_m=1.0)
-    a.update(kw)
-    return cheby_presum(**a)
+             scn=scn(), num_bins=64, first_range_m=1000.0, range_bin_m=1.0)
+    c = dict(method=nrsar.presum_method.CHEBY, decim=10, domain=nrsar.presum_domain.RANGE)
+    for key, value in kw.items():
+        (a if key in a else c)[key] = value
+    return cheby_presum(cfg=nrsar.presum_config(**c), **a)
 
 
 def ext(maps=None, **kw):
