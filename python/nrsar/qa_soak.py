@@ -36,8 +36,9 @@ class qa_soak(gr_unittest.TestCase):
 
     def test_002_short_soak_small_preset_is_flat(self):
         out = tempfile.mkdtemp(prefix="qa_soak_")
-        # the tool's own fit takes the sample after the end-of-stream flush too (measured
-        # 0.7-3.4 MiB/min from it alone), so its pass/fail bound is loose; the leak bound is
+        # the tool's own fit is a plain line through every sample after the warm-up, the one
+        # after the end-of-stream flush included, which one allocator step moves by up to
+        # 4.5 MiB/min (measured 0.7-4.5): its pass/fail bound stays loose; the leak bound is
         # the fit below
         code = soak.main(["--preset", "small", "--minutes", "0.5", "--interval-s", "0.5",
                           "--max-slope-mb-per-min", "6", "--json", "--out", out])
