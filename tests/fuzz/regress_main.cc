@@ -55,7 +55,8 @@ int main(int argc, char** argv)
     std::printf("%zu inputs ran\n", inputs.size());
     if (inputs.empty()) {
         std::fprintf(stderr,
-                     "no input: add seeds to tests/fuzz/corpus/<target>/ (tests/fuzz/README.md)\n");
+                     "no input: add seeds to tests/fuzz/corpus/<target>/ "
+                     "(tests/fuzz/README.md)\n");
         return 1;
     }
     return 0;
