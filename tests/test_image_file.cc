@@ -118,6 +118,19 @@ struct tmp_dir {
     ~tmp_dir() { fs::remove_all(path); }
 };
 
+// The PNG alone of one lines x bins image written with c, decoded.
+png_image written_png(const fs::path& dir,
+                      kernel::image_file_config c,
+                      const std::vector<gr_complex>& x,
+                      size_t lines,
+                      size_t bins)
+{
+    c.prefix = (dir / "p").string();
+    c.npy = false;
+    kernel::image_writer w(c);
+    return decode_png(slurp(w.write(x.data(), lines, bins, 1).at(0)));
+}
+
 } // namespace
 
 TEST(ImageFile, NpyHeaderIsNumpyFormat10)
@@ -232,12 +245,8 @@ TEST(ImageFile, ViridisPngMatchesMatplotlibsTable)
                        0.0f);
     tmp_dir d;
     kernel::image_file_config c;
-    c.prefix = (d.path / "v").string();
-    c.npy = false;
     c.dynamic_range_db = dr;
-    kernel::image_writer w(c);
-    const auto files = w.write(x.data(), 1, x.size(), 1);
-    const png_image img = decode_png(slurp(files[0]));
+    const png_image img = written_png(d.path, c, x, 1, x.size());
     ASSERT_EQ(img.channels, 3u);
     ASSERT_EQ(img.pixels.size(), 3 * x.size());
     for (size_t i = 0; i < x.size(); ++i) {
@@ -258,13 +267,9 @@ TEST(ImageFile, ViridisLuminanceRisesWithTheLevel)
     // brightest pixel of level L below the darkest of level L + 2 (the writer's float level
     // may round one step away from the reference at ties; its table is within 2 levels).
     tmp_dir d;
-    kernel::image_file_config c;
-    c.prefix = (d.path / "m").string();
-    c.npy = false;
-    kernel::image_writer w(c);
+    const kernel::image_file_config c;
     const auto x = nrsar_test::gaussian_samples(64 * 48, 8);
-    const auto files = w.write(x.data(), 64, 48, 1);
-    const png_image img = decode_png(slurp(files[0]));
+    const png_image img = written_png(d.path, c, x, 64, 48);
     ASSERT_EQ(img.channels, 3u);
     const auto ref = reference_levels(x, c.dynamic_range_db);
     std::vector<double> lo(256, 1e9), hi(256, -1e9);
