@@ -471,6 +471,9 @@ RULES = [
     # guard (rd_focuser guard bins)
     ("rd_focuser", "guard bins half the range bins",
      lambda: foc(k=16, c=focuser_config(guard_bins=8)), "guard_bins = 8 must be below"),
+    # a prefix under a regular file (the interpreter): fails for every user, root included
+    ("image_sink", "prefix folder is a file",
+     lambda: nrsar.image_sink(8, sys.executable + "/img"), "is not a folder"),
 ]
 
 
