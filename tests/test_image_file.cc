@@ -118,6 +118,19 @@ struct tmp_dir {
     ~tmp_dir() { fs::remove_all(path); }
 };
 
+// The PNG alone of one lines x bins image written with c, decoded.
+png_image written_png(const fs::path& dir,
+                      kernel::image_file_config c,
+                      const std::vector<gr_complex>& x,
+                      size_t lines,
+                      size_t bins)
+{
+    c.prefix = (dir / "p").string();
+    c.npy = false;
+    kernel::image_writer w(c);
+    return decode_png(slurp(w.write(x.data(), lines, bins, 1).at(0)));
+}
+
 } // namespace
 
 TEST(ImageFile, NpyHeaderIsNumpyFormat10)
@@ -205,30 +218,79 @@ TEST(ImageFile, GreyPngDecodesToLevels)
     EXPECT_EQ(img.pixels[5 * 21 + 3], 255); // row-major, top row = first line
 }
 
-TEST(ImageFile, ViridisPngUsesTheTable)
+TEST(ImageFile, ViridisPngMatchesMatplotlibsTable)
 {
+    // Entries of matplotlib's viridis table (matplotlib/_cm_listed.py, _viridis_data,
+    // matplotlib 3.6.3; CC0), as 8-bit round(255 v): index, R, G, B.
+    struct entry {
+        int level, r, g, b;
+    };
+    const entry published[] = {
+        { 0, 68, 1, 84 },      // 0.267004 0.004874 0.329415 (#440154)
+        { 32, 71, 45, 123 },   // 0.278826 0.175490 0.483397
+        { 64, 59, 82, 139 },   // 0.229739 0.322361 0.545706
+        { 100, 42, 118, 142 }, // 0.166617 0.463708 0.558119
+        { 128, 33, 145, 140 }, // 0.127568 0.566949 0.550556
+        { 173, 58, 186, 118 }, // 0.226397 0.728888 0.462789
+        { 192, 94, 201, 98 },  // 0.369214 0.788888 0.382914
+        { 224, 173, 220, 48 }, // 0.678489 0.863742 0.189503
+        { 255, 253, 231, 37 }, // 0.993248 0.906157 0.143936 (#fde725)
+    };
+    // One pixel per entry, its amplitude chosen so that 255 (20 log10 |x| + dr) / dr is the
+    // entry's index exactly (peak 1 = 255), far from a rounding tie.
+    const double dr = 40.0;
+    std::vector<gr_complex> x;
+    for (const auto& e : published)
+        x.emplace_back(static_cast<float>(std::pow(10.0, (e.level * dr / 255.0 - dr) / 20.0)),
+                       0.0f);
     tmp_dir d;
     kernel::image_file_config c;
-    c.prefix = (d.path / "v").string();
-    c.npy = false;
-    kernel::image_writer w(c);
-    const auto x = nrsar_test::gaussian_samples(16 * 10, 8);
-    const auto files = w.write(x.data(), 16, 10, 1);
-    const png_image img = decode_png(slurp(files[0]));
+    c.dynamic_range_db = dr;
+    const png_image img = written_png(d.path, c, x, 1, x.size());
     ASSERT_EQ(img.channels, 3u);
-    const auto lut = kernel::colormap_table(image_colormap::VIRIDIS);
-    std::vector<std::uint8_t> lv(x.size());
-    kernel::db_levels(x.data(), x.size(), 40.0, lv.data());
-    for (size_t i = 0; i < x.size(); ++i)
-        for (int ch = 0; ch < 3; ++ch)
-            ASSERT_EQ(img.pixels[3 * i + ch], lut[lv[i]][ch]);
-    // viridis ends: #440154 and #fde725
-    EXPECT_NEAR(lut[0][0], 0x44, 3);
-    EXPECT_NEAR(lut[0][1], 0x01, 3);
-    EXPECT_NEAR(lut[0][2], 0x54, 3);
-    EXPECT_NEAR(lut[255][0], 0xfd, 3);
-    EXPECT_NEAR(lut[255][1], 0xe7, 3);
-    EXPECT_NEAR(lut[255][2], 0x25, 3);
+    ASSERT_EQ(img.pixels.size(), 3 * x.size());
+    for (size_t i = 0; i < x.size(); ++i) {
+        const entry& e = published[i];
+        // the writer interpolates the table between entries 0, 8, ..., 248, 255, documented
+        // within 2 levels of the full table (exact at those entries)
+        const int tol = (e.level % 8 == 0 || e.level == 255) ? 0 : 2;
+        EXPECT_NEAR(img.pixels[3 * i], e.r, tol) << "level " << e.level;
+        EXPECT_NEAR(img.pixels[3 * i + 1], e.g, tol) << "level " << e.level;
+        EXPECT_NEAR(img.pixels[3 * i + 2], e.b, tol) << "level " << e.level;
+    }
+}
+
+TEST(ImageFile, ViridisLuminanceRisesWithTheLevel)
+{
+    // viridis is built with monotonically increasing lightness, so on a clutter image the
+    // decoded PNG's luminance must rise with the double-precision level of each pixel: the
+    // brightest pixel of level L below the darkest of level L + 2 (the writer's float level
+    // may round one step away from the reference at ties; its table is within 2 levels).
+    tmp_dir d;
+    const kernel::image_file_config c;
+    const auto x = nrsar_test::gaussian_samples(64 * 48, 8);
+    const png_image img = written_png(d.path, c, x, 64, 48);
+    ASSERT_EQ(img.channels, 3u);
+    const auto ref = reference_levels(x, c.dynamic_range_db);
+    std::vector<double> lo(256, 1e9), hi(256, -1e9);
+    for (size_t i = 0; i < x.size(); ++i) {
+        // relative luminance of the sRGB-coded bytes (ITU-R BT.709 weights, linearised)
+        auto lin = [](int v) {
+            const double u = v / 255.0;
+            return u <= 0.04045 ? u / 12.92 : std::pow((u + 0.055) / 1.055, 2.4);
+        };
+        const double y = 0.2126 * lin(img.pixels[3 * i]) + 0.7152 * lin(img.pixels[3 * i + 1]) +
+                         0.0722 * lin(img.pixels[3 * i + 2]);
+        lo[ref[i]] = std::min(lo[ref[i]], y);
+        hi[ref[i]] = std::max(hi[ref[i]], y);
+    }
+    int pairs = 0;
+    for (int l = 0; l + 2 < 256; ++l)
+        if (hi[l] > -1e9 && lo[l + 2] < 1e9) {
+            EXPECT_LT(hi[l], lo[l + 2]) << "level " << l;
+            ++pairs;
+        }
+    EXPECT_GT(pairs, 150); // the clutter covers most of the 40 dB range
 }
 
 TEST(ImageFile, RingKeepsTheLastApertures)
@@ -270,6 +332,8 @@ TEST(ImageFile, ConfigRules)
     };
     bad([](auto& c) { c.prefix = ""; }, "prefix = ''");
     bad([&](auto& c) { c.prefix = (d.path / "missing" / "x").string(); }, "does not exist");
+    std::ofstream(d.path / "file").put('x');
+    bad([&](auto& c) { c.prefix = (d.path / "file" / "x").string(); }, "is not a folder");
     bad([](auto& c) { c.dynamic_range_db = 0.0; }, "dynamic_range_db = 0");
     bad([](auto& c) { c.dynamic_range_db = NAN; }, "dynamic_range_db = nan");
     bad([](auto& c) { c.keep = 0; }, "keep = 0");

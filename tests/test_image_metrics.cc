@@ -53,6 +53,31 @@ cd dirichlet_sum(double u, int band, double period, double centre = -1.0)
     return acc / double(band);
 }
 
+// PSLR and ISLR [dB] of the periodic Dirichlet PSF of `band` bins on `period` samples over
+// one whole period, in float64 from |D(u)|^2 = sin^2(pi band u / P) / (band sin(pi u / P))^2
+// on 20000 midpoints per sample (main lobe |u| < P / band, the first nulls). For large
+// band -> the sinc's -13.26 dB and -9.68 dB (1 - 0.9028 of the energy outside +-1 cell).
+struct sidelobes {
+    double pslr_db, islr_db;
+};
+sidelobes dirichlet_sidelobes(int band, int period)
+{
+    const int over = 20000;
+    double main = 0.0, side = 0.0, peak_side = 0.0;
+    for (long i = 0; i < long(period) * over; ++i) {
+        const double u = (i + 0.5) / over - period / 2.0;
+        const double x = pi * u / period;
+        const double d = std::sin(band * x) / (band * std::sin(x));
+        if (std::abs(u) < double(period) / band) {
+            main += d * d;
+        } else {
+            side += d * d;
+            peak_side = std::max(peak_side, d * d);
+        }
+    }
+    return { 10.0 * std::log10(peak_side), 10.0 * std::log10(side / main) };
+}
+
 // lines x bins image of a separable Dirichlet PSF centred at (l0, b0).
 std::vector<gr_complex> psf_image(
     int lines, int bins, double l0, double b0, int band_l, int band_b, bool centred = false)
@@ -187,11 +212,26 @@ TEST(ImageMetrics, IdealSincAtSubPixelPosition)
     EXPECT_NEAR(r.peak_line, l0, 0.01);
     EXPECT_NEAR(r.range.irw, 0.886, 0.05 * 0.886);
     EXPECT_NEAR(r.azimuth.irw / 4.0, 0.886, 0.05 * 0.886);
-    EXPECT_NEAR(r.range.pslr_db, -13.26, 0.05 * 13.26);
-    EXPECT_NEAR(r.azimuth.pslr_db, -13.26, 0.05 * 13.26);
-    EXPECT_NEAR(r.range.islr_db, -9.68, 0.05 * 9.68);
-    EXPECT_NEAR(r.azimuth.islr_db, -9.68, 0.05 * 9.68);
-    EXPECT_NEAR(r.islr_db, -9.68, 0.05 * 9.68);
+    // Exact figures of these Dirichlet cuts: range -13.260 / -9.681 dB (128 of 128 bins),
+    // azimuth -13.254 / -9.684 dB (64 of 256 lines). The metric samples the interpolated cut
+    // 16 times per cell, so the highest sidelobe (not interpolated) is hit within 1/32 cell of
+    // its top, where sinc^2 ~ cos^2(pi d) reads at most pi^2 / 32^2 = 1 % (0.042 dB) low;
+    // ISLR is a Riemann sum of a band-limited periodic function, exact but for the main
+    // lobe's edges, which lie on the nulls within 1/16 cell (well below 0.01 dB).
+    const auto rs = dirichlet_sidelobes(bins, bins), as = dirichlet_sidelobes(lines / 4, lines);
+    EXPECT_NEAR(r.azimuth.pslr_db, as.pslr_db - 0.025, 0.025 + 0.01);
+    EXPECT_NEAR(r.azimuth.islr_db, as.islr_db, 0.01);
+    // The range cut is critically sampled (one sample per cell), so its band-limited
+    // interpolant depends on where the metric splits the spectrum, which it takes from the
+    // phase between samples up to one cell from the peak: at this sub-pixel position one of
+    // them lies past the first null, the split is off, and the cut reads -13.136 / -9.640 dB
+    // (0.12 / 0.04 dB above the exact figures). The tolerance covers that metric limitation,
+    // not the physics: 0.15 dB and 0.05 dB.
+    EXPECT_NEAR(r.range.pslr_db, rs.pslr_db, 0.15);
+    EXPECT_NEAR(r.range.islr_db, rs.islr_db, 0.05);
+    // both cuts' energies pooled: a weighted mean of the two ratios, between them
+    EXPECT_GE(r.islr_db, std::min(r.range.islr_db, r.azimuth.islr_db));
+    EXPECT_LE(r.islr_db, std::max(r.range.islr_db, r.azimuth.islr_db));
     // The separable peak estimate recovers the unit peak from the straddled pixels.
     EXPECT_NEAR(r.peak_power, 1.0, 0.01);
     EXPECT_NEAR(r.nmse, 0.0, 1e-9);
@@ -348,6 +388,8 @@ TEST(ImageMetrics, RangeBandAcrossNyquistIsNotSplit)
     const auto r = im.compute(img.data(), img.data(), lines, bins, 60, 40, cfg);
     EXPECT_NEAR(r.peak_bin, b0, 0.02);
     EXPECT_NEAR(r.range.irw / 2.0, 0.886, 0.05 * 0.886);
-    EXPECT_NEAR(r.range.pslr_db, -13.26, 0.05 * 13.26);
+    // 48 of 96 bins: -13.249 dB; sampled 16 times per cell, up to 0.042 dB low
+    // (IdealSincAtSubPixelPosition)
+    EXPECT_NEAR(r.range.pslr_db, dirichlet_sidelobes(bins / 2, bins).pslr_db - 0.025, 0.035);
     EXPECT_NEAR(r.peak_power, 1.0, 0.02);
 }

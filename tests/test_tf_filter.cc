@@ -8,6 +8,7 @@
 
 #include <gnuradio/nrsar/kernel/tf_filter.h>
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -30,6 +31,42 @@ std::vector<gr_complex> qam256_points()
         pts.emplace_back(float(re / std::sqrt(170.0)), float(im / std::sqrt(170.0)));
     }
     return pts;
+}
+
+// Standard deviation [dB] of the estimator's 10 log10(P^ / sigma^2^) for n REs of
+// y = h s + z, |h| = 1, s uniform on 256-QAM, z ~ CN(0, sigma^2), worked out here: the
+// estimator is the least-squares line |y|^2 = P |s|^2 + sigma^2 (slope P, intercept sigma^2),
+// whose residual e = 2 Re(h s z*) + |z|^2 - sigma^2 has Var(e | u = |s|^2) = sigma^4 +
+// 2 P sigma^2 u. Its covariance is M^-1 S M^-1 / n (M = E[x x^T], S = E[Var(e|u) x x^T],
+// x = (1, u)), propagated to dB through the gradient (10 / ln 10) (-1 / sigma^2, 1 / P).
+// A float64 Monte Carlo of 400 runs at 10 dB, n = 20000 gave 0.235 dB against 0.233 here.
+double snr_estimate_std_db(double snr_db, double n)
+{
+    const double p = 1.0, s2 = std::pow(10.0, -snr_db / 10.0);
+    double m[3] = { 0, 0, 0 }, sv[3] = { 0, 0, 0 }; // E[u^k], E[v u^k], k = 0..2
+    for (const auto& pt : qam256_points()) {
+        const double u = std::norm(std::complex<double>(pt));
+        const double v = s2 * s2 + 2.0 * p * s2 * u;
+        for (int k = 0; k < 3; k++) {
+            m[k] += std::pow(u, k) / 256.0;
+            sv[k] += v * std::pow(u, k) / 256.0;
+        }
+    }
+    const double det = m[0] * m[2] - m[1] * m[1];
+    const double mi[2][2] = { { m[2] / det, -m[1] / det }, { -m[1] / det, m[0] / det } };
+    const double sm[2][2] = { { sv[0], sv[1] }, { sv[1], sv[2] } };
+    double c[2][2] = { { 0, 0 }, { 0, 0 } }; // covariance of (sigma^2^, P^)
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++)
+            for (int k = 0; k < 2; k++)
+                for (int l = 0; l < 2; l++)
+                    c[i][j] += mi[i][k] * sm[k][l] * mi[l][j] / n;
+    const double g[2] = { -1.0 / s2, 1.0 / p };
+    double var = 0.0;
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++)
+            var += g[i] * c[i][j] * g[j];
+    return 10.0 / std::log(10.0) * std::sqrt(var);
 }
 
 struct grid {
@@ -162,11 +199,10 @@ class SnrEstimate : public ::testing::TestWithParam<double>
 {
 };
 
-TEST_P(SnrEstimate, WithinHalfDbFor256Qam)
+TEST_P(SnrEstimate, WithinFourSigmaFor256Qam)
 {
     const double snr_db = GetParam();
-    // 2^24 REs at -20 dB (the default window: 0.17 dB standard deviation), 1000 symbols
-    // above (0.05 dB or better).
+    // 2^24 REs at -20 dB (the default window), 1000 symbols of 3333 REs above
     const std::size_t n = 3333, vectors = snr_db < 0 ? 5034 : 1000;
     const double sigma = std::sqrt(std::pow(10.0, -snr_db / 10.0) / 2.0);
     std::mt19937 rng(11);
@@ -184,8 +220,14 @@ TEST_P(SnrEstimate, WithinHalfDbFor256Qam)
         }
         f.process(y.data(), s.data(), out.data());
     }
-    EXPECT_NEAR(f.estimated_snr_db(), snr_db, 0.5);
-    EXPECT_NEAR(f.effective_snr_db(), snr_db, 0.5);
+    // 4 standard deviations of the estimator for the REs in its window (0.17 dB at -20 dB,
+    // 0.013 dB at 5 dB, 0.051 dB at 20 dB): a Gaussian error beyond it has probability 6e-5
+    // (measured errors, seed 11: -0.066, +0.004, +0.020 dB)
+    const double window =
+        std::min<double>(n * vectors, kernel::snr_estimator::default_window_res);
+    const double tol = 4.0 * snr_estimate_std_db(snr_db, window);
+    EXPECT_NEAR(f.estimated_snr_db(), snr_db, tol);
+    EXPECT_NEAR(f.effective_snr_db(), snr_db, tol);
 }
 
 INSTANTIATE_TEST_SUITE_P(Paper, SnrEstimate, ::testing::Values(-20.0, 5.0, 20.0));
@@ -234,7 +276,10 @@ TEST(SnrEstimator, WindowForgetsOldData)
             est.update(y.data(), m.data(), n);
         }
         EXPECT_TRUE(est.valid());
-        EXPECT_NEAR(est.snr_db(), snr_db, 0.5);
+        // 4 standard deviations for the 20000-RE window (0.17 dB at 0 dB, 0.23 dB at 10 dB;
+        // measured +0.18 and -0.25 dB); mixing in the 0 dB data would pull the 10 dB
+        // estimate down by decibels
+        EXPECT_NEAR(est.snr_db(), snr_db, 4.0 * snr_estimate_std_db(snr_db, 20000));
     }
 }
 

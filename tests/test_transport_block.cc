@@ -87,7 +87,7 @@ TEST(transport_block, crc24a_check_value)
     ASSERT_EQ(codec.payload_bytes(), 9u);
     std::vector<std::uint8_t> bits(codec.slot_bits());
     codec.encode(tb_header{}, reinterpret_cast<const std::uint8_t*>(s), 9, 0, bits.data());
-    const auto c = gold_ref(transport_block_codec::scrambling_c_init(0, 0), bits.size());
+    const auto c = gold_ref(0x2545F491u, bits.size()); // c_init of id 0, slot 0 (below)
     std::vector<std::uint8_t> bytes(17, 0);
     for (std::size_t i = 0; i < bits.size(); i++)
         bytes[i / 8] |= static_cast<std::uint8_t>((bits[i] ^ c[i]) << (7 - i % 8));
@@ -139,10 +139,57 @@ TEST(transport_block, roundtrip_uncoded_and_ldpc)
 
 TEST(transport_block, scrambling_c_init)
 {
+    // The documented c_init = ((2^15 scrambling_id + (slot mod 2^15)) a + b) mod 2^31,
+    // a = 0x9E3779B1 = 2654435761, b = 0x2545F491 = 625341585, worked out by hand:
+    //  id 0, slot 0: v = 0, c_init = b = 0x2545F491.
     EXPECT_EQ(transport_block_codec::scrambling_c_init(0, 0), 0x2545F491u);
-    EXPECT_EQ(transport_block_codec::scrambling_c_init(3, 70000),
-              static_cast<std::uint32_t>((((3ull << 15) + 70000 % 32768) * 0x9E3779B1ull +
-                                          0x2545F491ull) % (1ull << 31)));
+    //  id 3, slot 70000: 70000 mod 32768 = 4464, v = 3 * 32768 + 4464 = 102768,
+    //  v a = 272791054286448 = 127028 * 2^31 + 501448304, 501448304 + 625341585 = 1126789889
+    //  (< 2^31) = 0x43297301.
+    EXPECT_EQ(transport_block_codec::scrambling_c_init(3, 70000), 0x43297301u);
+    //  id 65535, slot 65535: v = 65535 * 2^15 + 32767 = 2^31 - 1 = -1 mod 2^31, so
+    //  v a = -(a mod 2^31) = 2^31 - 506952113 = 1640531535; + b = 2265873120 - 2^31 =
+    //  118389472 = 0x070E7AE0.
+    EXPECT_EQ(transport_block_codec::scrambling_c_init(65535, 65535), 0x070E7AE0u);
+    // The pre-image is TS 38.211 6.3.1.1's PUSCH form c_init = n_RNTI 2^15 + n_ID (PUSCH has
+    // no codeword term q 2^14; that is PDSCH's 7.3.1.1) with n_RNTI = scrambling_id and
+    // n_ID = slot mod 2^15: undo the affine map with a^-1 mod 2^31 = 0x0E8B2F51.
+    const std::uint64_t a = 0x9E3779B1u, a_inv = 0x0E8B2F51u, b = 0x2545F491u, m = 1ull << 31;
+    ASSERT_EQ(a * a_inv % m, 1u);
+    for (unsigned id : { 0u, 1u, 7u, 1234u, 65535u })
+        for (std::uint64_t slot : { 0ull, 1ull, 2ull, 32767ull, 32768ull, 123456ull }) {
+            const std::uint64_t c = transport_block_codec::scrambling_c_init(id, slot);
+            EXPECT_EQ((c + m - b) % m * a_inv % m, std::uint64_t{ id } * 32768 + slot % 32768)
+                << "id " << id << " slot " << slot;
+        }
+}
+
+TEST(transport_block, scrambled_bits_are_tb_xor_gold_sequence)
+{
+    // Uncoded G = 6000: the codec's output must be the TB (header | zero payload | CRC24A,
+    // built here) xor c(i) of the bit-by-bit 38.211 5.2.1 Gold sequence with the hand c_init
+    // 0x43297301 (id 3, slot 70000, above), and c(i) alone over the zero padding.
+    transport_block_codec codec(6000, "", 3);
+    tb_header h;
+    h.seq = 0x1234;
+    h.flags = tb_header::filler;
+    std::vector<std::uint8_t> out(codec.slot_bits());
+    codec.encode(h, nullptr, 0, 70000, out.data());
+    std::vector<std::uint8_t> tb(codec.tb_bits() / 8, 0);
+    tb[2] = 0x12;
+    tb[3] = 0x34;
+    tb[4] = tb_header::filler;
+    const std::uint32_t crc = crc24a_ref(tb.data(), tb.size() - 3);
+    tb[tb.size() - 3] = static_cast<std::uint8_t>(crc >> 16);
+    tb[tb.size() - 2] = static_cast<std::uint8_t>(crc >> 8);
+    tb[tb.size() - 1] = static_cast<std::uint8_t>(crc);
+    const auto c = gold_ref(0x43297301u, out.size());
+    int wrong = 0;
+    for (std::size_t i = 0; i < out.size(); i++) {
+        const int bit = i < 8 * tb.size() ? (tb[i / 8] >> (7 - i % 8)) & 1 : 0;
+        wrong += out[i] != (bit ^ c[i]);
+    }
+    EXPECT_EQ(wrong, 0);
 }
 
 TEST(transport_block, zero_payload_looks_random)

@@ -195,7 +195,8 @@ void image_file_config::validate() const
     std::error_code ec;
     if (!fs::is_directory(folder, ec))
         throw std::invalid_argument("prefix = '" + prefix + "': folder '" + folder +
-                                    "' does not exist");
+                                    (fs::exists(folder, ec) ? "' is not a folder"
+                                                            : "' does not exist"));
     if (::access(folder.c_str(), W_OK | X_OK) != 0)
         throw std::invalid_argument("prefix = '" + prefix + "': folder '" + folder +
                                     "' is not writable");

@@ -8,6 +8,8 @@
 // files) given on the command line to LLVMFuzzerTestOneInput once. Built with the normal
 // compiler for ctest (fuzz_<name>_regress), so the seed corpus and every stored crash input
 // (tests/fuzz/regressions/<target>/) stay regression tests of the ordinary build.
+// A missing folder is skipped (regressions/<target>/ appears with the first crash), but a
+// run that feeds no input at all fails: it would pass without testing anything.
 
 #include <algorithm>
 #include <cstdint>
@@ -51,5 +53,11 @@ int main(int argc, char** argv)
                                bytes.size());
     }
     std::printf("%zu inputs ran\n", inputs.size());
+    if (inputs.empty()) {
+        std::fprintf(stderr,
+                     "no input: add seeds to tests/fuzz/corpus/<target>/ "
+                     "(tests/fuzz/README.md)\n");
+        return 1;
+    }
     return 0;
 }

@@ -219,12 +219,45 @@ class qa_image_sink(gr_unittest.TestCase):
     def test_rule_missing_folder(self):
         self.check_rule("does not exist", prefix=os.path.join(self.dir, "no", "p"))
 
+    def test_rule_folder_is_a_file(self):
+        # a prefix under a regular file: no user, root included, can create files there
+        path = os.path.join(self.dir, "file")
+        open(path, "w").close()
+        self.check_rule("is not a folder", prefix=os.path.join(path, "p"))
+
     def test_rule_unwritable_folder(self):
-        if os.geteuid() == 0:
-            self.skipTest("root writes everywhere")
+        # Write permission is the rule's subject, and root (CI) has it everywhere: as root
+        # the check runs in a child that has dropped to the unprivileged uid/gid 65534.
         ro = os.path.join(self.dir, "ro")
-        os.mkdir(ro, 0o500)
-        self.check_rule("not writable", prefix=os.path.join(ro, "p"))
+        os.mkdir(ro)
+        os.chmod(ro, 0o500)
+        os.chmod(self.dir, 0o755)  # the child may look into the test's folder, not into ro
+        if os.geteuid() != 0:
+            self.check_rule("not writable", prefix=os.path.join(ro, "p"))
+            return
+        pid = os.fork()
+        if pid == 0:  # child: no unittest machinery, the verdict is the exit status
+            code = 3
+            try:
+                os.setgid(65534)
+                os.setuid(65534)
+                nrsar.image_sink(8, os.path.join(ro, "p"))
+                code = 1
+            except ValueError as e:
+                code = 0 if "not writable" in str(e) else 2
+            finally:
+                os._exit(code)
+        for _ in range(3000):  # a constructor call: 30 s is far more than it needs
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                break
+            time.sleep(0.01)
+        else:
+            os.kill(pid, 9)
+            os.waitpid(pid, 0)
+            self.fail("child did not finish")
+        self.assertEqual(os.waitstatus_to_exitcode(status), 0,
+                         "0: 'not writable'; 1: no error; 2: another message; 3: setuid failed")
 
     def test_rule_dynamic_range(self):
         self.check_rule("dynamic_range_db = 0", dynamic_range_db=0.0)

@@ -9,6 +9,7 @@ the whole chain; the resident set size must stay flat after the warm-up. (`make 
 10 minutes at paper scale.)"""
 
 import json
+import math
 import os
 import tempfile
 
@@ -37,6 +38,10 @@ class qa_soak(gr_unittest.TestCase):
 
     def test_002_short_soak_small_preset_is_flat(self):
         out = tempfile.mkdtemp(prefix="qa_soak_")
+        # the tool's own fit is a plain line through every sample after the warm-up, the one
+        # after the end-of-stream flush included, which one allocator step moves by up to
+        # 4.5 MiB/min (measured 0.7-4.5): its pass/fail bound stays loose; the leak bound is
+        # the fit below
         code = cli.main("nrsar-soak", SoakOptions, soak.run, soak.__doc__,
                         ["--preset", "small", "--minutes", "0.5", "--interval-s", "0.5",
                          "--max-slope-mb-per-min", "6", "--json", "--out", out], soak.verdict)
@@ -45,8 +50,6 @@ class qa_soak(gr_unittest.TestCase):
         self.assertEqual(r["apertures"], 15)
         self.assertAlmostEqual(r["radar_s"], 30.0, delta=1e-6)
         self.assertGreaterEqual(r["samples"], 5)
-        # flat: bounded slope after the warm-up, and a small spread of the samples
-        self.assertLessEqual(r["slope_mb_per_min"], 6.0)
         self.assertLess(r["rss_after_warmup_max_mb"] - r["rss_after_warmup_min_mb"], 8.0)
         self.assertEqual(code, 0)
         for name in ("soak.csv", "soak.png"):
@@ -54,6 +57,32 @@ class qa_soak(gr_unittest.TestCase):
         data = np.loadtxt(os.path.join(out, "soak.csv"), delimiter=",", skiprows=1)
         self.assertTrue(np.all(np.diff(data[:, 1]) >= 0))  # radar time only advances
         self.assertAlmostEqual(data[-1, 1], 30.0, delta=1e-3)
+        # The leak bound, fitted here while the stream runs (after the warm-up, before the
+        # last sample, which follows the end-of-stream flush). RSS moves in pages and, once or
+        # so per run, in one step of about 1 MiB (0.93-1.18 MiB measured: the allocator taking
+        # a new region), which over the 22 s fit alone reads up to 4 MiB/min; so the fit is a
+        # line plus one step at the best place. 1 MiB/min is 34 KiB per 2-s aperture (30 per
+        # radar minute), under 3 % of one presummed aperture image (4800 lines x 32 bins x
+        # 8 B = 1.2 MiB at the fewest bins); measured 0.00-0.33 MiB/min, standard error
+        # <= 0.03. A leak cannot hide in the step: it grows with every aperture.
+        t, rss = data[:, 1] / 60.0, data[:, 2]
+        keep = (data[:, 1] >= r["warmup_radar_s"]) & (data[:, 1] < r["radar_s"] - 1e-6)
+        self.assertGreaterEqual(keep.sum(), 10)
+        t, rss = t[keep], rss[keep]
+        best = None
+        for k in range(1, t.size):
+            x = np.stack([np.ones_like(t), t, (np.arange(t.size) >= k).astype(float)], 1)
+            coef = np.linalg.lstsq(x, rss, rcond=None)[0]
+            ss = float(np.sum((rss - x @ coef) ** 2))
+            if best is None or ss < best[0]:
+                se = math.sqrt(np.linalg.inv(x.T @ x)[1, 1] * ss / (t.size - 3))
+                best = (ss, coef[1], coef[2], se)
+        _, slope, step, se = best
+        print(f"\nRSS while streaming: {slope:+.3f} MiB/min (standard error {se:.3f}), "
+              f"one step of {step:+.2f} MiB")
+        self.assertLess(se, 0.25)  # the fit resolves the bound
+        self.assertLessEqual(slope, 1.0)
+        self.assertLess(abs(step), 2.0)  # one allocator region, not an aperture's image
 
 
 if __name__ == "__main__":

@@ -69,8 +69,9 @@ struct NRSAR_API image_file_config {
     //! at 6 and takes 6x longer in viridis (bench_image_file).
     int png_level = 1;
 
-    //! Throws std::invalid_argument: empty prefix, a folder that does not exist or is not
-    //! writable, neither format, dr not finite and > 0, keep 0, level outside 0..9.
+    //! Throws std::invalid_argument: empty prefix, a folder that does not exist, is not a
+    //! folder or is not writable, neither format, dr not finite and > 0, keep 0, level
+    //! outside 0..9.
     void validate() const;
 };
 
