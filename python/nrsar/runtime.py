@@ -12,6 +12,7 @@
 """
 
 import os
+import platform
 import resource
 
 from gnuradio import gr
@@ -76,3 +77,15 @@ def quiet_gnuradio_logs():
     """Large vectors make GNU Radio's buffer allocator warn about alignment padding on
     every connection; the apps keep errors only."""
     gr.logging().set_default_level(gr.log_levels.err)
+
+
+def cpu_model():
+    """The processor's model name (benchmarks name the machine they ran on)."""
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"

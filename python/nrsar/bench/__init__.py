@@ -16,11 +16,10 @@ import importlib
 import io
 import os
 import pkgutil
-import platform
 import sys
 
 from . import __path__ as package_path
-from .. import progress, results
+from .. import progress, results, runtime
 
 COLUMNS = ["benchmark", "unit", "ours", "peer", "peer_rate", "ratio"]
 
@@ -35,17 +34,6 @@ def bench_modules(selected=None):
                              f"{[n[len('bench_'):] for n in names]}")
         names = [n for n in names if n[len("bench_"):] in selected]
     return [importlib.import_module(f".{n}", __package__) for n in names]
-
-
-def cpu_model():
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def format_table(rows):
@@ -79,7 +67,7 @@ def write_png(path, rows):
     ax.axvline(1.0, color="k", lw=0.8)
     ax.set_xscale("log")
     ax.set_xlabel("throughput ratio, ours / peer (same run)")
-    ax.set_title(f"gr-nrsar block throughput on {cpu_model()}", fontsize=9)
+    ax.set_title(f"gr-nrsar block throughput on {runtime.cpu_model()}", fontsize=9)
     ax.invert_yaxis()
     fig.tight_layout()
     results.save_figure(fig, path, dpi=110)
@@ -100,8 +88,8 @@ def main(argv=None):
     progress.add_arguments(parser)
     args = parser.parse_args(argv)
     progress.configure(progress.from_args(args))
-    from ..runtime import quiet_gnuradio_logs
-    quiet_gnuradio_logs()
+
+    runtime.quiet_gnuradio_logs()
     if os.environ.get("VOLK_GENERIC"):
         print("nrsar-bench: VOLK_GENERIC is set: VOLK's generic kernels would be measured",
               file=sys.stderr)
@@ -122,6 +110,6 @@ def main(argv=None):
     os.makedirs(args.out, exist_ok=True)
     write_csv(os.path.join(args.out, "bench.csv"), rows)
     write_png(os.path.join(args.out, "bench.png"), rows)
-    print(f"CPU: {cpu_model()}, {os.cpu_count()} cores")
+    print(f"CPU: {runtime.cpu_model()}, {os.cpu_count()} cores")
     print(format_table(rows))
     return 0

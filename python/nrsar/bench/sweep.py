@@ -19,7 +19,7 @@ import multiprocessing
 import os
 import sys
 
-from .. import chain, progress, results
+from .. import chain, progress, results, runtime
 from ..options import SimOptions, check_out_dir
 
 # (label, extra nrsar-sim flags); the baseline is nrsar-sim's defaults
@@ -167,11 +167,10 @@ def format_table(rows):
 
 
 def main(out, quick=False):
-    from . import cpu_model
     os.makedirs(out, exist_ok=True)
     rows = run(out, quick)
     write_csv(os.path.join(out, "sweep.csv"), rows)
-    cpu = f"{cpu_model()}, {os.cpu_count()} cores"
+    cpu = f"{runtime.cpu_model()}, {os.cpu_count()} cores"
     write_png(os.path.join(out, "sweep.png"), rows, cpu)
     print(f"CPU: {cpu}")
     print(format_table(rows))
