@@ -306,10 +306,10 @@ def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=Fal
 
 
 def simulate_graph(opts, keep_reference=False):
-    """One run of nrsar-sim for validated SimOptions: builds the graph, runs one aperture
+    """One run of nrsar-sim for SimOptions (validated here too): builds the graph, runs one aperture
     (Ctrl-C: runtime.Interrupted, nothing written), writes the images into opts.out.
     Returns (the JSON dict of SPEC 9, the blocks by name)."""
-    sc = scenario.of(opts)
+    sc = scenario.of(opts.validate())
     check_out_dir(opts.out)
     tb = gr.top_block("nrsar-sim")
     graph = build(tb, opts, sc, keep_reference=keep_reference)

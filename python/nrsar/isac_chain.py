@@ -210,7 +210,8 @@ def check_link(opts, num):
 
 
 def run(opts):
-    """The one ISAC graph of validated IsacOptions; returns nrsar-isac's JSON dict."""
+    """The one ISAC graph of IsacOptions; returns nrsar-isac's JSON dict."""
+    opts.validate()
     with open(opts.payload, "rb") as f:
         payload = f.read()
     sc = scenario.of(opts)

@@ -41,7 +41,7 @@ def fit_slope(radar_s, rss, start_s):
 def run(opts):
     """The soak of validated SoakOptions; returns its JSON dict and writes soak.csv,
     soak.json and soak.png into opts.out."""
-    sc = scenario.of(opts)
+    sc = scenario.of(opts.validate())
     check_out_dir(opts.out)
     num = sc.num
     aperture_symbols = sc.symbols
