@@ -28,8 +28,9 @@ regular ground-range grid x = sqrt(r^2 - H^2) with the far edge's spacing (the f
 the power is interpolated linearly, the complex band takes the nearest slant bin (a focused
 target's phase turns by about pi per range bin: interpolating it would cancel the peak).
 Bins nearer than H have no ground point and are dropped. `slant` keeps the range bins as
-they are and georeferences them with ground control points (GCPs) at their true positions,
-for a GIS to warp.
+they are, placed on the ground by the ground range linearised at the window's middle slant
+range r_c (x_c + (r - r_c) r_c / x_c): exact there, off by geotiff_slant_max_error_m (in the
+JSON) at the window's edges.
 """
 
 import math
@@ -44,10 +45,6 @@ from . import results
 from .options import parse_origin
 
 gdal.UseExceptions()
-
-# Ground control points of a slant-grid image: every GCP_STEP-th column on these rows.
-GCP_STEP = 8
-
 
 def utm_epsg(lat_deg, lon_deg):
     """EPSG code of the standard UTM zone of a point: 326zz north of the equator, 327zz
@@ -128,17 +125,30 @@ def power_db(power):
     return (10.0 * np.log10(np.maximum(power, 1e-30))).astype(np.float32)
 
 
-def _write_band(path, array, gdal_type, frame, geotransform, gcps, description):
+def slant_linearised(range_axis, bins, height_m):
+    """([x0, dx] of the slant bins' columns on the ground, largest error [m]): the ground
+    range sqrt(r^2 - H^2) linearised at the window's middle r_c, x_c + (r - r_c) r_c / x_c
+    (exact there; the error grows with (r - r_c)^2 and is largest at the edges and near
+    nadir; bins nearer than H have no ground point and are left out of the error)."""
+    r0, dr = range_axis
+    r = r0 + dr * np.arange(bins)
+    r_c = float(r[bins // 2])
+    if r_c <= height_m:
+        raise ValueError(f"--geotiff-grid slant: the middle of the image's slant ranges, "
+                         f"{r_c:.1f} m, is below the height {height_m:g} m: no ground range")
+    x_c = math.sqrt(r_c ** 2 - height_m ** 2)
+    slope = r_c / x_c
+    beyond = r > height_m
+    error = np.abs(np.sqrt(r[beyond] ** 2 - height_m ** 2) - (x_c + (r[beyond] - r_c) * slope))
+    return [x_c - (r_c - r0) * slope, dr * slope], float(error.max())
+
+
+def _write_band(path, array, gdal_type, frame, geotransform, description):
     with results.atomic(path) as tmp:
         ds = gdal.GetDriverByName("GTiff").Create(tmp, array.shape[1], array.shape[0], 1,
                                                   gdal_type)
-        if gcps is None:
-            ds.SetGeoTransform(geotransform)
-            ds.SetProjection(frame.wkt())
-        else:
-            srs = osr.SpatialReference()
-            srs.ImportFromEPSG(frame.epsg)
-            ds.SetGCPs(gcps, srs)
+        ds.SetGeoTransform(geotransform)
+        ds.SetProjection(frame.wkt())
         band = ds.GetRasterBand(1)
         band.WriteArray(array)
         band.SetDescription(description)
@@ -147,19 +157,11 @@ def _write_band(path, array, gdal_type, frame, geotransform, gcps, description):
     return path
 
 
-def _vrt_text(cols, rows, frame, geotransform, gcps, bands):
+def _vrt_text(cols, rows, frame, geotransform, bands):
     """A 2-band VRT over the two GeoTIFFs (relative paths: the folder can move)."""
-    lines = [f'<VRTDataset rasterXSize="{cols}" rasterYSize="{rows}">']
-    if gcps is None:
-        lines.append(f"  <SRS>{escape(frame.wkt())}</SRS>")
-        lines.append("  <GeoTransform>" + ", ".join(repr(v) for v in geotransform)
-                     + "</GeoTransform>")
-    else:
-        lines.append(f'  <GCPList Projection="{escape(frame.wkt(), {chr(34): "&quot;"})}">')
-        for g in gcps:
-            lines.append(f'    <GCP Id="{g.Id}" Pixel="{g.GCPPixel!r}" Line="{g.GCPLine!r}" '
-                         f'X="{g.GCPX!r}" Y="{g.GCPY!r}"/>')
-        lines.append("  </GCPList>")
+    lines = [f'<VRTDataset rasterXSize="{cols}" rasterYSize="{rows}">',
+             f"  <SRS>{escape(frame.wkt())}</SRS>",
+             "  <GeoTransform>" + ", ".join(repr(v) for v in geotransform) + "</GeoTransform>"]
     for i, (type_name, file_name, description) in enumerate(bands, start=1):
         lines += [f'  <VRTRasterBand dataType="{type_name}" band="{i}">',
                   f"    <Description>{escape(description)}</Description>",
@@ -173,52 +175,32 @@ def _vrt_text(cols, rows, frame, geotransform, gcps, bands):
     return "\n".join(lines) + "\n"
 
 
-def slant_gcps(frame, range_axis, y_axis, shape, height_m):
-    """GCPs of a slant-grid image: pixel centres of every GCP_STEP-th column (and the last)
-    on the first, middle and last rows, at their ground positions (bins nearer than H have
-    none)."""
-    (r0, dr), (y0, dy) = range_axis, y_axis
-    rows, cols = shape
-    gcps = []
-    for row in sorted({0, rows // 2, rows - 1}):
-        for col in sorted(set(range(0, cols, GCP_STEP)) | {cols - 1}):
-            r = r0 + dr * col
-            if r <= height_m:
-                continue
-            e, n = frame.to_map(math.sqrt(r * r - height_m ** 2), y0 + dy * row)
-            gcps.append(gdal.GCP(e, n, 0.0, col + 0.5, row + 0.5, "", str(len(gcps))))
-    if len(gcps) < 3:
-        raise ValueError("--geotiff-grid slant: fewer than 3 range bins beyond the height: "
-                         "the image cannot be placed on the ground")
-    return gcps
-
-
 def write_geotiffs(opts, result, height_m, name="image"):
     """Writes the focused image of a run (result: the JSON dict of SPEC 9, its image_npy
     and axes) as GeoTIFFs into opts.out; returns the JSON keys that name them."""
     frame = Frame(opts.origin)
     image = np.load(result["image_npy"])
     range_axis, y_axis = result["range_axis_m"], result["azimuth_axis_m"]
+    slant_error = None
     if opts.geotiff_grid == "ground":
         power, cplx, x_axis = to_ground(image, range_axis, height_m)
-        geotransform, gcps = frame.geotransform(x_axis, y_axis), None
     else:
-        power, cplx, x_axis = np.abs(image.astype(np.complex128)) ** 2, image, None
-        geotransform, gcps = None, slant_gcps(frame, range_axis, y_axis, image.shape,
-                                              height_m)
+        power, cplx = np.abs(image.astype(np.complex128)) ** 2, image
+        x_axis, slant_error = slant_linearised(range_axis, image.shape[1], height_m)
+    geotransform = frame.geotransform(x_axis, y_axis)
     paths = {key: os.path.abspath(os.path.join(opts.out, f"{name}{suffix}"))
              for key, suffix in (("db", "_db.tif"), ("complex", "_complex.tif"),
                                  ("vrt", ".vrt"))}
     db_text, cplx_text = "power [dB]", "complex image"
-    _write_band(paths["db"], power_db(power), gdal.GDT_Float32, frame, geotransform, gcps,
-                db_text)
+    _write_band(paths["db"], power_db(power), gdal.GDT_Float32, frame, geotransform, db_text)
     _write_band(paths["complex"], cplx.astype(np.complex64), gdal.GDT_CFloat32, frame,
-                geotransform, gcps, cplx_text)
+                geotransform, cplx_text)
     results.write_text(paths["vrt"], _vrt_text(
-        power.shape[1], power.shape[0], frame, geotransform, gcps,
+        power.shape[1], power.shape[0], frame, geotransform,
         [("Float32", os.path.basename(paths["db"]), db_text),
          ("CFloat32", os.path.basename(paths["complex"]), cplx_text)]))
     return {"geotiff_db": paths["db"], "geotiff_complex": paths["complex"],
             "geotiff_vrt": paths["vrt"], "geotiff_epsg": frame.epsg,
             "geotiff_grid": opts.geotiff_grid,
-            "ground_range_axis_m": x_axis}
+            "geotiff_x_axis_m": x_axis,  # [first, step] of the columns' ground range
+            "geotiff_slant_max_error_m": slant_error}
