@@ -21,6 +21,7 @@ front, the chain and its sinks) and returns the blocks by name. Hooks instead of
 echo), `keep_reference=True` keeps the reference image in a sink too.
 """
 
+import contextlib
 import dataclasses
 import math
 import os
@@ -28,7 +29,7 @@ import time
 
 from gnuradio import blocks, fft, gr
 
-from . import params, progress, results, runtime, scenario
+from . import params, progress, recording, results, runtime, scenario
 from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_config,
                            nmse_probe, nr_isac_tx, presum_config, presum_domain, range_ifft,
                            rd_focuser, scene_echo, tf_filter)
@@ -306,18 +307,31 @@ def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=Fal
 
 
 def simulate_graph(opts, keep_reference=False):
-    """One run of nrsar-sim for SimOptions (validated here too): builds the graph, runs one aperture
-    (Ctrl-C: runtime.Interrupted, nothing written), writes the images into opts.out.
+    """One run of nrsar-sim for SimOptions (validated here too): builds the graph, runs one
+    aperture (Ctrl-C: runtime.Interrupted, nothing written), writes the images into opts.out.
     Returns (the JSON dict of SPEC 9, the blocks by name)."""
     sc = scenario.of(opts.validate())
     check_out_dir(opts.out)
+    if opts.record is not None:
+        recording.check_recordable(opts, sc)
     tb = gr.top_block("nrsar-sim")
     graph = build(tb, opts, sc, keep_reference=keep_reference)
     start = time.perf_counter()
-    # progress: percent of the aperture's symbols through the filter (stderr, if enabled)
-    with progress.polling("symbols", sc.symbols, lambda: graph["filter"].nitems_written(0)):
-        runtime.run(tb)
-    return results.image_results(opts, graph, sc, time.perf_counter() - start), graph
+    with contextlib.ExitStack() as stack:
+        if opts.record is not None:  # the radio's recording of the same grid (--record)
+            rec = stack.enter_context(recording.recorder(tb, opts, sc, graph["head"],
+                                                         graph["echo"], opts.record))
+        # progress: percent of the aperture's symbols through the filter (stderr)
+        with progress.polling("symbols", sc.symbols, lambda: graph["filter"].nitems_written(0)):
+            runtime.run(tb)
+    result = results.image_results(opts, graph, sc, time.perf_counter() - start)
+    if opts.record is not None:
+        result.update(recording_meta=rec.meta_path, recording_data=rec.data_path)
+        result["warnings"] += recording.model_warnings(sc, rec.echo.taps())
+    if opts.geotiff:
+        from . import geo  # GDAL and pyproj load only for --geotiff
+        result.update(geo.write_geotiffs(opts, result, sc.geo.height_m))
+    return result, graph
 
 
 def simulate(opts):

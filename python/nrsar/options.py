@@ -16,6 +16,8 @@ ValueError) whose message names the flag, the value and the limit, e.g.
     SimOptions    nrsar-sim: numerology, scene, filter, range / azimuth processing, outputs
     IsacOptions   nrsar-isac: SimOptions plus the backhaul (payload, DMRS, channel)
     SoakOptions   nrsar-soak: SimOptions plus the soak's duration and leak bound
+    ProcessOptions nrsar-process: the receive-side fields of SimOptions (the recording
+                  supplies the rest)
 """
 
 import dataclasses
@@ -37,10 +39,12 @@ class OptionError(ValueError):
 
 
 def option(default, help, *, choices=None, at_least=None, above=None, at_most=None,
-           below=None, finite=True, metavar=None):
-    """A dataclass field with what the parser and validate() need to know about it."""
+           below=None, finite=True, metavar=None, positional=False):
+    """A dataclass field with what the parser and validate() need to know about it
+    (positional: a word of the command line, not a flag)."""
     meta = {"help": help, "choices": choices, "at_least": at_least, "above": above,
-            "at_most": at_most, "below": below, "finite": finite, "metavar": metavar}
+            "at_most": at_most, "below": below, "finite": finite, "metavar": metavar,
+            "positional": positional}
     if isinstance(default, list):
         return dataclasses.field(default_factory=lambda: list(default), metadata=meta)
     return dataclasses.field(default=default, metadata=meta)
@@ -75,6 +79,9 @@ class _Options:
             kind, optional = _base_type(hints[f.name])
             default = f.default if f.default is not dataclasses.MISSING else f.default_factory()
             help_text = meta["help"] + _limits_text(meta)
+            if meta.get("positional"):
+                parser.add_argument(f.name, metavar=meta["metavar"], help=help_text)
+                continue
             if kind is bool:
                 parser.add_argument(flag_of(f.name), action="store_true", help=help_text)
                 continue
@@ -198,6 +205,49 @@ def check_out_dir(path, flag="--out"):
     return path
 
 
+# UTM is defined from 80 deg S to 84 deg N (the polar caps use UPS, which geo.py does not
+# write).
+UTM_LAT_RANGE = (-80.0, 84.0)
+
+
+def parse_origin(text, flag="--origin"):
+    """'LAT,LON,HEADING_DEG' -> (lat, lon, heading) in degrees, each checked: latitude within
+    UTM's [-80, 84], longitude within [-180, 180], heading within [0, 360)."""
+    parts = [p.strip() for p in str(text).split(",")]
+    if len(parts) != 3:
+        raise OptionError(f"{flag} = {text!r} must be LAT,LON,HEADING_DEG (3 numbers, "
+                          f"got {len(parts)})")
+    names = ("latitude", "longitude", "heading")
+    values = []
+    for name, part in zip(names, parts):
+        try:
+            v = float(part)
+        except ValueError:
+            raise OptionError(f"{flag} = {text!r}: {name} {part!r} is not a number") from None
+        if not math.isfinite(v):
+            raise OptionError(f"{flag} = {text!r}: {name} = {part} must be finite")
+        values.append(v)
+    lat, lon, heading = values
+    if not UTM_LAT_RANGE[0] <= lat <= UTM_LAT_RANGE[1]:
+        raise OptionError(f"{flag} = {text!r}: latitude = {lat:g} must be within "
+                          f"[{UTM_LAT_RANGE[0]:g}, {UTM_LAT_RANGE[1]:g}] (UTM)")
+    if not -180.0 <= lon <= 180.0:
+        raise OptionError(f"{flag} = {text!r}: longitude = {lon:g} must be within [-180, 180]")
+    if not 0.0 <= heading < 360.0:
+        raise OptionError(f"{flag} = {text!r}: heading = {heading:g} must be within [0, 360)")
+    return lat, lon, heading
+
+
+def check_map_options(opts):
+    """The rules of --origin and --geotiff (SimOptions and ProcessOptions)."""
+    if opts.origin is not None:
+        parse_origin(opts.origin)
+    if opts.geotiff and opts.images == "none":
+        raise OptionError("--geotiff needs the image: --images = 'none' keeps none")
+    if getattr(opts, "record", None) is not None and not opts.record.strip():
+        raise OptionError("--record = '' must name a folder")
+
+
 # The pulse modes of the transmit grid: (tx mode, SRS period in slots)
 MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
 
@@ -267,8 +317,31 @@ class SimOptions(_Options):
                        at_least=0, at_most=SEED_MAX)
     out: str = option("nrsar-out", "output folder (created; checked writable before the run)")
     json: bool = option(False, "print one JSON object on stdout")
+    record: typing.Optional[str] = option(
+        None, "also write the recording a radio would have made of the flight into this "
+        "folder: the time-domain echo (ofdm_mod -> td_echo, with noise) as SigMF "
+        "flight.sigmf-data / flight.sigmf-meta (docs/recording.md; point targets only)",
+        metavar="DIR")
+    geotiff: bool = option(False, "also write the focused image as GeoTIFFs (power in dB, "
+                           "complex) in the UTM zone of --origin (docs/recording.md)")
+    geotiff_grid: str = option("ground", "pixel grid of the GeoTIFF: ground range "
+                               "sqrt(r^2 - H^2) resampled to a regular grid, or the slant "
+                               "range bins as they are", choices=["ground", "slant"])
+    origin: typing.Optional[str] = option(
+        None, "the frame's origin on the map: latitude, longitude [deg, WGS 84] of the ground "
+        "point below the track at y = 0 and the heading of the flight [deg clockwise from "
+        "true north]; the scene (x > 0) lies to the right of the heading",
+        metavar="LAT,LON,HEADING_DEG")
 
     def check(self):
+        check_map_options(self)
+        if self.geotiff and self.origin is None:
+            raise OptionError("--geotiff needs --origin LAT,LON,HEADING_DEG (where the frame "
+                              "lies on the map)")
+        self.check_processing()
+
+    def check_processing(self):
+        """The rules between the receive-side fields (ProcessOptions keeps them too)."""
         if self.decim is not None and self.presum == "none":
             raise OptionError(f"--decim = {self.decim} needs a presummer: give --presum "
                               f"({', '.join(PRESUM[1:])}), or leave --decim out")
@@ -316,6 +389,10 @@ class IsacOptions(SimOptions):
 
     def check(self):
         super().check()
+        for name in ("record", "geotiff"):
+            if getattr(self, name):
+                raise OptionError(f"{flag_of(name)} is nrsar-sim's and nrsar-process's; "
+                                  f"nrsar-isac does not record or write GeoTIFFs yet")
         if self.mode != "data":
             raise OptionError(f"--mode = {self.mode!r} must be data (the grid is the PUSCH)")
         if not os.path.isfile(self.payload):
@@ -371,3 +448,54 @@ class SoakOptions(SimOptions):
         if self.images != "none":
             raise OptionError(f"--images = {self.images!r} must be none: a soak streams "
                               f"without end, and kept images would grow with it")
+        if self.record is not None:
+            raise OptionError("--record is nrsar-sim's: a soak streams without end")
+
+
+# The fields of SimOptions a recording supplies (docs/recording.md): nrsar-process takes the
+# numerology, geometry, scene, grid and seed from the meta, never from flags.
+RECORDED_FIELDS = ("preset", "geometry", "aperture_s", "scene", "target", "snr_db",
+                   "modulation", "mode", "seed", "record")
+
+
+class _ProcessRules(_Options):
+    """Rules of ProcessOptions: SimOptions' own between its receive-side fields."""
+
+    def check(self):
+        if not self.recording.endswith(".sigmf-meta"):
+            raise OptionError(f"RECORDING = {self.recording!r} must name a .sigmf-meta file")
+        check_map_options(self)
+        SimOptions.check_processing(self)
+
+    def presum_factor(self):
+        return SimOptions.presum_factor(self)
+
+
+def _process_fields():
+    """ProcessOptions' fields: the recording, an SNR override, then every field of
+    SimOptions that is not recorded (a new receive-side field of SimOptions, e.g. a focuser
+    choice, becomes a flag of nrsar-process too)."""
+    hints = typing.get_type_hints(SimOptions)
+    fields = [
+        ("recording", str, option("", "the recording's NAME.sigmf-meta (NAME.sigmf-data "
+                                  "beside it)", positional=True, metavar="RECORDING")),
+        ("snr_db", typing.Optional[float], option(
+            None, "SNR per RE [dB] for the Wiener filter and the theory (default: the "
+            "recording's nrsar:snr_db)", at_least=-200.0, at_most=300.0)),
+    ]
+    for f in dataclasses.fields(SimOptions):
+        if f.name in RECORDED_FIELDS:
+            continue
+        if f.default_factory is not dataclasses.MISSING:
+            field = dataclasses.field(default_factory=f.default_factory, metadata=f.metadata)
+        else:
+            field = dataclasses.field(default=f.default, metadata=f.metadata)
+        fields.append((f.name, hints[f.name], field))
+    return fields
+
+
+ProcessOptions = dataclasses.make_dataclass("ProcessOptions", _process_fields(),
+                                            bases=(_ProcessRules,))
+ProcessOptions.__doc__ = ("nrsar-process: forms the images of a SigMF recording with the "
+                          "receive-side options of nrsar-sim (the recording supplies the "
+                          "numerology, geometry, scene and transmit grid).")

@@ -1,0 +1,102 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""nrsar-process: the images of a SigMF recording, offline, through the blocks of nrsar-sim.
+
+    file_source(NAME.sigmf-data) -> ofdm_demod -+-> imaging_chain -> image, metrics
+    nr_isac_tx(recorded seed) -> head ----------+   (transmit grid regenerated)
+                       +-> scene_echo (recorded scene, S = 1 reference echo) -> reference
+
+The recording (recording.read) supplies the numerology, geometry, scene, grid and seed; the
+options (ProcessOptions) are nrsar-sim's receive-side ones. The graph streams: the samples
+are read from the file as the chain consumes them (with --images none nothing grows with
+the recording). The JSON has nrsar-sim's keys, plus the recording's.
+"""
+
+import dataclasses
+import math
+import time
+
+from gnuradio import blocks, gr
+
+from . import chain, params, progress, recording, results, runtime
+from .nrsar_python import ofdm_demod, scene_echo
+from .options import MODES, OptionError, SimOptions, check_out_dir
+from .scenario import Scenario, fft_size_of
+
+
+def sim_options_of(opts, rec):
+    """The SimOptions nrsar-sim would have run with: the recording's scene and grid, the
+    processing options of opts."""
+    fields = {f.name: getattr(opts, f.name) for f in dataclasses.fields(SimOptions)
+              if hasattr(opts, f.name) and f.name != "snr_db"}
+    snr_db = opts.snr_db if opts.snr_db is not None else rec.snr_db
+    if snr_db is None:
+        raise OptionError(f"--snr-db must be given: {rec.meta_path} names no nrsar:snr_db "
+                          f"(the Wiener filter and the theory need the SNR per RE)")
+    fields.update(preset=rec.preset, modulation=rec.modulation, mode=rec.mode,
+                  seed=rec.grid_seed, snr_db=snr_db, origin=opts.origin or rec.origin,
+                  target=["%r,%r,%r,%r" % (t.x_m, t.y_m, t.rcs, math.degrees(t.phase_rad))
+                          for t in rec.scene.targets], record=None)
+    if opts.geotiff and fields["origin"] is None:
+        raise OptionError(f"--geotiff needs --origin LAT,LON,HEADING_DEG: {rec.meta_path} "
+                          f"names no nrsar:origin")
+    return SimOptions(**fields).validate()
+
+
+def scenario_of(sim_opts, rec):
+    """The Scenario of the recording (its numerology, geometry, scene and SRS layout)."""
+    num, geo = rec.num, rec.geo
+    mode = MODES[rec.mode][0]
+    pulse_symbols = params.symbols_per_pulse(mode, num, rec.srs)
+    fft_size_of(sim_opts, num.num_subcarriers)
+    warnings = list(params.check_scenario(num, geo, rec.scene, pulse_symbols))
+    return Scenario(num=num, geo=geo, scene=rec.scene, scene_file=None, tx_mode=mode,
+                    srs=rec.srs, pulse_symbols=pulse_symbols, symbols=rec.symbols,
+                    warnings=warnings)
+
+
+def recording_front(rec):
+    """echo_front for chain.build: the recorded samples (after the hardware delay) ->
+    ofdm_demod; the reference echo is scene_echo's S = 1 output on the regenerated grid, as
+    in nrsar-sim."""
+    def front(tb, opts, sc, grid):
+        num = sc.num
+        source = blocks.file_source(gr.sizeof_gr_complex, rec.data_path, False,
+                                    rec.hardware_delay_samples,
+                                    rec.symbols * rec.symbol_samples)
+        demod = ofdm_demod(num)
+        tb.connect(source, demod)
+        ref = scene_echo(num, sc.geo, sc.scene, math.inf, opts.seed + 1)
+        tb.connect(grid, ref)
+        tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
+        return demod, demod, (ref, 1)
+    return front
+
+
+def run(opts):
+    """nrsar-process's JSON dict of one recording (validated ProcessOptions)."""
+    rec = recording.read(opts.recording)
+    if rec.gaps:
+        raise ValueError(f"{rec.meta_path}: {len(rec.gaps)} overflow gaps (annotations, "
+                         f"first at sample {rec.gaps[0][0]}): nrsar-process does not refill "
+                         f"lost samples yet")
+    sim_opts = sim_options_of(opts, rec)
+    sc = scenario_of(sim_opts, rec)
+    check_out_dir(sim_opts.out)
+    tb = gr.top_block("nrsar-process")
+    graph = chain.build(tb, sim_opts, sc, echo_front=recording_front(rec))
+    start = time.perf_counter()
+    with progress.polling("symbols", sc.symbols, lambda: graph["filter"].nitems_written(0)):
+        runtime.run(tb)
+    result = results.image_results(sim_opts, graph, sc, time.perf_counter() - start)
+    demod = graph["echo"]
+    result.update(recording_meta=rec.meta_path, recording_data=rec.data_path,
+                  recording_samples=rec.samples, recording_datetime=rec.datetime,
+                  samples_read=int(demod.nitems_read(0)))
+    if sim_opts.geotiff:
+        from . import geo
+        result.update(geo.write_geotiffs(sim_opts, result, sc.geo.height_m))
+    return result

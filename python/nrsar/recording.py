@@ -1,0 +1,438 @@
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""SigMF recordings of a flight: what the radio received, and what the processor needs.
+
+    with recording.recorder(tb, opts, sc, grid, "DIR") as rec:   # nrsar-sim --record DIR
+        runtime.run(tb)                       # grid -> ofdm_mod -> td_echo -> file_sink
+    rec.meta_path, rec.data_path              # DIR/flight.sigmf-meta, DIR/flight.sigmf-data
+
+    rec = recording.read("DIR/flight.sigmf-meta")   # Recording, validated (ValueError)
+
+NAME.sigmf-data holds the received complex baseband samples (cf32_le, symbol 0's cyclic
+prefix at sample hardware_delay_samples); NAME.sigmf-meta is SigMF 1.0.0 JSON with the
+`nrsar` extension (numerology, grid, scene, geometry, origin, ...): every key is documented in
+docs/recording.md. The data file is written under a temporary name and renamed when it is
+complete, then the meta (results.atomic): a meta never names a data file that is not whole.
+A reader error is one ValueError that names the file and the field.
+"""
+
+import contextlib
+import dataclasses
+import datetime
+import hashlib
+import json
+import math
+import os
+import typing
+
+from gnuradio import blocks, gr
+
+from . import params, results
+from .nrsar_python import ofdm_mod, td_echo
+from .options import OptionError, check_out_dir, parse_origin
+
+SIGMF_VERSION = "1.0.0"
+EXTENSION = {"name": "nrsar", "version": "1.0.0", "optional": False}
+DATATYPE = "cf32_le"
+SAMPLE_BYTES = 8  # cf32: two little-endian float32
+DEFAULT_NAME = "flight"
+
+NUMEROLOGY_FIELDS = ("subcarrier_spacing_hz", "num_subcarriers", "fft_size", "cp_samples",
+                     "symbols_per_slot", "slots_per_frame")
+GEOMETRY_FIELDS = ("carrier_hz", "velocity_mps", "height_m", "track_start_m", "aperture_s")
+SRS_FIELDS = ("start_subcarrier", "num_rb", "comb", "comb_offset", "period_slots",
+              "symbol_in_slot")
+
+
+def rf_centre_hz(num, geo):
+    """core:frequency: the RF frequency at the baseband's 0 Hz. The TF model puts subcarrier
+    n at fc + n Delta f (SPEC 3), ofdm_mod puts it at (n - k0) Delta f: DC is fc + k0 Delta f."""
+    return geo.carrier_hz + num.dc_subcarrier() * num.subcarrier_spacing_hz
+
+
+def target_dicts(scn):
+    return [{"x_m": t.x_m, "y_m": t.y_m, "rcs": t.rcs, "phase_deg": math.degrees(t.phase_rad)}
+            for t in scn.targets]
+
+
+def origin_dict(text):
+    if text is None:
+        return None
+    lat, lon, heading = parse_origin(text)
+    return {"lat_deg": lat, "lon_deg": lon, "heading_deg": heading}
+
+
+def sha512_of(path):
+    digest = hashlib.sha512()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def build_meta(opts, sc, data_path, *, recorder, hw, description, snr_db=None, echo=None,
+               gaps=(), dmrs=None, payload=None, hardware_delay_s=0.0, start=None):
+    """The SigMF meta dict of a recording of sc's flight (docs/recording.md). gaps: (sample
+    index, lost samples) of each overflow; payload: (path, bytes) of a backhaul payload."""
+    num, geo = sc.num, sc.geo
+    sym_len = num.cp_samples + num.fft_size
+    delay = int(round(hardware_delay_s * num.sample_rate_hz()))
+    start = start or datetime.datetime.now(datetime.timezone.utc)
+    glob = {
+        "core:datatype": DATATYPE,
+        "core:sample_rate": num.sample_rate_hz(),
+        "core:version": SIGMF_VERSION,
+        "core:num_channels": 1,
+        "core:sha512": sha512_of(data_path),
+        "core:hw": hw,
+        "core:recorder": recorder,
+        "core:description": description,
+        "core:extensions": [dict(EXTENSION)],
+        "nrsar:preset": opts.preset,
+        "nrsar:numerology": {k: getattr(num, k) for k in NUMEROLOGY_FIELDS},
+        "nrsar:modulation": opts.modulation,
+        "nrsar:mode": opts.mode,
+        "nrsar:srs": {k: getattr(sc.srs, k) for k in SRS_FIELDS},
+        "nrsar:dmrs": dmrs,
+        "nrsar:grid_seed": opts.seed,
+        "nrsar:payload_sha256": hashlib.sha256(payload[1]).hexdigest() if payload else None,
+        "nrsar:payload_path": os.path.abspath(payload[0]) if payload else None,
+        "nrsar:scene": target_dicts(sc.scene),
+        "nrsar:reference_target": target_dicts(sc.scene)[0],
+        "nrsar:geometry": {k: getattr(geo, k) for k in GEOMETRY_FIELDS},
+        "nrsar:symbols": sc.symbols,
+        "nrsar:symbol_samples": sym_len,
+        "nrsar:navigation": None,
+        "nrsar:hardware_delay_s": hardware_delay_s,
+        "nrsar:origin": origin_dict(opts.origin),
+        "nrsar:snr_db": snr_db,
+        "nrsar:echo": echo,
+    }
+    captures = [{"core:sample_start": 0, "core:frequency": rf_centre_hz(num, geo),
+                 "core:datetime": start.strftime("%Y-%m-%dT%H:%M:%S.%fZ")}]
+    aperture = sc.symbols * sym_len  # one aperture of the geometry's duration
+    annotations = [{"core:sample_start": delay, "core:sample_count": aperture,
+                    "core:label": "aperture 0", "nrsar:aperture": 0}]
+    for sample, lost in gaps:
+        annotations.append({"core:sample_start": int(sample), "core:sample_count": 0,
+                            "core:label": "overflow", "nrsar:lost_samples": int(lost)})
+    annotations.sort(key=lambda a: a["core:sample_start"])
+    return {"global": glob, "captures": captures, "annotations": annotations}
+
+
+def check_recordable(opts, sc):
+    """--record's rules that need the scenario (before the run): a writable folder, and
+    point targets (td_echo echoes point targets, not a scene file's maps)."""
+    if sc.scene_file is not None:
+        raise OptionError(f"--record = {opts.record!r} needs point targets: td_echo has no "
+                          f"reflectivity maps (--scene {opts.scene!r} is a scene file)")
+    check_out_dir(opts.record, "--record")
+
+
+def model_warnings(sc, taps=32):
+    """Where the recorded time-domain echo is not the TF model of the simulated image
+    (docs/blocks/td_echo.md): the farthest round trip plus the FIR's look-ahead must fit in
+    the CP, and the band must leave guard subcarriers (N < fft_size)."""
+    num = sc.num
+    ext = params.compute_extent(sc.geo, sc.scene)
+    reach = 2.0 * ext.max_slant_range_m / 299792458.0 * num.sample_rate_hz() + taps / 2
+    out = []
+    if reach > num.cp_samples:
+        out.append(f"--record: the farthest round trip plus td_echo's look-ahead is "
+                   f"{reach:.1f} samples, more than the CP of {num.cp_samples}: the recording "
+                   f"differs from the simulated TF echo (use sdr20, paper or nr273)")
+    if num.num_subcarriers >= num.fft_size:
+        out.append(f"--record: {num.num_subcarriers} subcarriers fill the {num.fft_size}-point "
+                   f"FFT: td_echo cannot delay the band edge by a fraction of a sample, the "
+                   f"recording differs from the simulated TF echo (use sdr20, paper or nr273)")
+    return out
+
+
+@dataclasses.dataclass
+class Recorder:
+    meta_path: str
+    data_path: str
+    echo: object
+    sink: object
+
+
+@contextlib.contextmanager
+def recorder(tb, opts, sc, grid, tf_echo, folder, name=DEFAULT_NAME):
+    """The recording a radio would have made of nrsar-sim's flight, wired into tb: the
+    transmit grid -> ofdm_mod -> td_echo (noise-free) plus the simulation's own noise draw in
+    the time domain -> file_sink. tf_echo is the simulation's scene_echo (out0 Y = H S + Z,
+    out1 H): its noise Z = Y - H S, through ofdm_mod, is white with scene_echo's variance in
+    every FFT window on the N used subcarriers (band-limited, as behind a radio's channel
+    filter; the CP a copy, as for the signal), so the recording and the simulated image hold
+    the same draw. Run the graph inside the with-block; on success the data file is renamed
+    into place and the meta written; on an exception neither exists."""
+    num = sc.num
+    data_path = os.path.join(folder, name + ".sigmf-data")
+    meta_path = os.path.join(folder, name + ".sigmf-meta")
+    with results.atomic(data_path) as tmp:
+        n = num.num_subcarriers
+        echo = td_echo(num, sc.geo, sc.scene, math.inf, opts.seed + 1)
+        clean = blocks.multiply_vcc(n)  # H S
+        noise = blocks.sub_cc(n)        # Z = Y - H S
+        received = blocks.add_cc()
+        sink = blocks.file_sink(gr.sizeof_gr_complex, tmp, False)
+        sink.set_unbuffered(False)
+        tb.connect(grid, ofdm_mod(num), echo, (received, 0))
+        tb.connect((tf_echo, 1), (clean, 0))
+        tb.connect(grid, (clean, 1))
+        tb.connect((tf_echo, 0), (noise, 0))
+        tb.connect(clean, (noise, 1))
+        tb.connect(noise, ofdm_mod(num), (received, 1))
+        tb.connect(received, sink)
+        rec = Recorder(meta_path=os.path.abspath(meta_path),
+                       data_path=os.path.abspath(data_path), echo=echo, sink=sink)
+        yield rec
+        sink.close()
+        want = sc.symbols * (num.cp_samples + num.fft_size) * SAMPLE_BYTES
+        got = os.path.getsize(tmp)
+        if got != want:
+            raise RuntimeError(f"--record: the recording holds {got} bytes, the flight "
+                               f"{want} (the graph stopped early)")
+        meta = build_meta(
+            opts, sc, tmp, recorder="nrsar-sim (gr-nrsar)",
+            hw="none: simulated by gr-nrsar (ofdm_mod -> td_echo, plus scene_echo's noise "
+               "through ofdm_mod)",
+            description=f"simulated flight, preset {opts.preset}, scene of "
+                        f"{len(sc.scene.targets)} point targets, SNR per RE "
+                        f"{opts.snr_db:g} dB",
+            snr_db=opts.snr_db,
+            echo={"model": "td_echo", "taps": echo.taps(), "noise": "scene_echo",
+                  "noise_seed": opts.seed + 1})
+    results.write_json(meta_path, meta)
+
+
+# ---------------------------------------------------------------------------------------
+# Reading
+
+
+@dataclasses.dataclass
+class Recording:
+    """A validated recording (read())."""
+    meta_path: str
+    data_path: str
+    meta: dict
+    preset: str
+    num: object
+    geo: object
+    scene: object
+    srs: object
+    modulation: str
+    mode: str
+    grid_seed: int
+    symbols: int
+    symbol_samples: int
+    samples: int                 # complex samples in the data file
+    hardware_delay_samples: int  # samples before symbol 0's cyclic prefix
+    origin: typing.Optional[str]  # 'LAT,LON,HEADING_DEG' or None
+    snr_db: typing.Optional[float]
+    gaps: list                   # (sample index, lost samples) of each overflow
+    datetime: str
+
+
+class _Meta:
+    """Typed access to the meta's fields; every failure is one ValueError that names the
+    file and the field."""
+
+    def __init__(self, path):
+        self.path = path
+
+    def fail(self, where, text):
+        raise ValueError(f"{os.path.basename(self.path)}: {where} {text}")
+
+    def get(self, obj, key, kind, where, optional=False):
+        if not isinstance(obj, dict):
+            self.fail(where, "must be a JSON object")
+        if key not in obj:
+            self.fail(f"{where} {key}", "is missing")
+        value = obj[key]
+        if value is None and optional:
+            return None
+        name = f"{where} {key}"
+        if kind is float:
+            if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                    or not math.isfinite(value):
+                self.fail(name, f"= {value!r} must be a finite number")
+            return float(value)
+        if kind is int:
+            if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                    or not float(value).is_integer():
+                self.fail(name, f"= {value!r} must be a whole number")
+            return int(value)
+        if not isinstance(value, kind):
+            self.fail(name, f"= {value!r} must be {kind.__name__}")
+        return value
+
+    def fields(self, obj, key, names, kinds, where):
+        sub = self.get(obj, key, dict, where)
+        return {n: self.get(sub, n, kinds.get(n, int), f"{where} {key}") for n in names}
+
+
+def _scene_of(m, glob):
+    targets = m.get(glob, "nrsar:scene", list, "global")
+    if not targets:
+        m.fail("global nrsar:scene", "must hold at least one target")
+    rows = []
+    for i, t in enumerate(targets):
+        where = f"global nrsar:scene[{i}]"
+        rows.append(tuple(m.get(t, k, float, where) for k in ("x_m", "y_m", "rcs", "phase_deg")))
+    ref = m.get(glob, "nrsar:reference_target", dict, "global")
+    ref_row = tuple(m.get(ref, k, float, "global nrsar:reference_target")
+                    for k in ("x_m", "y_m", "rcs", "phase_deg"))
+    if ref_row != rows[0]:
+        m.fail("global nrsar:reference_target", f"= {ref_row} must be the scene's first "
+               f"target {rows[0]} (the metrics' reference)")
+    try:
+        return params.make_scene([(x, y, rcs, math.radians(ph)) for x, y, rcs, ph in rows])
+    except ValueError as err:
+        m.fail("global nrsar:scene", f"is invalid: {err}")
+
+
+def read(meta_path):
+    """The Recording of NAME.sigmf-meta (and NAME.sigmf-data beside it), validated: the
+    SigMF core fields, the nrsar fields and their consistency, and the data file's size.
+    Raises ValueError naming the file and the field."""
+    m = _Meta(meta_path)
+    try:
+        with open(meta_path) as f:
+            meta = json.load(f)
+    except OSError as err:
+        raise ValueError(f"{meta_path}: cannot be read: {err.strerror or err}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as err:
+        raise ValueError(f"{os.path.basename(meta_path)}: is not JSON: {err}") from None
+    if not isinstance(meta, dict):
+        m.fail("the meta", "must be a JSON object with global, captures, annotations")
+    glob = m.get(meta, "global", dict, "the meta's")
+    datatype = m.get(glob, "core:datatype", str, "global")
+    if datatype != DATATYPE:
+        m.fail("global core:datatype", f"= {datatype!r} must be {DATATYPE} (the only type "
+               f"nrsar-process reads)")
+    version = m.get(glob, "core:version", str, "global")
+    if version.split(".")[0] != SIGMF_VERSION.split(".")[0]:
+        m.fail("global core:version", f"= {version!r} must be SigMF {SIGMF_VERSION}")
+    for key in ("core:hw", "core:recorder"):
+        m.get(glob, key, str, "global")
+    channels = m.get(glob, "core:num_channels", int, "global") if "core:num_channels" in glob \
+        else 1
+    if channels != 1:
+        m.fail("global core:num_channels", f"= {channels} must be 1")
+    extensions = m.get(glob, "core:extensions", list, "global")
+    if not any(isinstance(e, dict) and e.get("name") == "nrsar" for e in extensions):
+        m.fail("global core:extensions", "must declare the nrsar extension")
+
+    preset = m.get(glob, "nrsar:preset", str, "global")
+    num_fields = m.fields(glob, "nrsar:numerology", NUMEROLOGY_FIELDS,
+                          {"subcarrier_spacing_hz": float}, "global")
+    try:
+        num = params.make_numerology(preset, **num_fields)
+    except ValueError as err:
+        m.fail("global nrsar:numerology", f"is invalid: {err}")
+    rate = m.get(glob, "core:sample_rate", float, "global")
+    if not math.isclose(rate, num.sample_rate_hz(), rel_tol=1e-9):
+        m.fail("global core:sample_rate", f"= {rate:g} Hz disagrees with nrsar:numerology "
+               f"(fft_size x subcarrier_spacing_hz = {num.sample_rate_hz():g} Hz)")
+    geo_fields = m.fields(glob, "nrsar:geometry", GEOMETRY_FIELDS,
+                          {k: float for k in GEOMETRY_FIELDS}, "global")
+    try:
+        geo = params.make_geometry("paper", **geo_fields)
+    except ValueError as err:
+        m.fail("global nrsar:geometry", f"is invalid: {err}")
+    modulation = m.get(glob, "nrsar:modulation", str, "global")
+    if modulation not in params.MODULATIONS:
+        m.fail("global nrsar:modulation", f"= {modulation!r} must be one of "
+               f"{', '.join(sorted(params.MODULATIONS))}")
+    from .options import MODES
+    mode = m.get(glob, "nrsar:mode", str, "global")
+    if mode not in MODES:
+        m.fail("global nrsar:mode", f"= {mode!r} must be one of {', '.join(sorted(MODES))}")
+    srs = params.make_srs(**m.fields(glob, "nrsar:srs", SRS_FIELDS, {}, "global"))
+    period = MODES[mode][1]
+    if period is not None and srs.period_slots != period:
+        m.fail("global nrsar:srs period_slots", f"= {srs.period_slots} disagrees with "
+               f"nrsar:mode {mode!r} ({period} slots)")
+    try:
+        if MODES[mode][0] != "data":  # a data grid carries no SRS (nr_isac_tx ignores it)
+            srs.validate(num)
+    except ValueError as err:
+        m.fail("global nrsar:srs", f"is invalid: {err}")
+    if m.get(glob, "nrsar:dmrs", list, "global", optional=True):
+        m.fail("global nrsar:dmrs", "must be null: nrsar-process regenerates grids without "
+               "DMRS only (an ISAC recording's PUSCH grid needs its payload)")
+    seed = m.get(glob, "nrsar:grid_seed", int, "global")
+    scn = _scene_of(m, glob)
+    symbols = m.get(glob, "nrsar:symbols", int, "global")
+    sym_len = m.get(glob, "nrsar:symbol_samples", int, "global")
+    if sym_len != num.cp_samples + num.fft_size:
+        m.fail("global nrsar:symbol_samples", f"= {sym_len} must be cp_samples + fft_size = "
+               f"{num.cp_samples + num.fft_size}")
+    aperture = int(geo.symbols_per_aperture(num))
+    if symbols != aperture:
+        m.fail("global nrsar:symbols", f"= {symbols} must be the symbols of one aperture of "
+               f"nrsar:geometry aperture_s ({aperture})")
+    delay_s = m.get(glob, "nrsar:hardware_delay_s", float, "global")
+    if delay_s < 0:
+        m.fail("global nrsar:hardware_delay_s", f"= {delay_s:g} must be at least 0")
+    delay = int(round(delay_s * rate))
+    origin = m.get(glob, "nrsar:origin", dict, "global", optional=True)
+    origin_text = None
+    if origin is not None:
+        origin_text = ",".join(repr(m.get(origin, k, float, "global nrsar:origin"))
+                               for k in ("lat_deg", "lon_deg", "heading_deg"))
+        try:
+            parse_origin(origin_text, "global nrsar:origin")
+        except ValueError as err:
+            raise ValueError(f"{os.path.basename(meta_path)}: {err}") from None
+    snr_db = m.get(glob, "nrsar:snr_db", float, "global", optional=True)
+    m.get(glob, "nrsar:navigation", str, "global", optional=True)
+
+    captures = m.get(meta, "captures", list, "the meta's")
+    if not captures:
+        m.fail("captures", "must hold at least one capture")
+    cap = captures[0]
+    if m.get(cap, "core:sample_start", int, "captures[0]") != 0:
+        m.fail("captures[0] core:sample_start", "must be 0")
+    freq = m.get(cap, "core:frequency", float, "captures[0]")
+    if not math.isclose(freq, rf_centre_hz(num, geo), abs_tol=1.0):
+        m.fail("captures[0] core:frequency", f"= {freq:.0f} Hz disagrees with nrsar:geometry "
+               f"carrier_hz + dc_subcarrier x spacing = {rf_centre_hz(num, geo):.0f} Hz")
+    when = m.get(cap, "core:datetime", str, "captures[0]")
+    if len(captures) > 1:
+        m.fail("captures", f"has {len(captures)} captures: nrsar-process reads one")
+
+    gaps = []
+    for i, a in enumerate(m.get(meta, "annotations", list, "the meta's")):
+        where = f"annotations[{i}]"
+        m.get(a, "core:sample_start", int, where)
+        if a.get("core:label") == "overflow":
+            gaps.append((int(a["core:sample_start"]),
+                         m.get(a, "nrsar:lost_samples", int, where)))
+
+    data_path = meta_path[:-len(".sigmf-meta")] + ".sigmf-data"
+    try:
+        size = os.path.getsize(data_path)
+    except OSError as err:
+        raise ValueError(f"{os.path.basename(data_path)}: the data file cannot be read: "
+                         f"{err.strerror or err}") from None
+    if size % SAMPLE_BYTES:
+        raise ValueError(f"{os.path.basename(data_path)}: {size} bytes is no whole number of "
+                         f"{DATATYPE} samples ({SAMPLE_BYTES} bytes each): the last sample is "
+                         f"truncated")
+    samples = size // SAMPLE_BYTES
+    need = delay + symbols * sym_len
+    if samples < need:
+        raise ValueError(f"{os.path.basename(data_path)}: holds {samples} samples, the meta "
+                         f"says {need} (nrsar:symbols {symbols} x nrsar:symbol_samples "
+                         f"{sym_len} after a hardware delay of {delay}): the data file is "
+                         f"shorter than the meta")
+    return Recording(meta_path=meta_path, data_path=data_path, meta=meta, preset=preset,
+                     num=num, geo=geo, scene=scn, srs=srs, modulation=modulation, mode=mode,
+                     grid_seed=seed, symbols=symbols, symbol_samples=sym_len, samples=samples,
+                     hardware_delay_samples=delay, origin=origin_text, snr_db=snr_db,
+                     gaps=gaps, datetime=when)
