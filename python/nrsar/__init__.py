@@ -18,7 +18,8 @@ hier block (imaging_chain); the rooms of the package: docs/architecture.md.
 from .nrsar_python import *
 
 from .params import (make_numerology, make_geometry, make_scene, make_srs, make_dmrs,
-                     make_modulation, make_tx_mode, make_filter, parse_target)
+                     make_modulation, make_tx_mode, make_filter, parse_target,
+                     make_trajectory, make_navigation)
 from .scenes import (make_map, make_beam, load_scene_file, SceneFileError)
 from .options import SimOptions, IsacOptions, SoakOptions, OptionError
 from .chain import imaging_chain

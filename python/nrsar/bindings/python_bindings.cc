@@ -36,6 +36,7 @@ namespace py = pybind11;
     void bind_ofdm_sync(py::module& m);
     void bind_td_echo(py::module& m);
     void bind_image_sink(py::module& m);
+    void bind_trajectory(py::module& m);
 // ) END BINDING_FUNCTION_PROTOTYPES
 
 
@@ -83,5 +84,6 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_ofdm_sync(m);
     bind_td_echo(m);
     bind_image_sink(m);
+    bind_trajectory(m);
     // ) END BINDING_FUNCTION_CALLS
 }
