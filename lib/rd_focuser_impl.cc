@@ -6,6 +6,8 @@
  */
 
 #include "rd_focuser_impl.h"
+#include "azimuth_window.h"
+#include "focuser_stream.h"
 #include "param_check.h"
 #include <gnuradio/block_detail.h>
 #include <gnuradio/buffer_reader.h>
@@ -115,13 +117,10 @@ void rd_focuser_impl::configure(double T, double first_range, double range_bin)
     }
     check_at_least("lines_per_aperture", d_M, 2u);
 
-    // Scene Doppler band with margin (SPEC 7): about [0, 160] Hz in the paper geometry.
-    const scene_extent ext = compute_extent(d_geo, d_scn);
-    const double bw = ext.max_doppler_hz - ext.min_doppler_hz;
-    const double margin = d_cfg.band_margin_hz >= 0.0 ? d_cfg.band_margin_hz
-                                                      : 0.1 * bw + 2.0 / d_geo.aperture_s;
-    d_scene_lo_hz = ext.min_doppler_hz - margin;
-    d_scene_hi_hz = ext.max_doppler_hz + margin;
+    const azimuth_window win = scene_azimuth_window(
+        d_geo, d_scn, d_cfg.band_margin_hz, T, first_range, range_bin, d_K);
+    d_scene_lo_hz = win.band_lo_hz;
+    d_scene_hi_hz = win.band_hi_hz;
     const double prf = 1.0 / T;
     if (d_scene_hi_hz - d_scene_lo_hz > prf)
         d_logger->warn("scene Doppler band [{:.1f}, {:.1f}] Hz (with margin) is wider than the "
@@ -129,36 +128,9 @@ void rd_focuser_impl::configure(double T, double first_range, double range_bin)
                        d_scene_lo_hz,
                        d_scene_hi_hz,
                        prf);
-
-    // A target at zero-Doppler line t0 has energy on the pulses t = t0 - E(f, R0) for f in
-    // the band, E = f / (Ka(R0) T) = f lambda R0 / (2 v^2 T) lines. So the pulses of one
-    // aperture focus about E(band centre) lines later: the output window of aperture i is
-    // shifted by s = E(f_c, R_mid) lines (in the paper geometry the scene lies ahead of the
-    // track, s = 1.4 s), so that an aperture's image holds what its own pulses focus to.
     const double v = d_geo.velocity_mps;
-    // The shift and the overlap follow the ranges where the scene's targets are (its slant
-    // range extent within the window), not the whole window: an uncropped range IFFT
-    // (--range-crop off) reaches km beyond the scene, and its far end would place the
-    // output window past the targets and make the overlap (and the memory) grow with it.
-    // Bins beyond the scene hold no target, so their own focusing window does not matter.
-    double r_min = first_range;
-    double r_max = first_range + (d_K - 1) * range_bin;
-    if (ext.max_slant_range_m >= r_min && ext.min_slant_range_m <= r_max) {
-        r_min = std::max(r_min, ext.min_slant_range_m);
-        r_max = std::min(r_max, ext.max_slant_range_m);
-    }
-    auto lines = [&](double f, double r) {
-        return f * d_geo.wavelength_m() * r / (2.0 * v * v) / T;
-    };
-    const double e_hi = std::max(lines(d_scene_hi_hz, r_min), lines(d_scene_hi_hz, r_max));
-    const double e_lo = std::min(lines(d_scene_lo_hz, r_min), lines(d_scene_lo_hz, r_max));
-    if (std::abs(e_hi) > 1e9 || std::abs(e_lo) > 1e9)
-        throw_param("azimuth extent of the scene band (lines)",
-                    std::max(std::abs(e_hi), std::abs(e_lo)),
-                    "must be below 1e9");
-    const double s = std::round(
-        lines(0.5 * (d_scene_lo_hz + d_scene_hi_hz), 0.5 * (r_min + r_max)));
-    d_line_shift = static_cast<long long>(std::clamp(s, std::floor(e_lo), std::ceil(e_hi)));
+    const double e_hi = win.e_hi, e_lo = win.e_lo;
+    d_line_shift = win.line_shift;
     if (d_cfg.overlap_lines < 0) {
         // Overlap-save: image line t0 needs the pulses [t0 - e_hi, t0 - e_lo], so the block
         // of the window [iM + s, iM + s + M) starts `before` = e_hi pulses ahead of it and
@@ -254,23 +226,17 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
     double r0 = d_pending ? d_pending_first_range : d_first_range;
     double rho = d_pending ? d_pending_range_bin : d_range_bin;
     if (pmt::eq(tag.key, tags::pulse_interval_key())) {
-        const double t = pmt::is_number(tag.value) ? pmt::to_double(tag.value) : NAN;
-        if (!(std::isfinite(t) && t > 0.0)) {
+        if (!parse_pulse_interval(tag.value, T)) {
             d_logger->warn("ignoring pulse_interval tag with value {}", pmt::write_string(tag.value));
             return;
         }
-        T = t;
     } else if (pmt::eq(tag.key, tags::range_axis_key())) {
-        const pmt::pmt_t& v = tag.value;
-        if (!pmt::is_tuple(v) || pmt::length(v) < 3 || !pmt::is_number(pmt::tuple_ref(v, 0)) ||
-            !pmt::is_number(pmt::tuple_ref(v, 1)) ||
-            !(pmt::is_integer(pmt::tuple_ref(v, 2)) || pmt::is_uint64(pmt::tuple_ref(v, 2)))) {
-            d_logger->warn("ignoring malformed range_axis tag {}", pmt::write_string(v));
+        double first = 0.0, step = 0.0;
+        uint64_t k = 0;
+        if (!parse_range_axis(tag.value, first, step, k)) {
+            d_logger->warn("ignoring malformed range_axis tag {}", pmt::write_string(tag.value));
             return;
         }
-        const double first = pmt::to_double(pmt::tuple_ref(v, 0));
-        const double step = pmt::to_double(pmt::tuple_ref(v, 1));
-        const uint64_t k = pmt::to_uint64(pmt::tuple_ref(v, 2));
         if (k != d_K || !(first >= 0.0) || !(step > 0.0) || !std::isfinite(first + step)) {
             d_logger->warn("ignoring range_axis tag ({}, {}, {}): the block has {} bins",
                            first,
@@ -497,18 +463,6 @@ void rd_focuser_impl::forecast(int, gr_vector_int& ninput_items_required)
     ninput_items_required[0] = done ? 1 : 2;
 }
 
-bool rd_focuser_impl::input_ended(int navail)
-{
-    // done() alone is not enough: the upstream may have written its last lines and set
-    // done after the scheduler counted navail, and flushing then would zero-pad lines that
-    // are already in the buffer (seen as a rare, load-dependent image difference). Read
-    // both under the buffer's lock, as the scheduler does, and require that nothing
-    // arrived since.
-    const auto& reader = detail()->input(0);
-    gr::thread::scoped_lock lock(*reader->mutex());
-    return reader->done() && reader->items_available() == navail;
-}
-
 int rd_focuser_impl::general_work(int noutput_items,
                                   gr_vector_int& ninput_items,
                                   gr_vector_const_void_star& input_items,
@@ -519,7 +473,7 @@ int rd_focuser_impl::general_work(int noutput_items,
     auto* out = static_cast<gr_complex*>(output_items[0]);
     const uint64_t nread = nitems_read(0);
     const int navail = ninput_items[0];
-    const bool upstream_done = input_ended(navail);
+    const bool upstream_done = input_ended(detail(), navail);
     ensure_kernel();
     // The map is computed only while its port is connected (otherwise no extra work).
     d_want_rd = output_items.size() > 1;

@@ -37,6 +37,7 @@ namespace py = pybind11;
     void bind_td_echo(py::module& m);
     void bind_image_sink(py::module& m);
     void bind_trajectory(py::module& m);
+    void bind_bp_focuser(py::module& m);
 // ) END BINDING_FUNCTION_PROTOTYPES
 
 
@@ -85,5 +86,6 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_td_echo(m);
     bind_image_sink(m);
     bind_trajectory(m);
+    bind_bp_focuser(m);
     // ) END BINDING_FUNCTION_CALLS
 }
