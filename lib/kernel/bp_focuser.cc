@@ -148,18 +148,23 @@ void bp_focuser::project_lines(worker& w,
     j.idx = w.idx.data();
     j.mu = w.mu.data();
     j.frac = w.frac.data();
-    for (unsigned line = line0; line < line1; ++line) {
-        const double y = d_grid.first_y_m + line * d_grid.line_spacing_m;
-        j.acc = &d_image[static_cast<size_t>(line) * K];
+    // Tiles of lines: a pulse's profile (U K samples) is read for every line of the tile
+    // while it is in L1, and the tile's accumulators stay in L2.
+    const unsigned tile = std::max(1u, 16384u / K);
+    for (unsigned t0 = line0; t0 < line1; t0 += tile) {
+        const unsigned t1 = std::min(line1, t0 + tile);
         for (unsigned p = 0; p < n; ++p) {
-            const double dy = y - antenna[p][1];
             j.ax = antenna[p][0];
-            j.c = dy * dy + antenna[p][2] * antenna[p][2];
             j.profile = profiles + p * L;
-            if (d_simd)
-                bp_detail::project_line_avx2(j);
-            else
-                bp_detail::project_line_body(j);
+            for (unsigned line = t0; line < t1; ++line) {
+                const double dy = d_grid.first_y_m + line * d_grid.line_spacing_m - antenna[p][1];
+                j.c = dy * dy + antenna[p][2] * antenna[p][2];
+                j.acc = &d_image[static_cast<size_t>(line) * K];
+                if (d_simd)
+                    bp_detail::project_line_avx2(j);
+                else
+                    bp_detail::project_line_body(j);
+            }
         }
     }
 }
