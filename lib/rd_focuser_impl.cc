@@ -6,6 +6,7 @@
  */
 
 #include "rd_focuser_impl.h"
+#include "focuser_stream.h"
 #include "param_check.h"
 #include <gnuradio/block_detail.h>
 #include <gnuradio/buffer_reader.h>
@@ -100,23 +101,17 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
     double r0 = d_focuser.next_first_range_m();
     double rho = d_focuser.next_range_bin_m();
     if (pmt::eq(tag.key, tags::pulse_interval_key())) {
-        const double t = pmt::is_number(tag.value) ? pmt::to_double(tag.value) : NAN;
-        if (!(std::isfinite(t) && t > 0.0)) {
+        if (!parse_pulse_interval(tag.value, T)) {
             d_logger->warn("ignoring pulse_interval tag with value {}", pmt::write_string(tag.value));
             return;
         }
-        T = t;
     } else if (pmt::eq(tag.key, tags::range_axis_key())) {
-        const pmt::pmt_t& v = tag.value;
-        if (!pmt::is_tuple(v) || pmt::length(v) < 3 || !pmt::is_number(pmt::tuple_ref(v, 0)) ||
-            !pmt::is_number(pmt::tuple_ref(v, 1)) ||
-            !(pmt::is_integer(pmt::tuple_ref(v, 2)) || pmt::is_uint64(pmt::tuple_ref(v, 2)))) {
-            d_logger->warn("ignoring malformed range_axis tag {}", pmt::write_string(v));
+        double first = 0.0, step = 0.0;
+        uint64_t k = 0;
+        if (!parse_range_axis(tag.value, first, step, k)) {
+            d_logger->warn("ignoring malformed range_axis tag {}", pmt::write_string(tag.value));
             return;
         }
-        const double first = pmt::to_double(pmt::tuple_ref(v, 0));
-        const double step = pmt::to_double(pmt::tuple_ref(v, 1));
-        const uint64_t k = pmt::to_uint64(pmt::tuple_ref(v, 2));
         if (k != d_K || !(first >= 0.0) || !(step > 0.0) || !std::isfinite(first + step)) {
             d_logger->warn("ignoring range_axis tag ({}, {}, {}): the block has {} bins",
                            first,
@@ -260,18 +255,6 @@ void rd_focuser_impl::forecast(int, gr_vector_int& ninput_items_required)
     ninput_items_required[0] = done ? 1 : 2;
 }
 
-bool rd_focuser_impl::input_ended(int navail)
-{
-    // done() alone is not enough: the upstream may have written its last lines and set
-    // done after the scheduler counted navail, and flushing then would zero-pad lines that
-    // are already in the buffer (seen as a rare, load-dependent image difference). Read
-    // both under the buffer's lock, as the scheduler does, and require that nothing
-    // arrived since.
-    const auto& reader = detail()->input(0);
-    gr::thread::scoped_lock lock(*reader->mutex());
-    return reader->done() && reader->items_available() == navail;
-}
-
 int rd_focuser_impl::general_work(int noutput_items,
                                   gr_vector_int& ninput_items,
                                   gr_vector_const_void_star& input_items,
@@ -282,7 +265,7 @@ int rd_focuser_impl::general_work(int noutput_items,
     auto* out = static_cast<gr_complex*>(output_items[0]);
     const uint64_t nread = nitems_read(0);
     const int navail = ninput_items[0];
-    const bool upstream_done = input_ended(navail);
+    const bool upstream_done = input_ended(detail(), navail);
     prepare();
     // The map is computed only while its port is connected (otherwise no extra work).
     d_want_rd = output_items.size() > 1;

@@ -57,9 +57,6 @@ private:
         return d_out_pos >= d_out_len && (!d_want_rd || d_rd_pos >= d_rd_len);
     }
 
-    //! The upstream is done and navail (the scheduler's count) is all it wrote.
-    bool input_ended(int navail);
-
 public:
     rd_focuser_impl(const numerology& num,
                     const geometry& geo,

@@ -13,7 +13,7 @@ The one place where GRC `make:` lines, the apps and scripts turn user input into
 from .nrsar_python import (numerology, geometry, scene, point_target, srs_config, dmrs_config,
                            modulation, tx_mode, filter_type, presum_method, presum_domain,
                            doppler_band, beam_mode, image_colormap, check_scenario,
-                           compute_extent)
+                           compute_extent, trajectory, motion_model, nav_error_model)
 
 
 def _names(enum):
@@ -30,6 +30,11 @@ PRESUM_DOMAINS = _names(presum_domain)
 DOPPLER_BANDS = _names(doppler_band)
 BEAM_MODES = _names(beam_mode)
 COLORMAPS = _names(image_colormap)
+
+MOTIONS = {"none": motion_model.NONE, "calm": motion_model.CALM, "gusty": motion_model.GUSTY}
+
+NAV_ERRORS = {"none": nav_error_model.NONE, "rtk": nav_error_model.RTK,
+              "gnss": nav_error_model.GNSS}
 
 
 def _lookup(table, kind, name):
@@ -145,3 +150,33 @@ def symbols_per_pulse(mode, num, srs=None):
         srs = srs or srs_config()
         return num.symbols_per_slot * srs.period_slots
     return 1
+
+
+def make_trajectory(spec="ideal", geo=None, duration_s=None, seed=0, rate_hz=100.0,
+                    lever_arm_m=(0.0, 0.0, 0.0)):
+    """The true flight path: 'ideal' (geo's straight line), a motion model 'calm' / 'gusty'
+    added to it (seeded, sampled at rate_hz over [0, duration_s], default geo.aperture_s),
+    or a CSV file t_s,x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad] that must cover
+    [0, duration_s]. A trajectory passes through unchanged."""
+    if isinstance(spec, trajectory):
+        return spec
+    geo = make_geometry() if geo is None else geo
+    span = geo.aperture_s if duration_s is None else float(duration_s)
+    name = str(spec).strip()
+    if name.lower() in ("ideal", "none"):
+        return trajectory.ideal(geo)
+    if name.lower() in MOTIONS:
+        return trajectory.motion(geo, MOTIONS[name.lower()], int(seed), span, float(rate_hz))
+    return trajectory.from_csv(name, span, tuple(float(v) for v in lever_arm_m))
+
+
+def make_navigation(truth, error="none", seed=0, duration_s=None, rate_hz=100.0, geo=None):
+    """What the platform believes: truth plus the error model 'none' / 'rtk' / 'gnss'
+    (seeded, over [0, duration_s], default geo.aperture_s), or a second CSV file."""
+    name = str(error).strip()
+    if name.lower() not in NAV_ERRORS:
+        return make_trajectory(name, geo, duration_s)
+    geo = make_geometry() if geo is None else geo
+    span = geo.aperture_s if duration_s is None else float(duration_s)
+    return trajectory.navigation(truth, NAV_ERRORS[name.lower()], int(seed), span,
+                                 float(rate_hz))

@@ -172,3 +172,40 @@ def numpy_focus(s, band_lo, band_hi, full, line_shift=0, taps=16, beta=6.0, phas
         phase = -4 * np.pi * r0 / lam * u2 / (1 + d)
         out[cs] = rc * np.exp(1j * phase)
     return np.roll(np.fft.ifft(out, axis=0) * math.sqrt(m), -line_shift, axis=0)
+
+
+# bp_focuser's steps in float64 numpy: the reference of qa_bp_focuser and nrsar-bench.
+def numpy_bp(data, antenna, first, rho, lam, fc_r, upsample, y_lines, height):
+    """Time-domain back-projection of `data` (pulses x K range bins, bin k at first + k rho)
+    from the antenna positions (pulses x 3) onto the pixels (y_lines[j], first + k rho):
+    scatterer (sqrt(r0^2 - height^2), y, 0); profile demodulated by exp(-j 2 pi fc_r k),
+    upsampled by FFT zero padding, linearly interpolated at (R - first) / rho, phase
+    exp(+j 2 pi (2 R / lam + fc_r q)), summed over the pulses, / sqrt(pulses)."""
+    data = np.asarray(data, np.complex128)
+    m, k = data.shape
+    kk = np.arange(k)
+    spec = np.fft.fft(data * np.exp(-2j * np.pi * fc_r * kk)[None, :], axis=1)
+    n_up = upsample * k
+    pos, neg = (k + 1) // 2, k // 2
+    z = np.zeros((m, n_up), complex)
+    z[:, :pos] = spec[:, :pos]
+    z[:, n_up - neg:] = spec[:, k - neg:]
+    up = np.fft.ifft(z, axis=1) * upsample  # exact at the input bins
+    r0 = first + rho * kk
+    ok_r = r0 > height
+    g = np.sqrt(np.where(ok_r, r0 * r0 - height * height, 0.0))
+    y = np.asarray(y_lines, float)[:, None]
+    img = np.zeros((len(y_lines), k), complex)
+    for p in range(m):
+        ax, ay, az = antenna[p]
+        r = np.sqrt((g[None, :] - ax) ** 2 + (y - ay) ** 2 + az * az)
+        q = (r - first) / rho
+        x = q * upsample
+        i = np.floor(x).astype(int)
+        mu = x - i
+        ok = (i >= 0) & (i <= upsample * (k - 1) - 1) & ok_r[None, :]
+        ic = np.where(ok, i, 0)
+        v = up[p, ic] + mu * (up[p, ic + 1] - up[p, ic])
+        cyc = np.mod(2.0 * r / lam, 1.0) + fc_r * q
+        img += np.where(ok, v * np.exp(2j * np.pi * cyc), 0.0)
+    return img / math.sqrt(m)

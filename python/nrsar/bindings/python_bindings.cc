@@ -36,6 +36,8 @@ namespace py = pybind11;
     void bind_ofdm_sync(py::module& m);
     void bind_td_echo(py::module& m);
     void bind_image_sink(py::module& m);
+    void bind_trajectory(py::module& m);
+    void bind_bp_focuser(py::module& m);
 // ) END BINDING_FUNCTION_PROTOTYPES
 
 
@@ -83,5 +85,7 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_ofdm_sync(m);
     bind_td_echo(m);
     bind_image_sink(m);
+    bind_trajectory(m);
+    bind_bp_focuser(m);
     // ) END BINDING_FUNCTION_CALLS
 }

@@ -1,0 +1,72 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+// Back-projections per second (pixels x pulses / s) of kernel::bp_focuser: one aperture of
+// P pulses onto an M-line x K-bin image at the presummed paper geometry, against the
+// upsampling factor U, one or two threads, the AVX2/FMA and the generic inner loop.
+
+#include <benchmark/benchmark.h>
+#include <gnuradio/nrsar/kernel/bp_focuser.h>
+#include <array>
+#include <cmath>
+#include <random>
+#include <vector>
+
+using gr::nrsar::kernel::bp_focuser;
+using gr::nrsar::kernel::bp_grid;
+
+static void run(benchmark::State& state, bool simd)
+{
+    const unsigned K = static_cast<unsigned>(state.range(0));
+    const unsigned P = static_cast<unsigned>(state.range(1)); // pulses = image lines
+    const unsigned U = static_cast<unsigned>(state.range(2));
+    const unsigned threads = static_cast<unsigned>(state.range(3));
+    const double T = 1.0 / 2400.0, v = 50.0; // presummed paper rate
+    bp_grid g;
+    g.num_range_bins = K;
+    g.first_range_m = 1000.0;
+    g.range_bin_m = 1.1;
+    g.wavelength_m = 0.0857;
+    g.range_centre_cycles = 0.4;
+    g.upsample = U;
+    g.num_lines = P;
+    g.first_y_m = 50.0;
+    g.line_spacing_m = v * T;
+    g.reference_height_m = 1000.0 * 0.7;
+    bp_focuser bp(g, threads, simd);
+    std::mt19937 rng(1); // seeded: every benchmark projects the same data
+    std::normal_distribution<float> gauss;
+    std::vector<gr_complex> pulses(size_t(K) * P);
+    for (auto& x : pulses)
+        x = gr_complex(gauss(rng), gauss(rng));
+    std::vector<std::array<double, 3>> antenna(P);
+    for (unsigned p = 0; p < P; ++p)
+        antenna[p] = { 0.0, v * T * p, 700.0 };
+    std::vector<gr_complex> img(size_t(K) * P);
+    for (auto _ : state) {
+        bp.reset(50.0);
+        bp.add(pulses.data(), P, antenna.data());
+        bp.image(img.data());
+        benchmark::DoNotOptimize(img.data());
+    }
+    state.counters["bp_per_s"] = benchmark::Counter(
+        double(K) * P * P * state.iterations(), benchmark::Counter::kIsRate);
+    state.counters["simd"] = bp.simd();
+}
+
+static void BM_bp_simd(benchmark::State& s) { run(s, true); }
+static void BM_bp_generic(benchmark::State& s) { run(s, false); }
+
+// K, pulses (= lines), U, threads.
+BENCHMARK(BM_bp_simd)
+    ->Args({ 256, 512, 8, 1 })
+    ->Args({ 256, 512, 8, 2 })
+    ->Args({ 256, 512, 2, 1 })
+    ->Args({ 256, 512, 32, 1 })
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_bp_generic)->Args({ 256, 512, 8, 1 })->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -1,0 +1,85 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#ifndef INCLUDED_NRSAR_BP_FOCUSER_H
+#define INCLUDED_NRSAR_BP_FOCUSER_H
+
+#include <gnuradio/block.h>
+#include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/bp_config.h>
+#include <gnuradio/nrsar/params.h>
+#include <gnuradio/nrsar/trajectory.h>
+#include <cstdint>
+
+namespace gr {
+namespace nrsar {
+
+/*!
+ * \brief Time-domain back-projection of range-compressed pulses along the navigation path
+ * (the second paper's imager, section 3) onto rd_focuser's image grid.
+ * \ingroup nrsar
+ *
+ * Input: one vector of K range bins per pulse (range_ifft or cheby_presum output), pulse
+ * interval T = num.symbol_s() * cfg.symbols_per_pulse, overridden by a
+ * tags::pulse_interval_key() tag; the range axis from a tags::range_axis_key() tag when
+ * present (as rd_focuser; a change applies from the next aperture). Pulse n flies at
+ * t_n = n T (the sum of the intervals), the antenna phase centre at nav.position(t_n).
+ *
+ * Output: the image, one vector of K range bins per azimuth line, M = cfg.lines_per_aperture
+ * (0: round(aperture_s / T)) lines per aperture, built from the aperture's own M pulses
+ * (kernel::bp_focuser: exact distance per pixel and pulse, linear interpolation of the
+ * profile upsampled cfg.upsample times, carrier and range-centre phase, coherent sum,
+ * 1 / sqrt(M)). Grid: rd_focuser's (same range bins; line j of aperture i at along-track
+ * y0 + (i M + j) v T, y0 = geo.track_start_m + s v T with rd_focuser's shift s), so images
+ * compare pixel for pixel; pixel (r0, y) is the scatterer (sqrt(r0^2 - H^2), y, 0). The first
+ * line of every aperture carries tags::aperture_key(), tags::azimuth_axis_key() and
+ * tags::range_axis_key(). When the input ends, the partial aperture is imaged from the
+ * pulses received. Non-finite input samples are zeroed, counted, logged once per aperture
+ * and reported with a tags::nonfinite_key() tag.
+ */
+class NRSAR_API bp_focuser : virtual public gr::block
+{
+public:
+    typedef std::shared_ptr<bp_focuser> sptr;
+
+    /*!
+     * \param num OFDM numerology (pulse interval, range spectrum centre)
+     * \param geo platform geometry (carrier, v, H, track start, aperture)
+     * \param scn the scene: its Doppler band places the image window as in rd_focuser
+     * \param num_range_bins K, the vector length of input and output
+     * \param first_range_m slant range of bin 0 [m] when no range_axis tag arrives
+     * \param range_bin_m slant-range spacing [m]; 0: c / (2 num.fft_size Delta f)
+     * \param cfg processing options (bp_config)
+     * \param nav the navigation path the pulses are projected from; empty (the default):
+     *        the ideal line of geo
+     */
+    static sptr make(const numerology& num,
+                     const geometry& geo,
+                     const scene& scn,
+                     unsigned num_range_bins,
+                     double first_range_m,
+                     double range_bin_m = 0.0,
+                     const bp_config& cfg = bp_config(),
+                     const trajectory& nav = trajectory());
+
+    virtual bp_config config() const = 0;
+    virtual unsigned lines_per_aperture() const = 0;
+    //! Offset s of the image window from the aperture's pulses [lines] (rd_focuser's).
+    virtual long long line_shift() const = 0;
+    virtual double pulse_interval_s() const = 0;
+    virtual double first_range_m() const = 0;
+    virtual double range_bin_m() const = 0;
+    //! Whether the AVX2/FMA inner loop runs.
+    virtual bool simd() const = 0;
+    virtual std::uint64_t apertures() const = 0;
+    virtual std::uint64_t nonfinite_count() const = 0;
+};
+
+} // namespace nrsar
+} // namespace gr
+
+#endif /* INCLUDED_NRSAR_BP_FOCUSER_H */

@@ -1,0 +1,316 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include "bp_focuser_impl.h"
+#include "azimuth_window.h"
+#include "focuser_stream.h"
+#include "param_check.h"
+#include <gnuradio/io_signature.h>
+#include <gnuradio/nrsar/tags.h>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace gr {
+namespace nrsar {
+
+bp_focuser::sptr bp_focuser::make(const numerology& num,
+                                  const geometry& geo,
+                                  const scene& scn,
+                                  unsigned num_range_bins,
+                                  double first_range_m,
+                                  double range_bin_m,
+                                  const bp_config& cfg,
+                                  const trajectory& nav)
+{
+    check_at_least("num_range_bins", num_range_bins, 2u); // before the io_signatures
+    return gnuradio::make_block_sptr<bp_focuser_impl>(
+        num, geo, scn, num_range_bins, first_range_m, range_bin_m, cfg, nav);
+}
+
+namespace {
+double default_range_bin(const numerology& num, double range_bin_m)
+{
+    num.validate();
+    if (range_bin_m == 0.0)
+        return num.range_bin_m(num.fft_size);
+    check_finite_positive("range_bin_m", range_bin_m);
+    return range_bin_m;
+}
+
+bool differs(double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); }
+} // namespace
+
+bp_focuser_impl::bp_focuser_impl(const numerology& num,
+                                 const geometry& geo,
+                                 const scene& scn,
+                                 unsigned num_range_bins,
+                                 double first_range_m,
+                                 double range_bin_m,
+                                 const bp_config& cfg,
+                                 const trajectory& nav)
+    : gr::block("bp_focuser",
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * num_range_bins),
+                gr::io_signature::make(1, 1, sizeof(gr_complex) * num_range_bins)),
+      d_num(num),
+      d_geo(geo),
+      d_scn(scn),
+      d_cfg(cfg),
+      d_nav(nav.empty() ? trajectory::ideal(geo) : nav),
+      d_K(num_range_bins),
+      d_ctor_first_range(first_range_m),
+      d_ctor_range_bin(default_range_bin(num, range_bin_m))
+{
+    d_geo.validate();
+    d_scn.validate();
+    d_cfg.validate();
+    if (!std::isfinite(first_range_m) || first_range_m < 0.0)
+        throw_param("first_range_m", first_range_m, "must be finite and >= 0");
+    // A sampled path must at least cover the first aperture (later ones are checked per
+    // pulse, naming the time).
+    d_nav.check_covers(0.0, d_geo.aperture_s);
+    configure(d_num.symbol_s() * d_cfg.symbols_per_pulse, first_range_m, d_ctor_range_bin);
+    set_tag_propagation_policy(TPP_DONT);
+    set_relative_rate(1.0);
+    // Whole apertures come out at once (as rd_focuser).
+    set_min_output_buffer(std::max<long>(64, (2l << 20) / (sizeof(gr_complex) * d_K)));
+}
+
+bp_focuser_impl::~bp_focuser_impl() {}
+
+void bp_focuser_impl::configure(double T, double first_range, double range_bin)
+{
+    check_finite_positive("pulse_interval_s", T);
+    check_finite_positive("range_bin_m", range_bin);
+    d_T = T;
+    d_first_range = first_range;
+    d_range_bin = range_bin;
+    if (d_cfg.lines_per_aperture > 0) {
+        d_M = d_cfg.lines_per_aperture;
+    } else {
+        const double m = std::round(d_geo.aperture_s / T);
+        if (!(m >= 1.0 && m < 1e8))
+            throw_param("lines_per_aperture (round(aperture_s / T))", m, "must be in [1, 1e8)");
+        d_M = static_cast<unsigned>(m);
+    }
+    const azimuth_window win = scene_azimuth_window(
+        d_geo, d_scn, d_cfg.band_margin_hz, T, first_range, range_bin, d_K);
+    d_line_shift = win.line_shift;
+    const double dy = d_geo.velocity_mps * T;
+    if (d_lines_in == 0 && d_apertures == 0)
+        d_next_y = d_geo.track_start_m + d_line_shift * dy;
+
+    kernel::bp_grid g;
+    g.num_range_bins = d_K;
+    g.first_range_m = first_range;
+    g.range_bin_m = range_bin;
+    g.wavelength_m = d_geo.wavelength_m();
+    g.range_centre_cycles =
+        std::isnan(d_cfg.range_centre_cycles)
+            ? std::remainder((d_num.num_subcarriers - 1.0) * d_num.subcarrier_spacing_hz *
+                                 range_bin / speed_of_light,
+                             1.0)
+            : d_cfg.range_centre_cycles;
+    g.upsample = d_cfg.upsample;
+    g.num_lines = d_M;
+    g.first_y_m = d_next_y;
+    g.line_spacing_m = dy;
+    g.reference_height_m = d_geo.height_m;
+    d_kernel = std::make_unique<kernel::bp_focuser>(g, d_cfg.num_threads);
+    d_pulses.resize(static_cast<size_t>(d_M) * d_K);
+    d_antenna.resize(d_M);
+    d_out.resize(static_cast<size_t>(d_M) * d_K);
+}
+
+void bp_focuser_impl::handle_tag(const tag_t& tag)
+{
+    double T = d_pending ? d_pending_T : d_T;
+    double r0 = d_pending ? d_pending_first_range : d_first_range;
+    double rho = d_pending ? d_pending_range_bin : d_range_bin;
+    if (pmt::eq(tag.key, tags::pulse_interval_key())) {
+        if (!parse_pulse_interval(tag.value, T)) {
+            d_logger->warn("ignoring pulse_interval tag with value {}", pmt::write_string(tag.value));
+            return;
+        }
+    } else if (pmt::eq(tag.key, tags::range_axis_key())) {
+        double first = 0.0, step = 0.0;
+        uint64_t k = 0;
+        if (!parse_range_axis(tag.value, first, step, k) || k != d_K || !(first >= 0.0) ||
+            !(step > 0.0) || !std::isfinite(first + step)) {
+            d_logger->warn("ignoring range_axis tag {}: the block has {} bins",
+                           pmt::write_string(tag.value),
+                           d_K);
+            return;
+        }
+        if (differs(first, d_ctor_first_range) || differs(step, d_ctor_range_bin))
+            d_logger->warn("range_axis tag ({} m, {} m) differs from the constructor's "
+                           "({} m, {} m): using the tag",
+                           first,
+                           step,
+                           d_ctor_first_range,
+                           d_ctor_range_bin);
+        r0 = first;
+        rho = step;
+    } else {
+        return;
+    }
+    if (!differs(T, d_T) && !differs(r0, d_first_range) && !differs(rho, d_range_bin)) {
+        d_pending = false;
+        return;
+    }
+    if (d_fill == 0) {
+        configure(T, r0, rho);
+        d_pending = false;
+    } else {
+        d_pending = true;
+        d_pending_T = T;
+        d_pending_first_range = r0;
+        d_pending_range_bin = rho;
+        d_logger->info("axis change at input line {} applies from aperture {}",
+                       tag.offset,
+                       d_apertures + 1);
+    }
+}
+
+void bp_focuser_impl::ingest(const gr_complex* lines, unsigned n)
+{
+    std::size_t zeroed = 0;
+    const gr_complex* clean = d_guard.guard(lines, static_cast<size_t>(n) * d_K, zeroed);
+    if (zeroed) {
+        d_nonfinite.note(d_logger, zeroed, d_lines_in);
+        d_nonfinite_pending += zeroed;
+    }
+    std::memcpy(&d_pulses[static_cast<size_t>(d_fill) * d_K],
+                clean,
+                sizeof(gr_complex) * n * d_K);
+    for (unsigned p = 0; p < n; ++p) {
+        d_antenna[d_fill + p] = d_nav.position(d_t_next); // throws past the path's end
+        d_t_next += d_T;
+    }
+    d_fill += n;
+    d_lines_in += n;
+}
+
+void bp_focuser_impl::process_aperture()
+{
+    d_kernel->reset(d_next_y);
+    d_kernel->add(d_pulses.data(), d_fill, d_antenna.data());
+    d_kernel->image(d_out.data());
+    d_out_pos = 0;
+    d_out_len = d_M;
+    d_out_y0 = d_next_y;
+    d_next_y += d_M * d_geo.velocity_mps * d_T;
+    d_fill = 0;
+    if (d_pending) {
+        d_pending = false;
+        configure(d_pending_T, d_pending_first_range, d_pending_range_bin);
+    }
+}
+
+int bp_focuser_impl::drain(gr_complex* out, int noutput, int produced)
+{
+    while (d_out_pos < d_out_len && produced < noutput) {
+        const uint64_t item = nitems_written(0) + produced;
+        if (d_out_pos == 0) {
+            add_item_tag(0, item, tags::aperture_key(), pmt::from_uint64(d_apertures));
+            add_item_tag(0,
+                         item,
+                         tags::azimuth_axis_key(),
+                         pmt::make_tuple(pmt::from_double(d_out_y0),
+                                         pmt::from_double(d_geo.velocity_mps * d_T),
+                                         pmt::from_uint64(d_out_len)));
+            add_item_tag(0,
+                         item,
+                         tags::range_axis_key(),
+                         pmt::make_tuple(pmt::from_double(d_kernel->grid().first_range_m),
+                                         pmt::from_double(d_kernel->grid().range_bin_m),
+                                         pmt::from_uint64(d_K)));
+            if (d_nonfinite_pending) {
+                add_item_tag(0, item, tags::nonfinite_key(), pmt::from_uint64(d_nonfinite_pending));
+                d_nonfinite_pending = 0;
+            }
+            ++d_apertures;
+            d_nonfinite.rearm();
+        }
+        const unsigned n = std::min<unsigned>(d_out_len - d_out_pos, noutput - produced);
+        std::memcpy(out + static_cast<size_t>(produced) * d_K,
+                    &d_out[static_cast<size_t>(d_out_pos) * d_K],
+                    sizeof(gr_complex) * n * d_K);
+        d_out_pos += n;
+        produced += n;
+    }
+    return produced;
+}
+
+void bp_focuser_impl::forecast(int, gr_vector_int& ninput_items_required)
+{
+    // The last input item is held back until the upstream is done (flush, as rd_focuser).
+    const bool done = detail() && detail()->input(0)->done();
+    ninput_items_required[0] = done ? 1 : 2;
+}
+
+int bp_focuser_impl::general_work(int noutput_items,
+                                  gr_vector_int& ninput_items,
+                                  gr_vector_const_void_star& input_items,
+                                  gr_vector_void_star& output_items)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    const auto* in = static_cast<const gr_complex*>(input_items[0]);
+    auto* out = static_cast<gr_complex*>(output_items[0]);
+    const uint64_t nread = nitems_read(0);
+    const int navail = ninput_items[0];
+    const bool upstream_done = input_ended(detail(), navail);
+
+    int produced = drain(out, noutput_items, 0);
+    std::vector<tag_t> tags;
+    get_tags_in_range(tags, 0, d_lines_in, nread + navail);
+    std::sort(tags.begin(), tags.end(), tag_t::offset_compare);
+    size_t next_tag = 0;
+    while (produced < noutput_items && d_out_pos >= d_out_len) {
+        const uint64_t next = d_lines_in;
+        const int i = static_cast<int>(next - nread);
+        if (i < navail) {
+            while (next_tag < tags.size() && tags[next_tag].offset <= next)
+                handle_tag(tags[next_tag++]);
+            uint64_t end = nread + navail;
+            if (next_tag < tags.size())
+                end = std::min<uint64_t>(end, tags[next_tag].offset);
+            const unsigned n = static_cast<unsigned>(std::min<uint64_t>(end - next, d_M - d_fill));
+            ingest(in + static_cast<size_t>(i) * d_K, n);
+            if (d_fill == d_M)
+                process_aperture();
+        } else if (upstream_done && !d_flush_done) {
+            // End of stream: the partial aperture from the pulses received.
+            if (d_fill > 0)
+                process_aperture();
+            else
+                d_flush_done = true;
+        } else {
+            break;
+        }
+        produced = drain(out, noutput_items, produced);
+    }
+    int consume = static_cast<int>(d_lines_in - nread);
+    if (!(upstream_done && d_flush_done && d_out_pos >= d_out_len))
+        consume = std::min(consume, navail - 1);
+    consume_each(std::max(consume, 0));
+    return produced;
+}
+
+bool bp_focuser_impl::stop()
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    if (d_fill > 0 || d_out_pos < d_out_len)
+        d_logger->warn("stopped with {} pulses not yet imaged and {} image lines not delivered "
+                       "(the flowgraph stopped before the input ended)",
+                       d_fill,
+                       d_out_len - d_out_pos);
+    return true;
+}
+
+} // namespace nrsar
+} // namespace gr

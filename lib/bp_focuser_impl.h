@@ -1,0 +1,101 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#ifndef INCLUDED_NRSAR_BP_FOCUSER_IMPL_H
+#define INCLUDED_NRSAR_BP_FOCUSER_IMPL_H
+
+#include <gnuradio/nrsar/bp_focuser.h>
+#include <gnuradio/nrsar/kernel/bp_focuser.h>
+#include <gnuradio/nrsar/kernel/finite_guard.h>
+#include "nonfinite_reporter.h"
+#include <array>
+#include <memory>
+#include <vector>
+
+namespace gr {
+namespace nrsar {
+
+class bp_focuser_impl : public bp_focuser
+{
+private:
+    const numerology d_num;
+    const geometry d_geo;
+    const scene d_scn;
+    const bp_config d_cfg;
+    const trajectory d_nav;
+    const unsigned d_K;
+    const double d_ctor_first_range;
+    const double d_ctor_range_bin;
+
+    double d_T = 0.0;
+    double d_first_range = 0.0;
+    double d_range_bin = 0.0;
+    unsigned d_M = 0;
+    long long d_line_shift = 0;
+    std::unique_ptr<kernel::bp_focuser> d_kernel;
+
+    bool d_pending = false; // axis change from a tag, applied at the next aperture
+    double d_pending_T = 0.0;
+    double d_pending_first_range = 0.0;
+    double d_pending_range_bin = 0.0;
+
+    std::vector<gr_complex> d_pulses;             // M x K: the aperture's pulses
+    std::vector<std::array<double, 3>> d_antenna; // M: their antenna positions
+    unsigned d_fill = 0;
+    double d_t_next = 0.0; // slow time of the next pulse [s]
+    std::vector<gr_complex> d_out; // M x K image waiting for output
+    unsigned d_out_pos = 0;
+    unsigned d_out_len = 0;
+    double d_out_y0 = 0.0;
+    double d_next_y = 0.0; // along-track position of the next aperture's first line
+    std::uint64_t d_lines_in = 0;
+    std::uint64_t d_apertures = 0;
+    bool d_flush_done = false;
+
+    kernel::finite_guard d_guard;
+    nonfinite_reporter d_nonfinite;
+    std::uint64_t d_nonfinite_pending = 0;
+
+    void configure(double T, double first_range, double range_bin);
+    void handle_tag(const tag_t& tag);
+    void ingest(const gr_complex* lines, unsigned n);
+    void process_aperture();
+    int drain(gr_complex* out, int noutput, int produced);
+
+public:
+    bp_focuser_impl(const numerology& num,
+                    const geometry& geo,
+                    const scene& scn,
+                    unsigned num_range_bins,
+                    double first_range_m,
+                    double range_bin_m,
+                    const bp_config& cfg,
+                    const trajectory& nav);
+    ~bp_focuser_impl() override;
+
+    void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
+    int general_work(int noutput_items,
+                     gr_vector_int& ninput_items,
+                     gr_vector_const_void_star& input_items,
+                     gr_vector_void_star& output_items) override;
+    bool stop() override;
+
+    bp_config config() const override { return d_cfg; }
+    unsigned lines_per_aperture() const override { return d_M; }
+    long long line_shift() const override { return d_line_shift; }
+    double pulse_interval_s() const override { return d_T; }
+    double first_range_m() const override { return d_first_range; }
+    double range_bin_m() const override { return d_range_bin; }
+    bool simd() const override { return d_kernel && d_kernel->simd(); }
+    std::uint64_t apertures() const override { return d_apertures; }
+    std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
+};
+
+} // namespace nrsar
+} // namespace gr
+
+#endif /* INCLUDED_NRSAR_BP_FOCUSER_IMPL_H */
