@@ -1,0 +1,93 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+// AVX2 layer update of kernel::nr_ldpc_decoder. This file alone is compiled with -mavx2
+// (lib/CMakeLists.txt) and called only after a runtime CPU check. No std:: templates here
+// (an AVX2 instantiation could be picked by the linker for the generic code too).
+
+#include "nr_ldpc_decoder_impl.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+namespace ldpc_detail {
+
+bool avx2_available()
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+}
+
+bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
+{
+    const __m256i lo = _mm256_set1_epi8(-127);
+    const __m256i one = _mm256_set1_epi8(1);
+    const __m256i low6 = _mm256_set1_epi8(0x3f);
+    const __m256i ramp = _mm256_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16,
+                                          17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31);
+    __m256i bad = _mm256_setzero_si256();
+    for (unsigned v = 0; v < zp; v += lanes) {
+        __m256i min1 = _mm256_set1_epi8(127), min2 = min1;
+        __m256i sgn = _mm256_setzero_si256(), sgnl = sgn;
+        for (unsigned e = 0; e < deg; e++) {
+            __m256i* pt = reinterpret_cast<__m256i*>(t + e * zp + v);
+            const __m256i l = _mm256_loadu_si256(pt);
+            const __m256i x = _mm256_max_epi8(
+                _mm256_subs_epi8(l, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(r + e * zp + v))), lo);
+            _mm256_storeu_si256(pt, x);
+            const __m256i a = _mm256_abs_epi8(x);
+            min2 = _mm256_min_epi8(min2, _mm256_max_epi8(min1, a));
+            min1 = _mm256_min_epi8(min1, a);
+            sgn = _mm256_xor_si256(sgn, x);
+        }
+        // 0.75 m = m - (m >> 2) on bytes (0 <= m <= 127): a 16-bit shift, masked per byte.
+        const __m256i m1 = _mm256_sub_epi8(min1, _mm256_and_si256(_mm256_srli_epi16(min1, 2), low6));
+        const __m256i m2 = _mm256_sub_epi8(min2, _mm256_and_si256(_mm256_srli_epi16(min2, 2), low6));
+        for (unsigned e = 0; e < deg; e++) {
+            __m256i* pt = reinterpret_cast<__m256i*>(t + e * zp + v);
+            __m256i* pr = reinterpret_cast<__m256i*>(r + e * zp + v);
+            const __m256i x = _mm256_loadu_si256(pt);
+            const __m256i m = _mm256_blendv_epi8(m1, m2, _mm256_cmpeq_epi8(_mm256_abs_epi8(x), min1));
+            // sign of the others' product: sgn xor x; "| 1" keeps sign_epi8 from zeroing
+            const __m256i s = _mm256_sign_epi8(m, _mm256_or_si256(_mm256_xor_si256(sgn, x), one));
+            _mm256_storeu_si256(pr, s);
+            const __m256i l = _mm256_max_epi8(_mm256_adds_epi8(x, s), lo);
+            _mm256_storeu_si256(pt, l);
+            sgnl = _mm256_xor_si256(sgnl, l);
+        }
+        if (v + lanes > zc) // lanes at and beyond zc are padding: ramp < zc - v keeps the others
+            sgnl = _mm256_and_si256(sgnl, _mm256_cmpgt_epi8(_mm256_set1_epi8(static_cast<char>(zc - v)), ramp));
+        bad = _mm256_or_si256(bad, sgnl);
+    }
+    return _mm256_movemask_epi8(bad) == 0;
+}
+
+} // namespace ldpc_detail
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
+
+#else
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+namespace ldpc_detail {
+bool avx2_available() { return false; }
+bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
+{
+    return layer_generic(t, r, deg, zp, zc);
+}
+} // namespace ldpc_detail
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
+
+#endif
