@@ -56,6 +56,18 @@ bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, un
     return ok;
 }
 
+void quantize_generic(const float* in, unsigned n, float scale, std::int8_t* out)
+{
+    for (unsigned k = 0; k < n; k++) {
+        const float v = in[k];
+        float x = v == v ? v * scale : 0.0f;
+        x = std::min(std::max(x, -63.0f), 63.0f);
+        // Adding and removing 1.5 2^23 rounds to nearest even, like cvtps2dq (|x| < 2^22).
+        const int q = static_cast<int>((x + 12582912.0f) - 12582912.0f);
+        out[k] = static_cast<std::int8_t>(v == INFINITY ? 127 : (v == -INFINITY ? -127 : q));
+    }
+}
+
 } // namespace ldpc_detail
 
 using namespace ldpc_detail;
@@ -99,33 +111,36 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
 {
     const std::size_t n = this->n();
     // Mean magnitude of the finite non-zero LLRs sets the scale (8 partial sums vectorise).
-    float part[8] = {};
-    unsigned cnt[8] = {};
-    for (std::size_t k = 0; k < n; k++) {
-        const float a = std::fabs(llr[k]);
-        const bool use = a > 0.0f && a < INFINITY; // NaN fails both
-        part[k % 8] += use ? a : 0.0f;
-        cnt[k % 8] += use ? 1u : 0u;
-    }
+    float part[8] = {}, cnt[8] = {};
+    std::size_t k = 0;
+    for (; k + 8 <= n; k += 8)
+        for (unsigned j = 0; j < 8; j++) {
+            const float a = std::fabs(llr[k + j]);
+            const bool use = a > 0.0f && a < INFINITY; // NaN fails both
+            part[j] += use ? a : 0.0f;
+            cnt[j] += use ? 1.0f : 0.0f;
+        }
     double sum = 0.0, count = 0.0;
     for (unsigned j = 0; j < 8; j++) {
         sum += part[j];
         count += cnt[j];
     }
+    for (; k < n; k++) {
+        const float a = std::fabs(llr[k]);
+        if (a > 0.0f && a < INFINITY) {
+            sum += a;
+            count += 1.0;
+        }
+    }
     const float scale = sum > 0.0 ? static_cast<float>(12.0 * count / sum) : 1.0f;
-    std::fill(d_l.begin(), d_l.end(), 0);
+    std::fill(d_l.begin(), d_l.begin() + 2 * d_zp, 0);
     for (std::size_t j = 2; j < d_cols; j++) {
         const float* in = llr + (j - 2) * d_zc;
         std::int8_t* out = d_l.data() + j * d_zp;
-        for (unsigned z = 0; z < d_zc; z++) {
-            const float v = in[z];
-            float q = std::nearbyint(std::clamp(v * scale, -63.0f, 63.0f)); // NaN -> NaN
-            if (v == INFINITY)
-                q = 127.0f;
-            else if (v == -INFINITY)
-                q = -127.0f;
-            out[z] = q == q ? static_cast<std::int8_t>(q) : 0;
-        }
+        if (d_simd)
+            quantize_avx2(in, d_zc, scale, out);
+        else
+            quantize_generic(in, d_zc, scale, out);
     }
     return run(c);
 }

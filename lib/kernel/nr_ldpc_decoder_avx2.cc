@@ -10,6 +10,7 @@
 // (an AVX2 instantiation could be picked by the linker for the generic code too).
 
 #include "nr_ldpc_decoder_impl.h"
+#include <cmath>
 
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -69,6 +70,36 @@ bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsig
     return _mm256_movemask_epi8(bad) == 0;
 }
 
+void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
+{
+    const __m256 s = _mm256_set1_ps(scale);
+    const __m256 hi = _mm256_set1_ps(63.0f), lo = _mm256_set1_ps(-63.0f);
+    const __m256 pinf = _mm256_set1_ps(INFINITY), ninf = _mm256_set1_ps(-INFINITY);
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    unsigned k = 0;
+    for (; k + 32 <= n; k += 32) {
+        __m256i q[4];
+        for (unsigned g = 0; g < 4; g++) {
+            const __m256 v = _mm256_loadu_ps(in + k + 8 * g);
+            __m256 x = _mm256_and_ps(_mm256_mul_ps(v, s), _mm256_cmp_ps(v, v, _CMP_ORD_Q)); // NaN -> 0
+            x = _mm256_min_ps(_mm256_max_ps(x, lo), hi);
+            x = _mm256_blendv_ps(x, _mm256_set1_ps(127.0f), _mm256_cmp_ps(v, pinf, _CMP_EQ_OQ));
+            x = _mm256_blendv_ps(x, _mm256_set1_ps(-127.0f), _mm256_cmp_ps(v, ninf, _CMP_EQ_OQ));
+            q[g] = _mm256_cvtps_epi32(x); // nearest, ties to even
+        }
+        // packs works per 128-bit lane: the permutation restores the element order.
+        const __m256i w = _mm256_packs_epi16(_mm256_packs_epi32(q[0], q[1]), _mm256_packs_epi32(q[2], q[3]));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + k), _mm256_permutevar8x32_epi32(w, order));
+    }
+    for (; k < n; k++) {
+        const float v = in[k];
+        float x = v == v ? v * scale : 0.0f;
+        x = x < -63.0f ? -63.0f : (x > 63.0f ? 63.0f : x);
+        const int r = _mm_cvtss_si32(_mm_set_ss(x));
+        out[k] = static_cast<std::int8_t>(v == INFINITY ? 127 : (v == -INFINITY ? -127 : r));
+    }
+}
+
 } // namespace ldpc_detail
 } // namespace kernel
 } // namespace nrsar
@@ -84,6 +115,10 @@ bool avx2_available() { return false; }
 bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
 {
     return layer_generic(t, r, deg, zp, zc);
+}
+void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
+{
+    quantize_generic(in, n, scale, out);
 }
 } // namespace ldpc_detail
 } // namespace kernel

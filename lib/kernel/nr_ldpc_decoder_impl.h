@@ -30,6 +30,13 @@ bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, un
 bool avx2_available();
 bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc);
 
+/*!
+ * out[k] = round(clamp(in[k] scale, -63, 63)) (to nearest, ties to even), NaN -> 0,
+ * +inf -> 127 and -inf -> -127 (known bits), for k < n.
+ */
+void quantize_generic(const float* in, unsigned n, float scale, std::int8_t* out);
+void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out);
+
 } // namespace ldpc_detail
 } // namespace kernel
 } // namespace nrsar
