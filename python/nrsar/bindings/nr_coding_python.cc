@@ -27,6 +27,7 @@ namespace py = pybind11;
 #include <gnuradio/nrsar/kernel/nr_rate_match.h>
 #include <gnuradio/nrsar/kernel/nr_segmentation.h>
 #include <gnuradio/nrsar/kernel/nr_tbs.h>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -177,11 +178,11 @@ void bind_nr_coding(py::module& m)
                      "must be C x K = " + std::to_string(s.C) + " x " + std::to_string(s.K));
             const auto cb = to_bits(code_blocks, "code_blocks", true);
             py::array_t<std::uint8_t> out(n_bits);
-            std::vector<char> ok(s.C);
-            nr_desegment(cb.data(), s, out.mutable_data(), reinterpret_cast<bool*>(ok.data()));
+            const auto ok = std::make_unique<bool[]>(s.C);
+            nr_desegment(cb.data(), s, out.mutable_data(), ok.get());
             py::array_t<bool> okv(s.C);
             for (unsigned r = 0; r < s.C; r++)
-                okv.mutable_data()[r] = ok[r] != 0;
+                okv.mutable_data()[r] = ok[r];
             return py::make_tuple(out, okv);
         },
         py::arg("code_blocks"),
