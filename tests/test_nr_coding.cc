@@ -436,7 +436,7 @@ TEST(NrUlsch, ChainOf38212Section62)
         // Noiseless round trip; a wrong c_init breaks the TB CRC.
         const auto llr = channel(out, INFINITY, 1);
         const auto res = ul.decode(llr.data(), 0, c_init, false, back.data());
-        EXPECT_TRUE(res.tb_crc_ok) << "A " << u.A;
+        EXPECT_TRUE(res.tb_crc_ok && res.parity_ok) << "A " << u.A;
         EXPECT_EQ(res.cb_crc_ok, s.C);
         EXPECT_EQ(back, a);
         EXPECT_FALSE(ul.decode(llr.data(), 0, c_init + 1, false, back.data()).tb_crc_ok);

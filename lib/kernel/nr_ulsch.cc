@@ -99,6 +99,7 @@ nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combi
     const std::size_t N = d_enc.n();
     std::size_t pos = 0;
     unsigned iterations = 0;
+    res.parity_ok = true;
     for (unsigned r = 0; r < d_seg.C; r++) {
         for (std::size_t k = 0; k < d_E[r]; k++) { // descramble: c = 1 flips the bit
             const float v = llr[pos + k];
@@ -107,7 +108,9 @@ nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combi
         pos += d_E[r];
         float* soft = d_soft.data() + r * N;
         nr_rate_recover(d_llr.data(), p, d_E[r], soft);
-        iterations += d_dec.decode(soft, d_cb.data() + std::size_t{ r } * d_seg.K).iterations;
+        const auto dr = d_dec.decode(soft, d_cb.data() + std::size_t{ r } * d_seg.K);
+        iterations += dr.iterations;
+        res.parity_ok = res.parity_ok && dr.parity_ok;
     }
     const auto ok = std::make_unique<bool[]>(d_seg.C);
     nr_desegment(d_cb.data(), d_seg, d_tb.data(), ok.get());

@@ -184,6 +184,28 @@ class qa_nr_coding(gr_unittest.TestCase):
         self.assertEqual(self._chain(0.8, 5), 0)
         self.assertEqual(self._chain(0.8, 5, rvs=(0, 2)), 5)
 
+    def test_ulsch_is_the_chain_of_38212_62(self):
+        # A = 1864 (qam64 MCS 10 above), CRC16, BG2, 16QAM bits into G = 5520, rv 3 (k0 =
+        # 43 Zc: the buffer wraps into the systematic bits): the descrambled slot is the
+        # rate-matched code block of the steps above, and decodes back noiselessly.
+        u = nrsar.ulsch(1864, 340 / 1024, 4, 5520)
+        a = self.rng.integers(0, 2, 1864)
+        c_init = nrsar.scrambling_c_init(0x4601, 3)
+        x = u.encode(a, 3, c_init)
+        self.assertEqual(u.base_graph, 2)
+        tb = nrsar.crc_attach(a, "16")
+        d = nrsar.ldpc_encode(nrsar.segment(tb, 2), 2)[0]
+        np.testing.assert_array_equal(x ^ gold_ref(c_init, 5520), nrsar.rate_match(d, 5520, 3, 4, 2))
+        b, r = u.decode(np.where(x == 1, -4.0, 4.0), 3, c_init)
+        self.assertTrue(r["tb_crc_ok"] and r["parity_ok"])
+        np.testing.assert_array_equal(b, a)
+        # rv 1 alone (k0 = 13 Zc: 5520 parity bits, no systematic one): nothing is learnt
+        # about the systematic bits, the output is all-zero, whose CRC16 is zero too
+        _, r1 = u.decode(np.where(u.encode(a, 1, c_init) == 1, -4.0, 4.0), 1, c_init)
+        self.assertFalse(r1["parity_ok"])
+        with self.assertRaisesRegex(ValueError, "bits"):
+            u.encode(a[:-1], 0, c_init)
+
 
 if __name__ == '__main__':
     gr_unittest.run(qa_nr_coding)

@@ -27,6 +27,7 @@ namespace py = pybind11;
 #include <gnuradio/nrsar/kernel/nr_rate_match.h>
 #include <gnuradio/nrsar/kernel/nr_segmentation.h>
 #include <gnuradio/nrsar/kernel/nr_tbs.h>
+#include <gnuradio/nrsar/kernel/nr_ulsch.h>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -357,6 +358,60 @@ void bind_nr_coding(py::module& m)
         },
         py::arg("base_graph"),
         "TS 38.212 Table 5.3.2-2 (1) / 5.3.2-3 (2): one row per non-zero entry: i, j, V_ij for iLS 0..7.");
+    py::class_<nr_ulsch>(m, "ulsch",
+                         "UL-SCH of TS 38.212 6.2 for one TB (CRC, base graph, segmentation, LDPC, rate "
+                         "matching, concatenation) with the 38.211 6.3.1.1 scrambling and HARQ soft buffers.")
+        .def(py::init([](std::size_t tbs, double code_rate, unsigned qm, std::size_t g, unsigned n_layers,
+                         std::optional<std::size_t> n_ref, unsigned max_iter) {
+                 return std::make_unique<nr_ulsch>(tbs, code_rate, qm, g, n_layers, n_ref.value_or(0), max_iter);
+             }),
+             py::arg("tbs"),
+             py::arg("code_rate"),
+             py::arg("qm"),
+             py::arg("g"),
+             py::arg("n_layers") = 1,
+             py::arg("n_ref") = py::none(),
+             py::arg("max_iter") = 8)
+        .def_property_readonly("base_graph", &nr_ulsch::base_graph)
+        .def_property_readonly("e", &nr_ulsch::e)
+        .def_property_readonly("effective_rate", &nr_ulsch::effective_rate)
+        .def_property_readonly("segmentation", [](const nr_ulsch& u) { return seg_dict(u.segmentation()); })
+        .def(
+            "encode",
+            [](nr_ulsch& u, const bits_in& bits, unsigned rv, std::uint32_t c_init) {
+                if (static_cast<std::size_t>(bits.size()) != u.tbs())
+                    fail("bits", "of length " + std::to_string(bits.size()), "must hold tbs = " + std::to_string(u.tbs()) + " bits");
+                const auto a = to_bits(bits, "bits", false);
+                py::array_t<std::uint8_t> out(u.g());
+                u.encode(a.data(), rv, c_init, out.mutable_data());
+                return out;
+            },
+            py::arg("bits"),
+            py::arg("rv"),
+            py::arg("c_init"),
+            "tbs bits -> G scrambled coded bits (uint8) of redundancy version rv.")
+        .def(
+            "decode",
+            [](nr_ulsch& u, const llr_in& llrs, unsigned rv, std::uint32_t c_init, bool combine) {
+                if (static_cast<std::size_t>(llrs.size()) != u.g())
+                    fail("llrs", "of length " + std::to_string(llrs.size()), "must hold G = " + std::to_string(u.g()) + " LLRs");
+                py::array_t<std::uint8_t> out(u.tbs());
+                const auto r = u.decode(llrs.data(), rv, c_init, combine, out.mutable_data());
+                py::dict d;
+                d["tb_crc_ok"] = r.tb_crc_ok;
+                d["parity_ok"] = r.parity_ok;
+                d["cb_crc_ok"] = r.cb_crc_ok;
+                d["code_blocks"] = r.code_blocks;
+                d["mean_iterations"] = r.mean_iterations;
+                return py::make_tuple(out, d);
+            },
+            py::arg("llrs"),
+            py::arg("rv"),
+            py::arg("c_init"),
+            py::arg("combine") = false,
+            "G LLRs (positive = bit 0, scrambled) -> (tbs bits, dict tb_crc_ok, parity_ok, cb_crc_ok, "
+            "code_blocks, mean_iterations); combine=True adds to the previous transmissions (HARQ). "
+            "An all-zero output passes the CRC: parity_ok tells a real decode from no information.");
     m.def("lifting_set_index", &nr_lifting_set_index, py::arg("zc"),
           "Set index iLS of Zc (TS 38.212 Table 5.3.2-1), -1 when zc is not a lifting size.");
 }

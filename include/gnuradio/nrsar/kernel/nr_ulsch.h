@@ -24,6 +24,11 @@ namespace kernel {
 //! What nr_ulsch::decode() found.
 struct nr_ulsch_result {
     bool tb_crc_ok = false;     //!< the TB CRC (CRC24A or CRC16) checks
+    //! Every code block's LDPC parity checks held. The CRCs of 38.212 start from a zero state,
+    //! so an all-zero TB passes them: a decoder that learnt nothing (e.g. rv 1 or 2 alone at
+    //! a high rate, which carry no systematic bits) outputs zeros with tb_crc_ok set, and this
+    //! flag is then false.
+    bool parity_ok = false;
     unsigned cb_crc_ok = 0;     //!< code blocks whose CRC24B checks (all C when C = 1 and the TB checks)
     unsigned code_blocks = 0;   //!< C
     double mean_iterations = 0; //!< LDPC iterations per code block
