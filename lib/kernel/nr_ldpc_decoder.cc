@@ -68,6 +68,32 @@ void quantize_generic(const float* in, unsigned n, float scale, std::int8_t* out
     }
 }
 
+void root_sums_generic(const float* in, std::size_t n8, float* part, float* cnt)
+{
+    for (std::size_t k = 0; k < n8; k += 8)
+        for (unsigned j = 0; j < 8; j++) {
+            const float a = std::fabs(in[k + j]);
+            const bool use = a > 0.0f && a < INFINITY; // NaN fails both
+            part[j] += use ? std::sqrt(a) : 0.0f;
+            cnt[j] += use ? 1.0f : 0.0f;
+        }
+}
+
+bool signs_ok_generic(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+{
+    std::int8_t x[lanes];
+    for (unsigned v = 0; v < zp; v += lanes) {
+        std::fill(x, x + lanes, 0);
+        for (unsigned e = 0; e < deg; e++)
+            for (unsigned z = 0; z < lanes; z++)
+                x[z] ^= t[e * zp + v + z];
+        for (unsigned z = 0; z < lanes && v + z < zc; z++)
+            if (x[z] < 0)
+                return false;
+    }
+    return true;
+}
+
 } // namespace ldpc_detail
 
 using namespace ldpc_detail;
@@ -110,16 +136,17 @@ void nr_ldpc_decoder::set_simd(bool allow) { d_simd = allow && avx2_available();
 nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
 {
     const std::size_t n = this->n();
-    // Mean magnitude of the finite non-zero LLRs sets the scale (8 partial sums vectorise).
+    // The scale maps (mean sqrt|L|)^2 over the finite non-zero LLRs to a target. For one
+    // Gaussian cluster (BPSK, QPSK) that is about the mean magnitude; for the bit levels of
+    // 16- to 256-QAM, whose magnitudes differ by up to 8x, it stays near the weak levels'
+    // scale, so their LLRs keep their resolution and the strong ones saturate (they are
+    // reliable). 8 partial sums vectorise.
     float part[8] = {}, cnt[8] = {};
-    std::size_t k = 0;
-    for (; k + 8 <= n; k += 8)
-        for (unsigned j = 0; j < 8; j++) {
-            const float a = std::fabs(llr[k + j]);
-            const bool use = a > 0.0f && a < INFINITY; // NaN fails both
-            part[j] += use ? a : 0.0f;
-            cnt[j] += use ? 1.0f : 0.0f;
-        }
+    std::size_t k = n / 8 * 8;
+    if (d_simd)
+        root_sums_avx2(llr, k, part, cnt);
+    else
+        root_sums_generic(llr, k, part, cnt);
     double sum = 0.0, count = 0.0;
     for (unsigned j = 0; j < 8; j++) {
         sum += part[j];
@@ -128,11 +155,22 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
     for (; k < n; k++) {
         const float a = std::fabs(llr[k]);
         if (a > 0.0f && a < INFINITY) {
-            sum += a;
+            sum += std::sqrt(a);
             count += 1.0;
         }
     }
-    const float scale = sum > 0.0 ? static_cast<float>(12.0 * count / sum) : 1.0f;
+    std::vector<bool> received(d_cols, false);
+    for (std::size_t j = 2; j < d_cols; j++) {
+        const float* in = llr + (j - 2) * d_zc;
+        received[j] = std::any_of(in, in + d_zc, [](float v) { return v != 0.0f && v == v; });
+    }
+    // Headroom: an a-posteriori LLR sums its channel value and up to d_max messages and
+    // saturates at 127, so the target shrinks with the largest column degree of the rows
+    // decoded (BG1 at rate 0.9: 5 -> 28; 256-QAM at R 0.82: 6 -> 24; QPSK at R 0.3: 12 -> 13).
+    const unsigned d_max = select_layers(received);
+    const double target = std::clamp(168.0 / (1.0 + d_max), 8.0, 32.0);
+    const double root_mean = count > 0.0 ? sum / count : 0.0;
+    const float scale = root_mean > 0.0 ? static_cast<float>(target / (root_mean * root_mean)) : 1.0f;
     std::fill(d_l.begin(), d_l.begin() + 2 * d_zp, 0);
     for (std::size_t j = 2; j < d_cols; j++) {
         const float* in = llr + (j - 2) * d_zc;
@@ -154,54 +192,63 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode_int8(const std::int8_t* llr, std::
         for (unsigned z = 0; z < d_zc; z++)
             out[z] = std::max<std::int8_t>(in[z], -127);
     }
+    std::vector<bool> received(d_cols, false);
+    for (std::size_t j = 2; j < d_cols; j++) {
+        const std::int8_t* col = d_l.data() + j * d_zp;
+        received[j] = std::any_of(col, col + d_zc, [](std::int8_t v) { return v != 0; });
+    }
+    select_layers(received);
     return run(c);
+}
+
+unsigned nr_ldpc_decoder::select_layers(const std::vector<bool>& received)
+{
+    // Rows whose own parity column received nothing carry no information: skip them.
+    d_active.clear();
+    std::vector<unsigned> degree(d_cols, 0);
+    unsigned d_max = 0;
+    for (const layer& ly : d_layers) {
+        const unsigned pc = d_row_parity[ly.row];
+        if (pc < d_cols && !received[pc])
+            continue;
+        d_active.push_back(ly);
+        std::fill(d_r.begin() + std::size_t{ ly.first_edge } * d_zp,
+                  d_r.begin() + std::size_t{ ly.first_edge + ly.degree } * d_zp,
+                  0);
+        for (unsigned k = 0; k < ly.degree; k++)
+            d_max = std::max(d_max, ++degree[d_edges[ly.first_edge + k].col]);
+    }
+    return d_max;
+}
+
+void nr_ldpc_decoder::gather(const layer& ly)
+{
+    // t[z] = L[(z + s) mod zc] for each column of the row
+    for (unsigned k = 0; k < ly.degree; k++) {
+        const nr_lifted_edge& e = d_edges[ly.first_edge + k];
+        const std::int8_t* col = d_l.data() + std::size_t{ e.col } * d_zp;
+        std::int8_t* t = d_t.data() + std::size_t{ k } * d_zp;
+        std::memcpy(t, col + e.shift, d_zc - e.shift);
+        std::memcpy(t + d_zc - e.shift, col, e.shift);
+    }
 }
 
 bool nr_ldpc_decoder::row_ok(const layer& ly)
 {
-    const unsigned zc = d_zc;
-    std::int8_t* acc = d_t.data();
-    std::fill(acc, acc + zc, 0);
-    for (unsigned k = 0; k < ly.degree; k++) {
-        const nr_lifted_edge& e = d_edges[ly.first_edge + k];
-        const std::int8_t* col = d_l.data() + std::size_t{ e.col } * d_zp;
-        const unsigned head = zc - e.shift;
-        for (unsigned z = 0; z < head; z++)
-            acc[z] ^= col[z + e.shift];
-        for (unsigned z = head; z < zc; z++)
-            acc[z] ^= col[z - head];
-    }
-    return std::all_of(acc, acc + zc, [](std::int8_t v) { return v >= 0; });
+    gather(ly);
+    return d_simd ? signs_ok_avx2(d_t.data(), ly.degree, d_zp, d_zc)
+                  : signs_ok_generic(d_t.data(), ly.degree, d_zp, d_zc);
 }
 
 nr_ldpc_decode_result nr_ldpc_decoder::run(std::uint8_t* c)
 {
     const unsigned zc = d_zc, zp = d_zp;
-    // Rows whose own parity column received nothing carry no information: skip them.
-    d_active.clear();
-    for (const layer& ly : d_layers) {
-        const unsigned pc = d_row_parity[ly.row];
-        if (pc < d_cols) {
-            const std::int8_t* col = d_l.data() + std::size_t{ pc } * zp;
-            if (std::all_of(col, col + zc, [](std::int8_t v) { return v == 0; }))
-                continue;
-        }
-        d_active.push_back(ly);
-        std::fill(d_r.begin() + std::size_t{ ly.first_edge } * zp,
-                  d_r.begin() + std::size_t{ ly.first_edge + ly.degree } * zp,
-                  0);
-    }
     nr_ldpc_decode_result res;
     std::int8_t* t = d_t.data();
     for (unsigned it = 1; it <= d_max_iter; it++) {
         d_failed.clear();
         for (const layer& ly : d_active) {
-            for (unsigned k = 0; k < ly.degree; k++) { // gather: t[z] = L[(z + s) mod zc]
-                const nr_lifted_edge& e = d_edges[ly.first_edge + k];
-                const std::int8_t* col = d_l.data() + std::size_t{ e.col } * zp;
-                std::memcpy(t + k * zp, col + e.shift, zc - e.shift);
-                std::memcpy(t + k * zp + zc - e.shift, col, e.shift);
-            }
+            gather(ly);
             std::int8_t* r = d_r.data() + std::size_t{ ly.first_edge } * zp;
             const bool ok = d_simd ? layer_avx2(t, r, ly.degree, zp, zc)
                                    : layer_generic(t, r, ly.degree, zp, zc);

@@ -100,6 +100,37 @@ void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
     }
 }
 
+void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
+{
+    __m256 p = _mm256_loadu_ps(part), c = _mm256_loadu_ps(cnt);
+    const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
+    const __m256 inf = _mm256_set1_ps(INFINITY), one = _mm256_set1_ps(1.0f);
+    for (std::size_t k = 0; k < n8; k += 8) {
+        const __m256 a = _mm256_andnot_ps(sign, _mm256_loadu_ps(in + k));
+        const __m256 use = _mm256_and_ps(_mm256_cmp_ps(a, zero, _CMP_GT_OQ), _mm256_cmp_ps(a, inf, _CMP_LT_OQ));
+        p = _mm256_add_ps(p, _mm256_and_ps(_mm256_sqrt_ps(a), use));
+        c = _mm256_add_ps(c, _mm256_and_ps(one, use));
+    }
+    _mm256_storeu_ps(part, p);
+    _mm256_storeu_ps(cnt, c);
+}
+
+bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+{
+    const __m256i ramp = _mm256_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16,
+                                          17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31);
+    __m256i bad = _mm256_setzero_si256();
+    for (unsigned v = 0; v < zp; v += lanes) {
+        __m256i x = _mm256_setzero_si256();
+        for (unsigned e = 0; e < deg; e++)
+            x = _mm256_xor_si256(x, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(t + e * zp + v)));
+        if (v + lanes > zc)
+            x = _mm256_and_si256(x, _mm256_cmpgt_epi8(_mm256_set1_epi8(static_cast<char>(zc - v)), ramp));
+        bad = _mm256_or_si256(bad, x);
+    }
+    return _mm256_movemask_epi8(bad) == 0;
+}
+
 } // namespace ldpc_detail
 } // namespace kernel
 } // namespace nrsar
@@ -119,6 +150,14 @@ bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsig
 void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
 {
     quantize_generic(in, n, scale, out);
+}
+void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
+{
+    root_sums_generic(in, n8, part, cnt);
+}
+bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+{
+    return signs_ok_generic(t, deg, zp, zc);
 }
 } // namespace ldpc_detail
 } // namespace kernel

@@ -11,6 +11,7 @@
 #ifndef INCLUDED_NRSAR_KERNEL_NR_LDPC_DECODER_IMPL_H
 #define INCLUDED_NRSAR_KERNEL_NR_LDPC_DECODER_IMPL_H
 
+#include <cstddef>
 #include <cstdint>
 
 namespace gr {
@@ -36,6 +37,19 @@ bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsig
  */
 void quantize_generic(const float* in, unsigned n, float scale, std::int8_t* out);
 void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out);
+
+/*!
+ * Sums of sqrt|x| and counts over the finite non-zero in[k], k < n8 (a multiple of 8), in 8
+ * partial sums part[k % 8], cnt[k % 8] (added to): both paths add in the same order, so
+ * they give the same floats.
+ */
+void root_sums_generic(const float* in, std::size_t n8, float* part, float* cnt);
+void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt);
+
+//! True when the product of the signs of the deg gathered columns of t is positive in
+//! every lane below zc (a row's parity check on its hard decisions).
+bool signs_ok_generic(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc);
+bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc);
 
 } // namespace ldpc_detail
 } // namespace kernel

@@ -80,7 +80,11 @@ private:
         unsigned first_edge; // into d_edges and d_r
         unsigned degree;
     };
-    nr_ldpc_decode_result run(std::uint8_t* c);
+    nr_ldpc_decode_result run(std::uint8_t* c); // decodes d_l over d_active
+    //! d_active = the rows to decode given which columns received LLRs; returns the largest
+    //! column degree over them.
+    unsigned select_layers(const std::vector<bool>& received);
+    void gather(const layer& ly); // the row's columns, shifted by P_ij, into d_t
     bool row_ok(const layer& ly); // parity check of one row on the current hard decisions
 
     int d_bg;
