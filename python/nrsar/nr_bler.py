@@ -75,7 +75,7 @@ def main(argv=None):
         qm, rate = nrsar.mcs(table, mcs)
         info = nrsar.tbs(table, mcs, n_prb, 14, 12) / (156 * n_prb)
         start = np.round(10 * np.log10(2 ** info - 1) * 4) / 4 + 0.5
-        c = bler_curve(table, mcs, n_prb, np.arange(start, start + 2.76, 0.25), args.blocks,
+        c = bler_curve(table, mcs, n_prb, np.arange(start, start + 3.51, 0.25), args.blocks,
                        args.max_iter)
         at = snr_at(c)
         pts = ", ".join(f"{s:g}: {b:.2f}" for s, b in zip(c["snr_db"], c["bler"]))
