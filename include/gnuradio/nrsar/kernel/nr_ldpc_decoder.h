@@ -38,9 +38,11 @@ struct nr_ldpc_decode_result {
  * failed it tested again at the end of the iteration, then a full syndrome on the final
  * hard decisions.
  *
- * Fixed point: LLRs saturate at +-127; the float input is scaled so that its mean
- * magnitude is 12 and clamped to +-63 (min-sum is scale invariant; the headroom keeps
- * sums from saturating early); +infinity marks known bits (fillers) and becomes +127.
+ * Fixed point: LLRs saturate at +-127; the float input is scaled so that (mean sqrt|L|)^2
+ * maps to clamp(168 / (1 + d_max), 8, 32), d_max the largest column degree of the decoded
+ * rows (resolution for weak LLRs against headroom for the sums of high-degree columns;
+ * docs/nr_coding.md), and clamped to +-63; +infinity marks known bits (fillers) and
+ * becomes +127.
  * The AVX2 path (32 lanes of int8 per instruction, runtime CPU check) and the scalar path
  * compute the same integers.
  */
