@@ -205,6 +205,10 @@ class qa_nr_coding(gr_unittest.TestCase):
         self.assertFalse(r1["parity_ok"])
         with self.assertRaisesRegex(ValueError, "bits"):
             u.encode(a[:-1], 0, c_init)
+        with self.assertRaisesRegex(ValueError, "max_iter = 0"):
+            nrsar.ldpc_decode(np.zeros(50 * 26, np.float32), 2, 0)
+        with self.assertRaisesRegex(ValueError, "N \\(codeword length\\) = 1301"):
+            nrsar.ldpc_decode(np.zeros(1301, np.float32), 2)
 
 
 if __name__ == '__main__':

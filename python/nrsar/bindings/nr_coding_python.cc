@@ -283,6 +283,8 @@ void bind_nr_coding(py::module& m)
     m.def(
         "ldpc_decode",
         [](const llr_in& llrs, int base_graph, unsigned max_iter) {
+            if (max_iter < 1)
+                fail("max_iter", std::to_string(max_iter), "must be at least 1");
             const nr_base_graph& g = nr_base_graph::get(base_graph);
             const auto [rows, N] = rows_cols(llrs.request(), "llrs");
             const unsigned zc = lifting_of(N, g.cols - 2, "N (codeword length)");
@@ -363,6 +365,10 @@ void bind_nr_coding(py::module& m)
                          "matching, concatenation) with the 38.211 6.3.1.1 scrambling and HARQ soft buffers.")
         .def(py::init([](std::size_t tbs, double code_rate, unsigned qm, std::size_t g, unsigned n_layers,
                          std::optional<std::size_t> n_ref, unsigned max_iter) {
+                 if (max_iter < 1)
+                     fail("max_iter", std::to_string(max_iter), "must be at least 1");
+                 if (n_ref && *n_ref == 0)
+                     fail("n_ref", "0", "must be None (no limited-buffer rate matching) or > 0");
                  return std::make_unique<nr_ulsch>(tbs, code_rate, qm, g, n_layers, n_ref.value_or(0), max_iter);
              }),
              py::arg("tbs"),
