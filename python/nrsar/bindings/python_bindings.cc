@@ -31,6 +31,7 @@ namespace py = pybind11;
     void bind_extended_scene_echo(py::module& m);
     void bind_pusch_encoder(py::module& m);
     void bind_pusch_receiver(py::module& m);
+    void bind_nr_coding(py::module& m);
     void bind_ofdm_mod(py::module& m);
     void bind_ofdm_demod(py::module& m);
     void bind_ofdm_sync(py::module& m);
@@ -80,6 +81,7 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_extended_scene_echo(m);
     bind_pusch_encoder(m);
     bind_pusch_receiver(m);
+    bind_nr_coding(m);
     bind_ofdm_mod(m);
     bind_ofdm_demod(m);
     bind_ofdm_sync(m);

@@ -1,0 +1,112 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#ifndef INCLUDED_NRSAR_KERNEL_NR_LDPC_DECODER_H
+#define INCLUDED_NRSAR_KERNEL_NR_LDPC_DECODER_H
+
+#include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/nr_ldpc.h>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+
+//! What one decode() did.
+struct nr_ldpc_decode_result {
+    unsigned iterations = 0; //!< full iterations run (1 .. max_iterations)
+    bool parity_ok = false;  //!< H x = 0 on the received rows when it stopped
+};
+
+/*!
+ * \brief Layered normalised min-sum LDPC decoder for the codes of TS 38.212 5.3.2, int8
+ * fixed point.
+ *
+ * Each base-graph row is a layer; a layer reads the a-posteriori LLRs of its columns,
+ * cyclically shifted by P_ij, updates its check-to-variable messages
+ *   R_e = 0.75 prod_{e' != e} sign(T_e') min_{e' != e} |T_e'|,   T_e = L_e - R_e(old)
+ * and writes L_e = T_e + R_e back, so later layers of the same iteration see the update.
+ * Only rows whose parity column (the degree-one extension columns of 38.212) carries any
+ * LLR are decoded: the others cannot pass information. Stops early when the hard decisions
+ * satisfy every decoded row: each row's sign test right after its update, the rows that
+ * failed it tested again at the end of the iteration, then a full syndrome on the final
+ * hard decisions.
+ *
+ * Fixed point: LLRs saturate at +-127; the float input is scaled so that (mean sqrt|L|)^2
+ * maps to clamp(168 / (1 + d_max), 8, 32), d_max the largest column degree of the decoded
+ * rows (resolution for weak LLRs against headroom for the sums of high-degree columns;
+ * docs/nr_coding.md), and clamped to +-63; +infinity marks known bits (fillers) and
+ * becomes +127.
+ * The AVX2 path (32 lanes of int8 per instruction, runtime CPU check) and the scalar path
+ * compute the same integers.
+ */
+class NRSAR_API nr_ldpc_decoder
+{
+public:
+    /*!
+     * \param base_graph      1 or 2
+     * \param zc              a lifting size of Table 5.3.2-1
+     * \param max_iterations  >= 1
+     */
+    nr_ldpc_decoder(int base_graph, unsigned zc, unsigned max_iterations = 8);
+
+    int base_graph() const { return d_bg; }
+    unsigned zc() const { return d_zc; }
+    std::size_t n() const { return nr_ldpc_n(d_bg, d_zc); }
+    std::size_t k() const { return nr_ldpc_k(d_bg, d_zc); }
+    unsigned max_iterations() const { return d_max_iter; }
+    void set_max_iterations(unsigned max_iterations);
+
+    /*!
+     * \brief Decodes N LLRs of d_0 .. d_{N-1} (positive = bit 0; 0 = not received;
+     * +inf = known 0, e.g. fillers; NaN counts as 0) into the K bits c_0 .. c_{K-1}.
+     */
+    nr_ldpc_decode_result decode(const float* llr, std::uint8_t* c);
+
+    //! The same from int8 LLRs (clamped to +-127), e.g. from a fixed-point demapper.
+    nr_ldpc_decode_result decode_int8(const std::int8_t* llr, std::uint8_t* c);
+
+    //! Use the AVX2 path when the CPU has it (default); false forces the scalar path.
+    void set_simd(bool allow);
+    bool simd() const { return d_simd; }
+
+private:
+    struct layer {
+        unsigned row;
+        unsigned first_edge; // into d_edges and d_r
+        unsigned degree;
+    };
+    nr_ldpc_decode_result run(std::uint8_t* c); // decodes d_l over d_active
+    //! d_active = the rows to decode given which columns received LLRs; returns the largest
+    //! column degree over them.
+    unsigned select_layers(const std::vector<bool>& received);
+    void gather(const layer& ly); // the row's columns, shifted by P_ij, into d_t
+    bool row_ok(const layer& ly); // parity check of one row on the current hard decisions
+
+    int d_bg;
+    unsigned d_zc;
+    unsigned d_zp; // Zc rounded up to the SIMD width
+    unsigned d_cols;
+    unsigned d_max_iter;
+    bool d_simd;
+    std::vector<nr_lifted_edge> d_edges; // all rows, row by row
+    std::vector<layer> d_layers;          // every row of H
+    std::vector<unsigned> d_row_parity;   // the degree-one column of each row (or none)
+    std::vector<std::int8_t> d_l;         // a-posteriori LLRs, cols x zp
+    std::vector<std::int8_t> d_r;         // check-to-variable messages, edges x zp
+    std::vector<std::int8_t> d_t;         // the gathered columns of one layer, degree x zp
+    std::vector<layer> d_active;          // the layers decoded for this word
+    std::vector<const layer*> d_failed;   // layers whose check failed at their visit
+};
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
+
+#endif /* INCLUDED_NRSAR_KERNEL_NR_LDPC_DECODER_H */

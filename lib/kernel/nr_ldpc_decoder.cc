@@ -1,0 +1,287 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include "nr_ldpc_decoder_impl.h"
+#include "param_check.h"
+#include <gnuradio/nrsar/kernel/nr_ldpc_decoder.h>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+namespace ldpc_detail {
+
+bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
+{
+    std::int8_t min1[lanes], min2[lanes], sgn[lanes], sgnl[lanes];
+    bool ok = true;
+    for (unsigned v = 0; v < zp; v += lanes) {
+        std::fill(min1, min1 + lanes, 127);
+        std::fill(min2, min2 + lanes, 127);
+        std::fill(sgn, sgn + lanes, 0);
+        std::fill(sgnl, sgnl + lanes, 0);
+        for (unsigned e = 0; e < deg; e++) {
+            std::int8_t* pt = t + e * zp + v;
+            const std::int8_t* pr = r + e * zp + v;
+            for (unsigned z = 0; z < lanes; z++) {
+                const auto xs = static_cast<std::int8_t>(std::clamp(pt[z] - pr[z], -127, 127));
+                const int a = std::abs(xs);
+                pt[z] = xs;
+                min2[z] = static_cast<std::int8_t>(std::min<int>(min2[z], std::max<int>(min1[z], a)));
+                min1[z] = static_cast<std::int8_t>(std::min<int>(min1[z], a));
+                sgn[z] ^= xs;
+            }
+        }
+        for (unsigned e = 0; e < deg; e++) {
+            std::int8_t* pt = t + e * zp + v;
+            std::int8_t* pr = r + e * zp + v;
+            for (unsigned z = 0; z < lanes; z++) {
+                const int x = pt[z];
+                const int m = std::abs(x) == min1[z] ? min2[z] - (min2[z] >> 2) : min1[z] - (min1[z] >> 2);
+                const int s = (sgn[z] ^ x) < 0 ? -m : m;
+                pr[z] = static_cast<std::int8_t>(s);
+                pt[z] = static_cast<std::int8_t>(std::clamp(x + s, -127, 127));
+                sgnl[z] ^= pt[z];
+            }
+        }
+        for (unsigned z = 0; z < lanes && v + z < zc; z++)
+            ok = ok && sgnl[z] >= 0;
+    }
+    return ok;
+}
+
+void quantize_generic(const float* in, unsigned n, float scale, std::int8_t* out)
+{
+    for (unsigned k = 0; k < n; k++) {
+        const float v = in[k];
+        float x = v == v ? v * scale : 0.0f;
+        x = std::min(std::max(x, -63.0f), 63.0f);
+        // Adding and removing 1.5 2^23 rounds to nearest even, like cvtps2dq (|x| < 2^22).
+        const int q = static_cast<int>((x + 12582912.0f) - 12582912.0f);
+        out[k] = static_cast<std::int8_t>(v == INFINITY ? 127 : (v == -INFINITY ? -127 : q));
+    }
+}
+
+void root_sums_generic(const float* in, std::size_t n8, float* part, float* cnt)
+{
+    for (std::size_t k = 0; k < n8; k += 8)
+        for (unsigned j = 0; j < 8; j++) {
+            const float a = std::fabs(in[k + j]);
+            const bool use = a > 0.0f && a < INFINITY; // NaN fails both
+            part[j] += use ? std::sqrt(a) : 0.0f;
+            cnt[j] += use ? 1.0f : 0.0f;
+        }
+}
+
+bool signs_ok_generic(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+{
+    std::int8_t x[lanes];
+    for (unsigned v = 0; v < zp; v += lanes) {
+        std::fill(x, x + lanes, 0);
+        for (unsigned e = 0; e < deg; e++)
+            for (unsigned z = 0; z < lanes; z++)
+                x[z] ^= t[e * zp + v + z];
+        for (unsigned z = 0; z < lanes && v + z < zc; z++)
+            if (x[z] < 0)
+                return false;
+    }
+    return true;
+}
+
+} // namespace ldpc_detail
+
+using namespace ldpc_detail;
+
+nr_ldpc_decoder::nr_ldpc_decoder(int base_graph, unsigned zc, unsigned max_iterations)
+    : d_bg(base_graph), d_zc(zc), d_zp((zc + lanes - 1) / lanes * lanes),
+      d_cols(nr_base_graph::get(base_graph).cols),
+      d_max_iter(check_at_least("max_iterations", max_iterations, 1u)),
+      d_simd(avx2_available())
+{
+    const auto rows = nr_lifted_rows(base_graph, zc);
+    std::vector<unsigned> col_degree(d_cols, 0);
+    unsigned max_degree = 0;
+    for (unsigned i = 0; i < rows.size(); i++) {
+        d_layers.push_back({ i, static_cast<unsigned>(d_edges.size()), static_cast<unsigned>(rows[i].size()) });
+        for (const auto& e : rows[i]) {
+            d_edges.push_back(e);
+            col_degree[e.col]++;
+        }
+        max_degree = std::max<unsigned>(max_degree, rows[i].size());
+    }
+    // The degree-one column of a row (its extension parity bit); rows 0 .. 3 have none.
+    d_row_parity.assign(rows.size(), d_cols);
+    for (unsigned i = 0; i < rows.size(); i++)
+        for (const auto& e : rows[i])
+            if (col_degree[e.col] == 1)
+                d_row_parity[i] = e.col;
+    d_l.assign(std::size_t{ d_cols } * d_zp, 0);
+    d_r.assign(d_edges.size() * d_zp, 0);
+    d_t.assign(std::size_t{ max_degree } * d_zp, 0);
+}
+
+void nr_ldpc_decoder::set_max_iterations(unsigned max_iterations)
+{
+    d_max_iter = check_at_least("max_iterations", max_iterations, 1u);
+}
+
+void nr_ldpc_decoder::set_simd(bool allow) { d_simd = allow && avx2_available(); }
+
+nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
+{
+    const std::size_t n = this->n();
+    // The scale maps (mean sqrt|L|)^2 over the finite non-zero LLRs to a target. For one
+    // Gaussian cluster (BPSK, QPSK) that is about the mean magnitude; for the bit levels of
+    // 16- to 256-QAM, whose magnitudes differ by up to 8x, it stays near the weak levels'
+    // scale, so their LLRs keep their resolution and the strong ones saturate (they are
+    // reliable). 8 partial sums vectorise.
+    float part[8] = {}, cnt[8] = {};
+    std::size_t k = n / 8 * 8;
+    if (d_simd)
+        root_sums_avx2(llr, k, part, cnt);
+    else
+        root_sums_generic(llr, k, part, cnt);
+    double sum = 0.0, count = 0.0;
+    for (unsigned j = 0; j < 8; j++) {
+        sum += part[j];
+        count += cnt[j];
+    }
+    for (; k < n; k++) {
+        const float a = std::fabs(llr[k]);
+        if (a > 0.0f && a < INFINITY) {
+            sum += std::sqrt(a);
+            count += 1.0;
+        }
+    }
+    std::vector<bool> received(d_cols, false);
+    for (std::size_t j = 2; j < d_cols; j++) {
+        const float* in = llr + (j - 2) * d_zc;
+        received[j] = std::any_of(in, in + d_zc, [](float v) { return v != 0.0f && v == v; });
+    }
+    // Headroom: an a-posteriori LLR sums its channel value and up to d_max messages and
+    // saturates at 127, so the target shrinks with the largest column degree of the rows
+    // decoded (BG1 at rate 0.9: 5 -> 28; 256-QAM at R 0.82: 7 -> 21; QPSK at R 0.3: 17 -> 9.3).
+    const unsigned d_max = select_layers(received);
+    const double target = std::clamp(168.0 / (1.0 + d_max), 8.0, 32.0);
+    const double root_mean = count > 0.0 ? sum / count : 0.0;
+    const float scale = root_mean > 0.0 ? static_cast<float>(target / (root_mean * root_mean)) : 1.0f;
+    std::fill(d_l.begin(), d_l.begin() + 2 * d_zp, 0);
+    for (std::size_t j = 2; j < d_cols; j++) {
+        const float* in = llr + (j - 2) * d_zc;
+        std::int8_t* out = d_l.data() + j * d_zp;
+        if (d_simd)
+            quantize_avx2(in, d_zc, scale, out);
+        else
+            quantize_generic(in, d_zc, scale, out);
+    }
+    return run(c);
+}
+
+nr_ldpc_decode_result nr_ldpc_decoder::decode_int8(const std::int8_t* llr, std::uint8_t* c)
+{
+    std::fill(d_l.begin(), d_l.end(), 0);
+    for (std::size_t j = 2; j < d_cols; j++) {
+        const std::int8_t* in = llr + (j - 2) * d_zc;
+        std::int8_t* out = d_l.data() + j * d_zp;
+        for (unsigned z = 0; z < d_zc; z++)
+            out[z] = std::max<std::int8_t>(in[z], -127);
+    }
+    std::vector<bool> received(d_cols, false);
+    for (std::size_t j = 2; j < d_cols; j++) {
+        const std::int8_t* col = d_l.data() + j * d_zp;
+        received[j] = std::any_of(col, col + d_zc, [](std::int8_t v) { return v != 0; });
+    }
+    select_layers(received);
+    return run(c);
+}
+
+unsigned nr_ldpc_decoder::select_layers(const std::vector<bool>& received)
+{
+    // Rows whose own parity column received nothing carry no information: skip them.
+    d_active.clear();
+    std::vector<unsigned> degree(d_cols, 0);
+    unsigned d_max = 0;
+    for (const layer& ly : d_layers) {
+        const unsigned pc = d_row_parity[ly.row];
+        if (pc < d_cols && !received[pc])
+            continue;
+        d_active.push_back(ly);
+        std::fill(d_r.begin() + std::size_t{ ly.first_edge } * d_zp,
+                  d_r.begin() + std::size_t{ ly.first_edge + ly.degree } * d_zp,
+                  0);
+        for (unsigned k = 0; k < ly.degree; k++)
+            d_max = std::max(d_max, ++degree[d_edges[ly.first_edge + k].col]);
+    }
+    return d_max;
+}
+
+void nr_ldpc_decoder::gather(const layer& ly)
+{
+    // t[z] = L[(z + s) mod zc] for each column of the row
+    for (unsigned k = 0; k < ly.degree; k++) {
+        const nr_lifted_edge& e = d_edges[ly.first_edge + k];
+        const std::int8_t* col = d_l.data() + std::size_t{ e.col } * d_zp;
+        std::int8_t* t = d_t.data() + std::size_t{ k } * d_zp;
+        std::memcpy(t, col + e.shift, d_zc - e.shift);
+        std::memcpy(t + d_zc - e.shift, col, e.shift);
+    }
+}
+
+bool nr_ldpc_decoder::row_ok(const layer& ly)
+{
+    gather(ly);
+    return d_simd ? signs_ok_avx2(d_t.data(), ly.degree, d_zp, d_zc)
+                  : signs_ok_generic(d_t.data(), ly.degree, d_zp, d_zc);
+}
+
+nr_ldpc_decode_result nr_ldpc_decoder::run(std::uint8_t* c)
+{
+    const unsigned zc = d_zc, zp = d_zp;
+    nr_ldpc_decode_result res;
+    std::int8_t* t = d_t.data();
+    for (unsigned it = 1; it <= d_max_iter; it++) {
+        d_failed.clear();
+        for (const layer& ly : d_active) {
+            gather(ly);
+            std::int8_t* r = d_r.data() + std::size_t{ ly.first_edge } * zp;
+            const bool ok = d_simd ? layer_avx2(t, r, ly.degree, zp, zc)
+                                   : layer_generic(t, r, ly.degree, zp, zc);
+            if (!ok)
+                d_failed.push_back(&ly);
+            for (unsigned k = 0; k < ly.degree; k++) { // scatter back
+                const nr_lifted_edge& e = d_edges[ly.first_edge + k];
+                std::int8_t* col = d_l.data() + std::size_t{ e.col } * zp;
+                std::memcpy(col + e.shift, t + k * zp, zc - e.shift);
+                std::memcpy(col, t + k * zp + zc - e.shift, e.shift);
+            }
+        }
+        res.iterations = it;
+        // Rows that failed at their visit (e.g. before the punctured columns got values)
+        // are checked again; when they hold, a full syndrome on the final hard decisions
+        // confirms (a row that held at its visit may have changed since).
+        const bool failed_now_hold =
+            std::all_of(d_failed.begin(), d_failed.end(), [this](const layer* ly) { return row_ok(*ly); });
+        if (failed_now_hold &&
+            std::all_of(d_active.begin(), d_active.end(), [this](const layer& ly) { return row_ok(ly); })) {
+            res.parity_ok = true;
+            break;
+        }
+    }
+    const unsigned info = nr_base_graph::get(d_bg).info_cols;
+    for (unsigned j = 0; j < info; j++) {
+        const std::int8_t* col = d_l.data() + std::size_t{ j } * zp;
+        for (unsigned z = 0; z < zc; z++)
+            c[std::size_t{ j } * zc + z] = col[z] < 0 ? 1 : 0;
+    }
+    return res;
+}
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr

@@ -1,0 +1,167 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+// AVX2 layer update of kernel::nr_ldpc_decoder. This file alone is compiled with -mavx2
+// (lib/CMakeLists.txt) and called only after a runtime CPU check. No std:: templates here
+// (an AVX2 instantiation could be picked by the linker for the generic code too).
+
+#include "nr_ldpc_decoder_impl.h"
+#include <cmath>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+namespace ldpc_detail {
+
+bool avx2_available()
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+}
+
+bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
+{
+    const __m256i lo = _mm256_set1_epi8(-127);
+    const __m256i one = _mm256_set1_epi8(1);
+    const __m256i low6 = _mm256_set1_epi8(0x3f);
+    const __m256i ramp = _mm256_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16,
+                                          17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31);
+    __m256i bad = _mm256_setzero_si256();
+    for (unsigned v = 0; v < zp; v += lanes) {
+        __m256i min1 = _mm256_set1_epi8(127), min2 = min1;
+        __m256i sgn = _mm256_setzero_si256(), sgnl = sgn;
+        for (unsigned e = 0; e < deg; e++) {
+            __m256i* pt = reinterpret_cast<__m256i*>(t + e * zp + v);
+            const __m256i l = _mm256_loadu_si256(pt);
+            const __m256i x = _mm256_max_epi8(
+                _mm256_subs_epi8(l, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(r + e * zp + v))), lo);
+            _mm256_storeu_si256(pt, x);
+            const __m256i a = _mm256_abs_epi8(x);
+            min2 = _mm256_min_epi8(min2, _mm256_max_epi8(min1, a));
+            min1 = _mm256_min_epi8(min1, a);
+            sgn = _mm256_xor_si256(sgn, x);
+        }
+        // 0.75 m = m - (m >> 2) on bytes (0 <= m <= 127): a 16-bit shift, masked per byte.
+        const __m256i m1 = _mm256_sub_epi8(min1, _mm256_and_si256(_mm256_srli_epi16(min1, 2), low6));
+        const __m256i m2 = _mm256_sub_epi8(min2, _mm256_and_si256(_mm256_srli_epi16(min2, 2), low6));
+        for (unsigned e = 0; e < deg; e++) {
+            __m256i* pt = reinterpret_cast<__m256i*>(t + e * zp + v);
+            __m256i* pr = reinterpret_cast<__m256i*>(r + e * zp + v);
+            const __m256i x = _mm256_loadu_si256(pt);
+            const __m256i m = _mm256_blendv_epi8(m1, m2, _mm256_cmpeq_epi8(_mm256_abs_epi8(x), min1));
+            // sign of the others' product: sgn xor x; "| 1" keeps sign_epi8 from zeroing
+            const __m256i s = _mm256_sign_epi8(m, _mm256_or_si256(_mm256_xor_si256(sgn, x), one));
+            _mm256_storeu_si256(pr, s);
+            const __m256i l = _mm256_max_epi8(_mm256_adds_epi8(x, s), lo);
+            _mm256_storeu_si256(pt, l);
+            sgnl = _mm256_xor_si256(sgnl, l);
+        }
+        if (v + lanes > zc) // lanes at and beyond zc are padding: ramp < zc - v keeps the others
+            sgnl = _mm256_and_si256(sgnl, _mm256_cmpgt_epi8(_mm256_set1_epi8(static_cast<char>(zc - v)), ramp));
+        bad = _mm256_or_si256(bad, sgnl);
+    }
+    return _mm256_movemask_epi8(bad) == 0;
+}
+
+void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
+{
+    const __m256 s = _mm256_set1_ps(scale);
+    const __m256 hi = _mm256_set1_ps(63.0f), lo = _mm256_set1_ps(-63.0f);
+    const __m256 pinf = _mm256_set1_ps(INFINITY), ninf = _mm256_set1_ps(-INFINITY);
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    unsigned k = 0;
+    for (; k + 32 <= n; k += 32) {
+        __m256i q[4];
+        for (unsigned g = 0; g < 4; g++) {
+            const __m256 v = _mm256_loadu_ps(in + k + 8 * g);
+            __m256 x = _mm256_and_ps(_mm256_mul_ps(v, s), _mm256_cmp_ps(v, v, _CMP_ORD_Q)); // NaN -> 0
+            x = _mm256_min_ps(_mm256_max_ps(x, lo), hi);
+            x = _mm256_blendv_ps(x, _mm256_set1_ps(127.0f), _mm256_cmp_ps(v, pinf, _CMP_EQ_OQ));
+            x = _mm256_blendv_ps(x, _mm256_set1_ps(-127.0f), _mm256_cmp_ps(v, ninf, _CMP_EQ_OQ));
+            q[g] = _mm256_cvtps_epi32(x); // nearest, ties to even
+        }
+        // packs works per 128-bit lane: the permutation restores the element order.
+        const __m256i w = _mm256_packs_epi16(_mm256_packs_epi32(q[0], q[1]), _mm256_packs_epi32(q[2], q[3]));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + k), _mm256_permutevar8x32_epi32(w, order));
+    }
+    for (; k < n; k++) {
+        const float v = in[k];
+        float x = v == v ? v * scale : 0.0f;
+        x = x < -63.0f ? -63.0f : (x > 63.0f ? 63.0f : x);
+        const int r = _mm_cvtss_si32(_mm_set_ss(x));
+        out[k] = static_cast<std::int8_t>(v == INFINITY ? 127 : (v == -INFINITY ? -127 : r));
+    }
+}
+
+void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
+{
+    __m256 p = _mm256_loadu_ps(part), c = _mm256_loadu_ps(cnt);
+    const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
+    const __m256 inf = _mm256_set1_ps(INFINITY), one = _mm256_set1_ps(1.0f);
+    for (std::size_t k = 0; k < n8; k += 8) {
+        const __m256 a = _mm256_andnot_ps(sign, _mm256_loadu_ps(in + k));
+        const __m256 use = _mm256_and_ps(_mm256_cmp_ps(a, zero, _CMP_GT_OQ), _mm256_cmp_ps(a, inf, _CMP_LT_OQ));
+        p = _mm256_add_ps(p, _mm256_and_ps(_mm256_sqrt_ps(a), use));
+        c = _mm256_add_ps(c, _mm256_and_ps(one, use));
+    }
+    _mm256_storeu_ps(part, p);
+    _mm256_storeu_ps(cnt, c);
+}
+
+bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+{
+    const __m256i ramp = _mm256_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16,
+                                          17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31);
+    __m256i bad = _mm256_setzero_si256();
+    for (unsigned v = 0; v < zp; v += lanes) {
+        __m256i x = _mm256_setzero_si256();
+        for (unsigned e = 0; e < deg; e++)
+            x = _mm256_xor_si256(x, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(t + e * zp + v)));
+        if (v + lanes > zc)
+            x = _mm256_and_si256(x, _mm256_cmpgt_epi8(_mm256_set1_epi8(static_cast<char>(zc - v)), ramp));
+        bad = _mm256_or_si256(bad, x);
+    }
+    return _mm256_movemask_epi8(bad) == 0;
+}
+
+} // namespace ldpc_detail
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
+
+#else
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+namespace ldpc_detail {
+bool avx2_available() { return false; }
+bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
+{
+    return layer_generic(t, r, deg, zp, zc);
+}
+void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
+{
+    quantize_generic(in, n, scale, out);
+}
+void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
+{
+    root_sums_generic(in, n8, part, cnt);
+}
+bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+{
+    return signs_ok_generic(t, deg, zp, zc);
+}
+} // namespace ldpc_detail
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
+
+#endif

@@ -1,0 +1,59 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+// One layer of kernel::nr_ldpc_decoder: a generic path and an AVX2 path
+// (nr_ldpc_decoder_avx2.cc, runtime dispatch). Both compute the same integers.
+
+#ifndef INCLUDED_NRSAR_KERNEL_NR_LDPC_DECODER_IMPL_H
+#define INCLUDED_NRSAR_KERNEL_NR_LDPC_DECODER_IMPL_H
+
+#include <cstddef>
+#include <cstdint>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+namespace ldpc_detail {
+
+constexpr unsigned lanes = 32; //!< int8 lanes of an AVX2 register; zp is a multiple of it
+
+/*!
+ * Min-sum update of one layer: t holds the deg gathered a-posteriori columns (deg x zp,
+ * column e at t + e zp), r their check-to-variable messages; both are updated in place.
+ * Returns true when, after the update, the product of the signs of t is positive in
+ * every lane below zc (the row's parity check holds on its new hard decisions).
+ */
+bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc);
+bool avx2_available();
+bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc);
+
+/*!
+ * out[k] = round(clamp(in[k] scale, -63, 63)) (to nearest, ties to even), NaN -> 0,
+ * +inf -> 127 and -inf -> -127 (known bits), for k < n.
+ */
+void quantize_generic(const float* in, unsigned n, float scale, std::int8_t* out);
+void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out);
+
+/*!
+ * Sums of sqrt|x| and counts over the finite non-zero in[k], k < n8 (a multiple of 8), in 8
+ * partial sums part[k % 8], cnt[k % 8] (added to): both paths add in the same order, so
+ * they give the same floats.
+ */
+void root_sums_generic(const float* in, std::size_t n8, float* part, float* cnt);
+void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt);
+
+//! True when the product of the signs of the deg gathered columns of t is positive in
+//! every lane below zc (a row's parity check on its hard decisions).
+bool signs_ok_generic(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc);
+bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc);
+
+} // namespace ldpc_detail
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
+
+#endif

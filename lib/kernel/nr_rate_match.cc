@@ -1,0 +1,112 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include "param_check.h"
+#include <gnuradio/nrsar/kernel/nr_ldpc.h>
+#include <gnuradio/nrsar/kernel/nr_rate_match.h>
+#include <algorithm>
+#include <limits>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+
+void nr_rate_match_params::validate() const
+{
+    nr_base_graph::get(base_graph);
+    nr_check_lifting_size(zc);
+    const std::size_t K = nr_ldpc_k(base_graph, zc);
+    if (k_prime <= 2 * std::size_t{ zc } || k_prime > K)
+        throw_param("k_prime", k_prime, "must be in (2 Zc, K] = (" + std::to_string(2 * zc) + ", " + std::to_string(K) + "]");
+    check_range("rv", rv, 0u, 3u);
+    if (!(qm == 1 || qm == 2 || qm == 4 || qm == 6 || qm == 8))
+        throw_param("qm", qm, "must be 1, 2, 4, 6 or 8");
+    // N_cb must hold at least the systematic bits that are sent (K' - 2 Zc) for k0 to be meaningful.
+    if (n_ref != 0 && n_ref < K - 2 * std::size_t{ zc })
+        throw_param("n_ref", n_ref, "must be 0 (no limit) or at least K - 2 Zc = " + std::to_string(K - 2 * zc));
+}
+
+std::size_t nr_rate_match_params::n() const { return nr_ldpc_n(base_graph, zc); }
+
+std::size_t nr_rate_match_params::n_cb() const { return n_ref == 0 ? n() : std::min(n(), n_ref); }
+
+std::size_t nr_rate_match_params::k0() const
+{
+    // Table 5.4.2.1-2: k0 = floor(a N_cb / (b Zc)) Zc, b = 66 (BG1) or 50 (BG2).
+    static const unsigned a1[4] = { 0, 17, 33, 56 };
+    static const unsigned a2[4] = { 0, 13, 25, 43 };
+    const std::size_t b = base_graph == 1 ? 66 : 50;
+    const std::size_t a = base_graph == 1 ? a1[rv] : a2[rv];
+    return (a * n_cb()) / (b * zc) * zc;
+}
+
+std::size_t nr_rate_match_params::filler_begin() const { return k_prime - 2 * std::size_t{ zc }; }
+
+std::size_t nr_rate_match_params::filler_end() const { return nr_ldpc_k(base_graph, zc) - 2 * std::size_t{ zc }; }
+
+std::vector<std::size_t> nr_code_block_e(std::size_t G, unsigned C, unsigned qm, unsigned n_layers)
+{
+    check_at_least("C", C, 1u);
+    check_at_least("qm", qm, 1u);
+    check_at_least("n_layers", n_layers, 1u);
+    const std::size_t unit = std::size_t{ n_layers } * qm;
+    if (G % unit != 0)
+        throw_param("G", G, "must be a multiple of N_L Qm = " + std::to_string(unit));
+    const std::size_t symbols = G / unit;
+    std::vector<std::size_t> e(C);
+    for (unsigned r = 0; r < C; r++)
+        e[r] = unit * (r < C - symbols % C ? symbols / C : (symbols + C - 1) / C);
+    return e;
+}
+
+namespace {
+
+// Circular-buffer position of each of the E selected bits, e_k = d[pos[k]].
+std::vector<std::size_t> selected_positions(const nr_rate_match_params& p, std::size_t e)
+{
+    p.validate();
+    if (e % p.qm != 0)
+        throw_param("e", e, "must be a multiple of qm = " + std::to_string(p.qm));
+    const std::size_t ncb = p.n_cb(), fb = p.filler_begin(), fe = p.filler_end();
+    if (e > 0 && ncb <= fe - fb)
+        throw_param("n_ref", p.n_ref, "leaves no bit outside the fillers");
+    std::vector<std::size_t> pos(e);
+    std::size_t j = p.k0();
+    for (std::size_t k = 0; k < e;) {
+        if (j >= ncb)
+            j = 0;
+        if (j < fb || j >= fe)
+            pos[k++] = j;
+        j++;
+    }
+    return pos;
+}
+
+} // namespace
+
+void nr_rate_match(const std::uint8_t* d, const nr_rate_match_params& p, std::size_t e, std::uint8_t* f)
+{
+    const std::vector<std::size_t> pos = selected_positions(p, e);
+    const std::size_t rows = e / p.qm; // E / Qm
+    for (std::size_t j = 0; j < rows; j++)
+        for (unsigned i = 0; i < p.qm; i++)
+            f[i + j * p.qm] = d[pos[i * rows + j]];
+}
+
+void nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::size_t e, float* d_llr)
+{
+    const std::vector<std::size_t> pos = selected_positions(p, e);
+    const std::size_t rows = e / p.qm;
+    for (std::size_t j = 0; j < rows; j++)
+        for (unsigned i = 0; i < p.qm; i++)
+            d_llr[pos[i * rows + j]] += f_llr[i + j * p.qm];
+    std::fill(d_llr + p.filler_begin(), d_llr + p.filler_end(), std::numeric_limits<float>::infinity());
+}
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr

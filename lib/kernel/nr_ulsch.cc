@@ -1,0 +1,127 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include "param_check.h"
+#include <gnuradio/nrsar/kernel/gold_sequence.h>
+#include <gnuradio/nrsar/kernel/nr_rate_match.h>
+#include <gnuradio/nrsar/kernel/nr_ulsch.h>
+#include <algorithm>
+#include <memory>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+
+namespace {
+nr_segmentation segmentation_of(std::size_t tbs, double code_rate)
+{
+    check_at_least<std::size_t>("tbs", tbs, 24);
+    return nr_segmentation::compute(tbs + nr_tb_crc_length(tbs), nr_select_base_graph(tbs, code_rate));
+}
+} // namespace
+
+nr_ulsch::nr_ulsch(std::size_t tbs,
+                   double code_rate,
+                   unsigned qm,
+                   std::size_t g,
+                   unsigned n_layers,
+                   std::size_t n_ref,
+                   unsigned max_iterations)
+    : d_A(tbs),
+      d_G(g),
+      d_qm(qm),
+      d_n_ref(n_ref),
+      d_tb_crc(nr_tb_crc_length(tbs) == 24 ? nr_crc_type::crc24a : nr_crc_type::crc16),
+      d_seg(segmentation_of(tbs, code_rate)),
+      d_E(nr_code_block_e(g, d_seg.C, qm, n_layers)),
+      d_enc(d_seg.base_graph, d_seg.Zc),
+      d_dec(d_seg.base_graph, d_seg.Zc, max_iterations)
+{
+    nr_rate_match_params p;
+    p.base_graph = d_seg.base_graph;
+    p.zc = d_seg.Zc;
+    p.k_prime = d_seg.K_prime;
+    p.n_ref = n_ref;
+    p.qm = qm;
+    p.validate();
+    d_tb.resize(d_seg.B);
+    d_cb.resize(std::size_t{ d_seg.C } * d_seg.K);
+    d_d.resize(d_enc.n());
+    d_c.resize(d_seg.K);
+    d_soft.assign(std::size_t{ d_seg.C } * d_enc.n(), 0.0f);
+    d_llr.resize(*std::max_element(d_E.begin(), d_E.end()));
+    d_scr.resize(d_G);
+}
+
+void nr_ulsch::encode(const std::uint8_t* a, unsigned rv, std::uint32_t c_init, std::uint8_t* out)
+{
+    d_tb_crc.attach(a, d_A, d_tb.data());
+    nr_segment(d_tb.data(), d_seg, d_cb.data());
+    nr_rate_match_params p;
+    p.base_graph = d_seg.base_graph;
+    p.zc = d_seg.Zc;
+    p.k_prime = d_seg.K_prime;
+    p.n_ref = d_n_ref;
+    p.rv = rv;
+    p.qm = d_qm;
+    std::size_t pos = 0;
+    for (unsigned r = 0; r < d_seg.C; r++) {
+        d_enc.encode(d_cb.data() + std::size_t{ r } * d_seg.K, d_d.data());
+        nr_rate_match(d_d.data(), p, d_E[r], out + pos);
+        pos += d_E[r];
+    }
+    gold_sequence c(c_init);
+    c.generate_unpacked(d_scr.data(), d_G);
+    for (std::size_t i = 0; i < d_G; i++)
+        out[i] ^= d_scr[i];
+}
+
+nr_ulsch_result
+nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combine, std::uint8_t* a)
+{
+    if (!combine)
+        std::fill(d_soft.begin(), d_soft.end(), 0.0f);
+    nr_rate_match_params p;
+    p.base_graph = d_seg.base_graph;
+    p.zc = d_seg.Zc;
+    p.k_prime = d_seg.K_prime;
+    p.n_ref = d_n_ref;
+    p.rv = rv;
+    p.qm = d_qm;
+    gold_sequence c(c_init);
+    c.generate_unpacked(d_scr.data(), d_G);
+    nr_ulsch_result res;
+    res.code_blocks = d_seg.C;
+    const std::size_t N = d_enc.n();
+    std::size_t pos = 0;
+    unsigned iterations = 0;
+    res.parity_ok = true;
+    for (unsigned r = 0; r < d_seg.C; r++) {
+        for (std::size_t k = 0; k < d_E[r]; k++) { // descramble: c = 1 flips the bit
+            const float v = llr[pos + k];
+            d_llr[k] = d_scr[pos + k] ? -v : v;
+        }
+        pos += d_E[r];
+        float* soft = d_soft.data() + r * N;
+        nr_rate_recover(d_llr.data(), p, d_E[r], soft);
+        const auto dr = d_dec.decode(soft, d_cb.data() + std::size_t{ r } * d_seg.K);
+        iterations += dr.iterations;
+        res.parity_ok = res.parity_ok && dr.parity_ok;
+    }
+    const auto ok = std::make_unique<bool[]>(d_seg.C);
+    nr_desegment(d_cb.data(), d_seg, d_tb.data(), ok.get());
+    res.tb_crc_ok = d_tb_crc.check(d_tb.data(), d_seg.B);
+    for (unsigned r = 0; r < d_seg.C; r++)
+        res.cb_crc_ok += (d_seg.C > 1 ? ok[r] : res.tb_crc_ok) ? 1u : 0u;
+    res.mean_iterations = double(iterations) / d_seg.C;
+    std::copy(d_tb.begin(), d_tb.begin() + d_A, a);
+    return res;
+}
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr

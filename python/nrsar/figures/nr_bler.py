@@ -1,0 +1,90 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""BLER against SNR of the NR UL-SCH (nrsar.ulsch: TS 38.212 LDPC, rv 0, the int8 layered
+min-sum decoder with at most --max-iter iterations) over AWGN with the TS 38.211 constellations and max-log
+LLRs (nrsar.soft_demapper), for one MCS per modulation. Prints, per MCS, the BLER at each SNR
+and the SNR of BLER 10 % (interpolated in log BLER), beside the Shannon limit of the
+information rate A / (G / Qm) bits per symbol: log2(1 + SNR) = rate.
+
+Run: /usr/bin/python3 -m gnuradio.nrsar.nr_bler [--blocks 100] [--max-iter 20]
+"""
+
+import argparse
+
+import numpy as np
+
+from gnuradio import nrsar
+
+# (table, MCS, n_prb) of the curves; 14 symbols with one DMRS symbol: 156 data REs per PRB
+CASES = [("qam64", 4, 20), ("qam64", 13, 20), ("qam64", 22, 20), ("qam256", 24, 20)]
+MODS = {2: nrsar.modulation.QPSK, 4: nrsar.modulation.QAM16, 6: nrsar.modulation.QAM64,
+        8: nrsar.modulation.QAM256}
+
+
+def bler_curve(table, mcs, n_prb, snrs_db, blocks, max_iter, seed=1):
+    qm, rate = nrsar.mcs(table, mcs)
+    a = nrsar.tbs(table, mcs, n_prb, 14, 12)
+    g = 156 * n_prb * qm
+    ul = nrsar.ulsch(a, rate, qm, g, max_iter=max_iter)
+    const = nrsar.constellation(MODS[qm])
+    points = np.array(const.points())
+    demap = nrsar.soft_demapper(MODS[qm])
+    weights = 2 ** np.arange(qm - 1, -1, -1)
+    rng = np.random.default_rng(seed)
+    out = []
+    for snr_db in snrs_db:
+        nv = 10 ** (-snr_db / 10)  # unit-energy symbols: noise variance per complex symbol
+        errors = 0
+        for _ in range(blocks):
+            bits = rng.integers(0, 2, a)
+            x = ul.encode(bits, 0, 1000).reshape(-1, qm)
+            s = points[x @ weights]
+            y = s + np.sqrt(nv / 2) * (rng.normal(size=s.size) + 1j * rng.normal(size=s.size))
+            llr = np.array(demap.demap(y.astype(np.complex64).tolist(), [nv]), np.float32)
+            back, r = ul.decode(llr, 0, 1000)
+            errors += not (r["tb_crc_ok"] and np.array_equal(back, bits))
+        out.append(errors / blocks)
+    info_rate = a / (g / qm)  # information bits per symbol
+    return {"table": table, "mcs": mcs, "qm": qm, "tbs": a, "g": g, "code_rate": rate,
+            "info_rate": info_rate, "shannon_db": 10 * np.log10(2 ** info_rate - 1),
+            "snr_db": list(snrs_db), "bler": out}
+
+
+def snr_at(curve, target=0.1):
+    """SNR of BLER = target, linear in log BLER between the two points around it."""
+    s, b = curve["snr_db"], curve["bler"]
+    for i in range(len(b) - 1):
+        if b[i] >= target > b[i + 1]:
+            lo, hi = np.log10(max(b[i], 1e-9)), np.log10(max(b[i + 1], 1e-9))
+            return s[i] + (np.log10(target) - lo) / (hi - lo) * (s[i + 1] - s[i])
+    return None
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--blocks", type=int, default=100, help="transport blocks per SNR")
+    parser.add_argument("--max-iter", type=int, default=20, help="LDPC iterations at most")
+    args = parser.parse_args(argv)
+    print("| MCS | Qm | R | TBS | G | SNR (dB): BLER | BLER 10 % at | Shannon limit | gap |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for table, mcs, n_prb in CASES:
+        qm, rate = nrsar.mcs(table, mcs)
+        info = nrsar.tbs(table, mcs, n_prb, 14, 12) / (156 * n_prb)
+        start = np.round(10 * np.log10(2 ** info - 1) * 4) / 4 + 0.5
+        c = bler_curve(table, mcs, n_prb, np.arange(start, start + 3.51, 0.25), args.blocks,
+                       args.max_iter)
+        at = snr_at(c)
+        pts = ", ".join(f"{s:g}: {b:.2f}" for s, b in zip(c["snr_db"], c["bler"]))
+        limit = c["shannon_db"]
+        at_s = "n/a" if at is None else f"{at:.2f} dB"
+        gap_s = "" if at is None else f"{at - limit:.2f} dB"
+        print(f"| {table} {mcs} | {qm} | {rate:.3f} | {c['tbs']} | {c['g']} | {pts} | "
+              f"{at_s} | {limit:.2f} dB | {gap_s} |")
+
+
+if __name__ == "__main__":
+    main()
