@@ -10,7 +10,7 @@ LLRs (nrsar.soft_demapper), for one MCS per modulation. Prints, per MCS, the BLE
 and the SNR of BLER 10 % (interpolated in log BLER), beside the Shannon limit of the
 information rate A / (G / Qm) bits per symbol: log2(1 + SNR) = rate.
 
-Run: /usr/bin/python3 -m gnuradio.nrsar.nr_bler [--blocks 100] [--max-iter 20]
+Run: /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler [--blocks 100] [--max-iter 20]
 """
 
 import argparse
