@@ -391,8 +391,8 @@ class IsacOptions(SimOptions):
         super().check()
         for name in ("record", "geotiff"):
             if getattr(self, name):
-                raise OptionError(f"{flag_of(name)} is nrsar-sim's and nrsar-process's; "
-                                  f"nrsar-isac does not record or write GeoTIFFs yet")
+                raise OptionError(f"{flag_of(name)} is not in nrsar-isac yet (nrsar-sim "
+                                  f"has it; docs/recording.md)")
         if self.mode != "data":
             raise OptionError(f"--mode = {self.mode!r} must be data (the grid is the PUSCH)")
         if not os.path.isfile(self.payload):
