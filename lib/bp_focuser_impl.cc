@@ -100,6 +100,8 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
     const azimuth_window win = scene_azimuth_window(
         d_geo, d_scn, d_cfg.band_margin_hz, T, first_range, range_bin, d_K);
     d_line_shift = win.line_shift;
+    d_band_lo_hz = win.band_lo_hz;
+    d_band_hi_hz = win.band_hi_hz;
     const double dy = d_geo.velocity_mps * T;
     if (d_lines_in == 0 && d_apertures == 0)
         d_next_y = d_geo.track_start_m + d_line_shift * dy;

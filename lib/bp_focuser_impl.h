@@ -36,6 +36,8 @@ private:
     double d_range_bin = 0.0;
     unsigned d_M = 0;
     long long d_line_shift = 0;
+    double d_band_lo_hz = 0.0;
+    double d_band_hi_hz = 0.0;
     std::unique_ptr<kernel::bp_focuser> d_kernel;
 
     bool d_pending = false; // axis change from a tag, applied at the next aperture
@@ -90,6 +92,9 @@ public:
     double pulse_interval_s() const override { return d_T; }
     double first_range_m() const override { return d_first_range; }
     double range_bin_m() const override { return d_range_bin; }
+    unsigned num_output_bins() const override { return d_K; }
+    double band_lo_hz() const override { return d_band_lo_hz; }
+    double band_hi_hz() const override { return d_band_hi_hz; }
     bool simd() const override { return d_kernel && d_kernel->simd(); }
     std::uint64_t apertures() const override { return d_apertures; }
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }

@@ -51,7 +51,7 @@ struct bp_focuser::worker {
     gr::fft::fft_complex_fwd fwd;
     gr::fft::fft_complex_rev rev;
     std::vector<int> idx;
-    std::vector<float> mu, frac;
+    std::vector<float> mu, frac, sine;
     std::vector<gr_complex> demod; // K: exp(-j 2 pi fc_r k) / K (inverse-FFT scale folded in)
 
     worker(const bp_grid& g)
@@ -60,6 +60,7 @@ struct bp_focuser::worker {
           idx(g.num_range_bins),
           mu(g.num_range_bins),
           frac(g.num_range_bins),
+          sine(g.num_range_bins),
           demod(g.num_range_bins)
     {
         for (unsigned k = 0; k < g.num_range_bins; ++k) {
@@ -148,6 +149,7 @@ void bp_focuser::project_lines(worker& w,
     j.idx = w.idx.data();
     j.mu = w.mu.data();
     j.frac = w.frac.data();
+    j.sine = w.sine.data();
     // Tiles of lines: a pulse's profile (U K samples) is read for every line of the tile
     // while it is in L1, and the tile's accumulators stay in L2.
     const unsigned tile = std::max(1u, 16384u / K);

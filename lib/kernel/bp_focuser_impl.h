@@ -38,55 +38,66 @@ struct line_job {
     int* idx = nullptr;             //!< K scratch
     float* mu = nullptr;            //!< K scratch
     float* frac = nullptr;          //!< K scratch
+    float* sine = nullptr;          //!< K scratch
 };
 
 void project_line_avx2(const line_job& j);
 
 namespace {
 
-// Round to nearest for |x| < 2^51 with two additions (vectorises on SSE2; no -ffast-math,
-// so the compiler keeps them).
-constexpr double round_magic = 6755399441055744.0; // 1.5 * 2^52
-
 inline void project_line_body(const line_job& j)
 {
+    // Locals with __restrict: the stores to the scratch and accumulator arrays cannot alias
+    // the inputs, so both passes vectorise.
     const unsigned K = j.K;
+    const double* __restrict ground = j.ground;
+    int* __restrict idx = j.idx;
+    float* __restrict mus = j.mu;
+    float* __restrict fracs = j.frac;
+    const double ax = j.ax, c = j.c, ps = j.pos_scale, po = j.pos_offset, cs_ = j.cyc_scale,
+                 co = j.cyc_offset;
     // Pass 1, double: exact distance, interpolation position, carrier phase in cycles.
     for (unsigned k = 0; k < K; ++k) {
-        const double dx = j.ground[k] - j.ax;
-        const double r = std::sqrt(dx * dx + j.c);
-        const double p = r * j.pos_scale - j.pos_offset;
-        double fl = (p + round_magic) - round_magic;
-        fl = fl > p ? fl - 1.0 : fl;
-        const double cyc = r * j.cyc_scale - j.cyc_offset;
-        const double rc = (cyc + round_magic) - round_magic;
-        j.idx[k] = static_cast<int>(fl);
-        j.mu[k] = static_cast<float>(p - fl);
-        j.frac[k] = static_cast<float>(cyc - rc);
+        const double dx = ground[k] - ax;
+        const double r = std::sqrt(dx * dx + c);
+        const double p = r * ps - po;
+        const double fl = std::floor(p);
+        const double cyc = r * cs_ - co;
+        const double rc = std::nearbyint(cyc);
+        idx[k] = static_cast<int>(fl);
+        mus[k] = static_cast<float>(p - fl);
+        fracs[k] = static_cast<float>(cyc - rc);
     }
     // Pass 2, float: exp(j 2 pi frac) by the half angle a = pi frac in [-pi/2, pi/2]
-    // (Taylor to degree 11 / 12: error below 6e-8), then the double-angle formulas;
-    // linear interpolation of the profile; complex multiply-accumulate.
-    const float* prof = reinterpret_cast<const float*>(j.profile);
-    float* acc = reinterpret_cast<float*>(j.acc);
+    // (Taylor to degree 11 / 12: error below 6e-8), then the double-angle formulas; the
+    // cosine replaces frac.
+    float* __restrict sines = j.sine;
     for (unsigned k = 0; k < K; ++k) {
-        const float a = 3.14159265358979f * j.frac[k];
+        const float a = 3.14159265358979f * fracs[k];
         const float a2 = a * a;
         const float s = a * (1.0f + a2 * (-1.0f / 6 + a2 * (1.0f / 120 + a2 * (-1.0f / 5040 +
                         a2 * (1.0f / 362880 + a2 * (-1.0f / 39916800))))));
-        const float c = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24 + a2 * (-1.0f / 720 +
-                        a2 * (1.0f / 40320 + a2 * (-1.0f / 3628800 + a2 * (1.0f / 479001600))))));
-        const float sn = 2.0f * s * c;
-        const float cs = 1.0f - 2.0f * s * s;
-        const int i = j.idx[k];
-        const bool in = i >= 0 && i <= j.last;
+        const float co2 = 1.0f + a2 * (-0.5f + a2 * (1.0f / 24 + a2 * (-1.0f / 720 +
+                          a2 * (1.0f / 40320 + a2 * (-1.0f / 3628800 + a2 * (1.0f / 479001600))))));
+        sines[k] = 2.0f * s * co2;
+        fracs[k] = 1.0f - 2.0f * s * s;
+    }
+    // Pass 3: linear interpolation of the profile, complex multiply-accumulate.
+    const float* __restrict prof = reinterpret_cast<const float*>(j.profile);
+    const float* __restrict valid = j.valid;
+    float* __restrict acc = reinterpret_cast<float*>(j.acc);
+    const int last = j.last;
+    for (unsigned k = 0; k < K; ++k) {
+        const int i = idx[k];
+        const bool in = i >= 0 && i <= last;
         const int ic = in ? i : 0;
-        const float w = in ? j.valid[k] : 0.0f;
-        const float mu = j.mu[k];
+        const float w = valid[k] * (in ? 1.0f : 0.0f);
+        const float mu = mus[k];
         const float re0 = prof[2 * ic], im0 = prof[2 * ic + 1];
         const float re1 = prof[2 * ic + 2], im1 = prof[2 * ic + 3];
         const float re = w * (re0 + mu * (re1 - re0));
         const float im = w * (im0 + mu * (im1 - im0));
+        const float cs = fracs[k], sn = sines[k];
         acc[2 * k] += re * cs - im * sn;
         acc[2 * k + 1] += re * sn + im * cs;
     }

@@ -32,7 +32,7 @@ from gnuradio import blocks, fft, gr
 from . import params, progress, recording, results, runtime, scenario
 from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_config,
                            nmse_probe, nr_isac_tx, presum_config, presum_domain, range_ifft,
-                           rd_focuser, scene_echo, tf_filter)
+                           rd_focuser, scene_echo, tf_filter, bp_config, bp_focuser)
 from .options import check_out_dir
 from .scenario import fft_size_of
 
@@ -70,7 +70,8 @@ def range_crop(opts, sc, nfft):
     rho = num.range_bin_m(nfft)
     margin = max(opts.range_margin_m, 16 * rho)
     crop = (max(0.0, extent.min_slant_range_m - margin), extent.max_slant_range_m + margin)
-    g = rcmc_guard_bins(opts, sc, nfft, crop[1])  # the far edge migrates most
+    # the far edge migrates most; back-projection reads no bins beyond the image
+    g = rcmc_guard_bins(opts, sc, nfft, crop[1]) if opts.focuser == "rd" else 0
     return (max(0.0, crop[0] - g * rho), crop[1] + g * rho), g
 
 
@@ -95,6 +96,10 @@ def memory_estimate_bytes(rif, foc, symbols, keep):
     estimate 4.4 GiB, peak RSS 5.0 GiB."""
     k = rif.num_bins()
     m = foc.lines_per_aperture()
+    if isinstance(foc, bp_focuser):  # pulses, image and output queue; 64 upsampled pulses
+        block = k * (3 * m + 64 * foc.config().upsample)
+        sinks = 2 * (k * symbols + k * m) if keep else 0
+        return int(8 * (2 * block + sinks))
     block = k * (foc.overlap_before() + 2 * m + foc.overlap_after() + 2.5 * foc.band_bins())
     if foc.config().band == doppler_band.ESTIMATE:
         block += k * foc.fft_size()
@@ -139,8 +144,14 @@ class imaging_chain(gr.hier_block2):
         def range_and_focus():
             """(block taking the filtered TF pulses, range IFFT, focuser, presummer)"""
             rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
-            foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
-                             rif.range_bin_m(), cfg)
+            if opts.focuser == "bp":
+                foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                                 rif.range_bin_m(),
+                                 bp_config(symbols_per_pulse=cfg.symbols_per_pulse,
+                                           lines_per_aperture=cfg.lines_per_aperture))
+            else:
+                foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                                 rif.range_bin_m(), cfg)
             if decim == 1:
                 return rif, rif, foc, None, [(rif, foc)]
             method = params.PRESUM_METHODS[opts.presum]

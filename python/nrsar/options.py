@@ -290,6 +290,9 @@ class SimOptions(_Options):
     band: str = option("scene", "azimuth processing band: the scene's Doppler band from the "
                        "geometry, estimated from the data, or the full PRF",
                        choices=list(params.DOPPLER_BANDS))
+    focuser: str = option("rd", "image former, both branches: rd = range-Doppler (rd_focuser), "
+                          "bp = time-domain back-projection along the ideal line (bp_focuser)",
+                          choices=["rd", "bp"])
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "

@@ -127,7 +127,7 @@ def image_results(opts, chain, sc, runtime_s):
     # The image (and the range-compressed data written with it) keeps the crop's inner
     # bins; the focuser dropped guard bins on each side.
     k = foc.num_output_bins()
-    guard = foc.config().guard_bins
+    guard = foc.config().guard_bins if opts.focuser == "rd" else 0
     range_axis = [rif.range_axis_first_m() + guard * rif.range_bin_m(), rif.range_bin_m()]
     slow_time_axis = [geo.track_start_m, geo.velocity_mps * num.symbol_s() * sc.pulse_symbols]
     if opts.presum_domain == "tf":  # presummed before the IFFT
@@ -191,7 +191,8 @@ def image_results(opts, chain, sc, runtime_s):
         "range_axis_m": range_axis,
         "azimuth_axis_m": azimuth_axis,
         "doppler_band_hz": [foc.band_lo_hz(), foc.band_hi_hz()],
-        "rcmc_applied": bool(foc.rcmc_applied()),
+        "rcmc_applied": bool(foc.rcmc_applied()) if opts.focuser == "rd" else False,
+        "focuser": opts.focuser,
         "nonfinite": chain["echo"].nonfinite_count() + chain["filter"].nonfinite_count(),
         "empty_res": chain["filter"].empty_re_count(),
         "warnings": warnings,

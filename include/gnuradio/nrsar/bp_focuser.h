@@ -73,6 +73,12 @@ public:
     virtual double pulse_interval_s() const = 0;
     virtual double first_range_m() const = 0;
     virtual double range_bin_m() const = 0;
+    //! Bins per output line: num_range_bins (no guard bins; rd_focuser's interface).
+    virtual unsigned num_output_bins() const = 0;
+    //! The scene's Doppler band with margin that places the image window [Hz] (rd_focuser's
+    //! SCENE band; back-projection itself sums every pulse of the aperture).
+    virtual double band_lo_hz() const = 0;
+    virtual double band_hi_hz() const = 0;
     //! Whether the AVX2/FMA inner loop runs.
     virtual bool simd() const = 0;
     virtual std::uint64_t apertures() const = 0;
