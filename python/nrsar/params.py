@@ -31,10 +31,8 @@ DOPPLER_BANDS = _names(doppler_band)
 BEAM_MODES = _names(beam_mode)
 COLORMAPS = _names(image_colormap)
 
-MOTIONS = {"none": motion_model.NONE, "calm": motion_model.CALM, "gusty": motion_model.GUSTY}
-
-NAV_ERRORS = {"none": nav_error_model.NONE, "rtk": nav_error_model.RTK,
-              "gnss": nav_error_model.GNSS}
+MOTIONS = _names(motion_model)
+NAV_ERRORS = _names(nav_error_model)
 
 
 def _lookup(table, kind, name):

@@ -60,7 +60,11 @@ ACCEPTED = {
     "make_doppler_band": members(nrsar.doppler_band),
     "make_colormap": members(nrsar.image_colormap),
     "make_beam": members(nrsar.beam_mode),
+    "make_navigation": members(nrsar.nav_error_model),
 }
+
+# A builder's name argument passed by keyword: keyword -> builder
+KEYWORD_BUILDERS = {"error": "make_navigation"}
 
 # Names a block's list leaves out, and how to build the block with one: it must refuse it.
 # PUSCH carries QPSK and QAM only (TS 38.211 6.3.1.2), and the receiver estimates the channel
@@ -78,6 +82,7 @@ NARROWED = {
 GRC_COMMON = {"alias", "comment", "affinity", "maxoutbuf", "minoutbuf"}
 
 BUILDER = re.compile(r"nrsar\.(make_\w+)\(\s*'\$\{(\w+)\}'")
+KEYWORD = re.compile(r"\b(\w+)='\$\{(\w+)\}'")
 LITERAL = re.compile(r"'\$\{(\w+)\}'\s*==\s*'(\w+)'")
 
 
@@ -106,15 +111,23 @@ class qa_grc_options(gr_unittest.TestCase):
         self.blocks = load_blocks()
 
     def test_every_block_definition_loaded(self):
-        # the 15 C++ blocks of the module (docs/architecture.md) and the imaging_chain hier
+        # the 16 C++ blocks of the module (docs/architecture.md) and the imaging_chain hier
         # block, one .block.yml each
-        self.assertEqual(len(self.blocks), 16)
+        self.assertEqual(len(self.blocks), 17)
         self.assertTrue(all(k.startswith("nrsar_") for k in self.blocks))
 
     def test_builders_map_each_name_to_its_member(self):
         # params.py's tables are the bindings' enums by name, nothing added or missing
         for builder, names in ACCEPTED.items():
             make = getattr(nrsar, builder)
+            if builder == "make_navigation":  # the name is its second argument
+                geo = nrsar.make_geometry("short")
+                truth = nrsar.make_trajectory("ideal", geo, duration_s=geo.aperture_s)
+                for name in names:
+                    make(truth, name, duration_s=geo.aperture_s, geo=geo)
+                with self.assertRaises(ValueError, msg=builder):
+                    make(truth, "no_such_name", duration_s=geo.aperture_s, geo=geo)
+                continue
             for name in names:
                 value = make(name) if builder != "make_beam" else make(name).mode
                 if hasattr(value, "name"):
@@ -129,6 +142,8 @@ class qa_grc_options(gr_unittest.TestCase):
                 continue  # its options are SimOptions' fields: test_imaging_chain_is_sim_options
             text = template_text(blk)
             builders = {p: b for b, p in BUILDER.findall(text)}
+            builders.update({p: KEYWORD_BUILDERS[k] for k, p in KEYWORD.findall(text)
+                             if k in KEYWORD_BUILDERS})
             extras = {}
             for p, literal in LITERAL.findall(text):
                 extras.setdefault(p, set()).add(literal)
