@@ -63,7 +63,7 @@ import pmt
 from gnuradio import blocks, gr
 
 from . import params, sim
-from .nrsar_python import (constellation, doppler_band, focuser_config, nmse_probe,
+from .nrsar_python import (constellation, doppler_band, focuser_config, nmse_probe, probe_config,
                            nr_isac_tx, rd_focuser, tag_keys)
 
 C = 299792458.0
@@ -375,8 +375,8 @@ def probe_metrics(args, num, geo, scn, symbols, img, ref, az_first, az_step, fas
     first, rho = fast["range_axis_m"]
     mod = params.make_modulation(args.modulation)
     probe = nmse_probe(num, geo, scn, constellation(mod).points(), params.make_filter(args.filter),
-                       args.snr_db, k, reference_input=True, lines_per_aperture=lines,
-                       symbols_per_aperture=symbols)
+                       args.snr_db, k, probe_config(reference_input=True, lines_per_aperture=lines,
+                                                    symbols_per_aperture=symbols))
     def tag(key, value):
         return gr.tag_utils.python_to_tag((0, pmt.intern(key), value, pmt.PMT_F))
 

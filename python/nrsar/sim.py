@@ -31,7 +31,8 @@ from gnuradio import blocks, fft, gr
 from . import params
 from . import progress
 from .nrsar_python import (constellation, focuser_config, doppler_band, nmse_probe, nr_isac_tx,
-                           range_ifft, rd_focuser, scene_echo, srs_config, tag_keys, tf_filter)
+                           probe_config, range_ifft, rd_focuser, scene_echo, srs_config, tag_keys,
+                           tf_filter)
 from .nrsar_python import cheby_presum, presum_domain, presum_method
 
 MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
@@ -307,9 +308,13 @@ def build_chain(tb, num, geo, scn, args, symbols, tx=None, echo_front=scene_echo
     ones = blocks.vector_source_c([1.0 + 0.0j] * n, True, n)
     tff_ref = tf_filter(n, filter_type, args.snr_db, False)
     k = foc.num_output_bins()  # guard: the image's bins (the crop minus the guard bins)
+    # One aperture with zeros around it (linear correlation unless overlap_lines = 0): the
+    # probe normalises its lines to full correlation windows of the processed band (SPEC 8).
     probe = nmse_probe(num, geo, scn, constellation(modulation).points(), filter_type,
-                       args.snr_db, k, reference_input=True,
-                       symbols_per_aperture=symbols)
+                       args.snr_db, k, probe_config(
+                           reference_input=True, symbols_per_aperture=symbols,
+                           band_lo_hz=foc.band_lo_hz(), band_hi_hz=foc.band_hi_hz(),
+                           zero_padded=cfg.overlap_lines != 0))
     if getattr(args, "images", "keep") == "none":  # stress: metrics only
         range_sink = blocks.null_sink(gr.sizeof_gr_complex * rif.num_bins())
         image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
@@ -531,12 +536,17 @@ def image_results(args, chain, num, geo, scn, warnings, symbols, pulse_symbols, 
     }
     if chain["presum"] is not None:
         result["warnings"] += list(chain["presum"].warnings())
-    for key in ("nmse_db", "nmse_theory_db", "pel_db", "snr_out_db", "islr_db", "pslr_db",
+    metrics["nmse_minus_theory_band_db"] = metrics.get("nmse_db", math.nan) - metrics.get(
+        "nmse_theory_band_db", math.nan)
+    for key in ("nmse_db", "nmse_theory_db", "nmse_theory_band_db", "nmse_minus_theory_band_db",
+                "pel_db", "snr_out_db", "islr_db", "pslr_db",
                 "irw_range_m", "irw_azimuth_m", "peak_error_m"):
         value = metrics.get(key, float("nan"))
         result[key] = value if math.isfinite(value) else None  # JSON has no NaN
     if MODES[args.mode][0] != "data":
-        result["nmse_theory_db"] = None  # SPEC 8's theory is that of data-aided grids
+        # SPEC 8's theory is that of data-aided grids
+        result["nmse_theory_db"] = result["nmse_theory_band_db"] = None
+        result["nmse_minus_theory_band_db"] = None
     # stress: after the images are written, so the .npy/.png step counts too
     result["peak_rss_mb"] = peak_rss_mb()
     return result
