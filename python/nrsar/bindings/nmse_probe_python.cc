@@ -21,6 +21,7 @@
 namespace py = pybind11;
 
 #include <gnuradio/nrsar/kernel/filter_theory.h>
+#include <gnuradio/nrsar/kernel/image_metrics.h>
 #include <gnuradio/nrsar/nmse_probe.h>
 // pydoc.h is automatically generated in the build directory
 #include <nmse_probe_pydoc.h>
@@ -120,6 +121,23 @@ void bind_nmse_probe(py::module& m)
         .def("metrics", &nmse_probe::metrics, "All values of the latest aperture (dict)")
         .def("apertures", &nmse_probe::apertures, "Apertures evaluated so far")
         .def("nonfinite_count", &nmse_probe::nonfinite_count, "Non-finite input samples zeroed");
+
+    m.def("strip_pixel_weights",
+          &gr::nrsar::kernel::strip_pixel_weights,
+          py::arg("lines"),
+          py::arg("bins"),
+          py::arg("y0_m"),
+          py::arg("dy_m"),
+          py::arg("r0_m"),
+          py::arg("dr_m"),
+          py::arg("data_lo_m"),
+          py::arg("data_hi_m"),
+          py::arg("band_lo_hz"),
+          py::arg("band_hi_hz"),
+          py::arg("wavelength_m"),
+          py::arg("velocity_mps"),
+          "Per-pixel weights W / s (lines x bins, row-major) of the NMSE of a zero-padded "
+          "aperture (kernel::strip_pixel_weights, SPEC section 8)");
 
     m.def("nmse_theory_db",
           &gr::nrsar::kernel::nmse_theory_db,
