@@ -142,14 +142,6 @@ nmse_probe_impl::nmse_probe_impl(const numerology& num,
         throw_param("lines_per_aperture * vlen",
                     std::uint64_t(cfg.lines_per_aperture) * vlen,
                     "must be at most 2^28 (one aperture is buffered)");
-    const double f_max = 2.0 * geo.velocity_mps / geo.wavelength_m();
-    if (std::abs(cfg.band_lo_hz) >= f_max)
-        throw_param("band_lo_hz", cfg.band_lo_hz,
-                    "must lie within +-2 v / lambda = " + std::to_string(f_max) + " Hz");
-    if (std::abs(cfg.band_hi_hz) >= f_max)
-        throw_param("band_hi_hz", cfg.band_hi_hz,
-                    "must lie within +-2 v / lambda = " + std::to_string(f_max) + " Hz");
-
     // B_target: the reference target's Doppler over the aperture, Ka Ta for a target seen
     // all along the track (eq. (8) exactly, as compute_extent takes the scene's band).
     d_target_band_hz =

@@ -398,9 +398,12 @@ TEST(ImageMetrics, StripPixelWeightsFollowTheWindowsSupport)
     EXPECT_THROW(kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, 100.0, 10.0,
                                              10.0, lambda, v),
                  std::invalid_argument);
-    EXPECT_THROW(kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, 100.0, 0.0,
-                                             2 * v / lambda, lambda, v),
-                 std::invalid_argument);
+    // the full PRF (24 kHz, far beyond 2 v / lambda = 1167 Hz) maps parabolically: windows of
+    // r f lambda / (2 v) metres, longer than the pulses, so every line holds all of them
+    const auto full = kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, 100.0,
+                                                  -12e3, 12e3, lambda, v);
+    for (std::size_t k = 0; k < bins; ++k)
+        EXPECT_NEAR(full[50 * bins + k], (r0 + k) * 24e3 * lambda / (2 * v) / 100.0, 1e-3) << k;
     EXPECT_THROW(kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 5.0, 5.0, f_lo,
                                              f_hi, lambda, v),
                  std::invalid_argument);

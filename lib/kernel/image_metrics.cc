@@ -248,19 +248,21 @@ std::vector<float> strip_pixel_weights(std::size_t lines,
     check_finite("dr_m", dr_m);
     if (bins > 0)
         check_finite_positive("slant range of the last bin", r0_m + (bins - 1.0) * dr_m);
-    const double f_max = 2.0 * velocity_mps / wavelength_m; // Doppler of a target at endfire
-    if (!(std::abs(band_lo_hz) < f_max))
-        throw_param("band_lo_hz", band_lo_hz, "must lie within +-2 v / lambda = " + std::to_string(f_max));
-    if (!(std::abs(band_hi_hz) < f_max))
-        throw_param("band_hi_hz", band_hi_hz, "must lie within +-2 v / lambda = " + std::to_string(f_max));
+    check_finite("band_lo_hz", band_lo_hz);
+    check_finite("band_hi_hz", band_hi_hz);
     if (!(band_hi_hz > band_lo_hz))
         throw_param("band_hi_hz", band_hi_hz, "must be > band_lo_hz = " + std::to_string(band_lo_hz));
     if (!(data_hi_m > data_lo_m) || !std::isfinite(data_lo_m) || !std::isfinite(data_hi_m))
         throw_param("data_hi_m", data_hi_m, "must be finite and > data_lo_m = " + std::to_string(data_lo_m));
-    // (y - y_p) / r of Doppler f: f = 2 v d / (lambda sqrt(r^2 + d^2)) solved for d.
+    // (y - y_p) / r of Doppler f: f = 2 v d / (lambda sqrt(r^2 + d^2)) solved for d. A band
+    // reaching (fl / (2 v))^2 >= 0.99 (towards endfire, e.g. the full PRF) maps parabolically,
+    // eq. (40), as the focuser's migration does there.
+    const double f_max = 2.0 * velocity_mps / wavelength_m; // Doppler of a target at endfire
+    const double a_edge = std::max(std::abs(band_lo_hz), std::abs(band_hi_hz)) / f_max;
+    const bool hyperbolic = a_edge * a_edge < 0.99;
     const auto c = [&](double f) {
         const double a = f / f_max;
-        return f * wavelength_m / (2.0 * velocity_mps * std::sqrt(1.0 - a * a));
+        return f * wavelength_m / (2.0 * velocity_mps) / (hyperbolic ? std::sqrt(1.0 - a * a) : 1.0);
     };
     const double c_lo = c(band_lo_hz), c_hi = c(band_hi_hz);
     std::vector<float> w(lines * bins, 0.0f);

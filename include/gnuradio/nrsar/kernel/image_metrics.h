@@ -145,14 +145,16 @@ NRSAR_API std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
  * line m (along-track position y = y0 + m dy) and range bin k (closest-approach slant range
  * r = r0 + k dr) with the pulses taken at platform positions y_p whose Doppler
  * 2 v (y - y_p) / (lambda sqrt(r^2 + (y - y_p)^2)) lies in the band (stationary phase):
- * y - y_p in [r c(f_lo), r c(f_hi)], c(f) = f lambda / (2 v sqrt(1 - (f lambda / (2 v))^2)).
+ * y - y_p in [r c(f_lo), r c(f_hi)], c(f) = f lambda / (2 v sqrt(1 - (f lambda / (2 v))^2))
+ * (f lambda / (2 v) for every f when a band edge has (f lambda / (2 v))^2 >= 0.99, the
+ * focuser's parabolic fallback, eq. (40)).
  * Of that window, W = r (c(f_hi) - c(f_lo)) long, only the part s within [data_lo_m,
  * data_hi_m] holds pulses, and the pixel's noise and data-randomness power scale with s
  * (circular processing: with W). Returns lines x bins weights (row-major) W / s where
  * s >= min(W, data_hi_m - data_lo_m) / 2, 0 elsewhere (pixels holding less than half the
  * pulses of the bin's best-covered line; no weight exceeds 2 W / min(W, span)).
- * Throws std::invalid_argument for an empty band, a band edge at or beyond 2 v / lambda, an
- * empty data span, or a bin at a slant range <= 0.
+ * Throws std::invalid_argument for an empty or non-finite band, an empty data span, or a
+ * bin at a slant range <= 0.
  */
 NRSAR_API std::vector<float> strip_pixel_weights(std::size_t lines,
                                                  std::size_t bins,
