@@ -24,6 +24,12 @@ from gnuradio.nrsar import params, sim, theory
 from gnuradio.nrsar.bench_rd_focuser import numpy_focus
 
 C = 299792458.0
+# Sampling error (1 sigma) of one run's NMSE in the SNR sweep's scenario (tiny, 1 s, 21 range
+# bins, B_p = 73 Hz): measured over seeds 1-8, NMSE - nmse_theory_band_db scatters by 0.18 /
+# 0.14 / 0.12 dB (WF 0 dB / RF 20 dB / MF 40 dB) about means of +0.01 / +0.01 / +0.14 dB. The
+# count of K B_p Ta = 1533 independent pixels alone predicts 0.11 dB; the weights (up to 1.6)
+# and the calibration c_hat drawn from the same data lower the effective count.
+SAMPLING_SIGMA_DB = 0.18
 
 
 def parse(argv):
@@ -182,22 +188,18 @@ class qa_stress(gr_unittest.TestCase):
         print(f"\nSNR_in -20..80 dB: NMSE - theory with the band term = {median:.2f} dB "
               f"(median), spread {spread:.2f} dB; " +
               ", ".join(f"{f}{s}:{o:+.2f}" for (f, s), o in sorted(offsets.items())))
-        # One run's NMSE is a mean over about K B_p Ta independent pixels (K range bins,
-        # B_p Ta Doppler cells): 1 sigma = 10 log10(1 + 1 / sqrt(K B_p Ta)), 0.11 dB here.
         # The target is focused without loss (bin centre, broadside, TBP 57), so every offset
         # lies within 3 sigma of the floor, on either side (RF at +80 dB too: no float32
-        # floor above the theory's -74 dB).
-        k = m["nmse_pixels"] / m["lines"]
-        sigma = 10 * math.log10(1 + 1 / math.sqrt(k * m["processed_band_hz"] * 1.0))
+        # floor above the theory's -74 dB); sigma: SAMPLING_SIGMA_DB.
         for key, offset in offsets.items():
-            self.assertLess(abs(offset), 3 * sigma, key)
+            self.assertLess(abs(offset), 3 * SAMPLING_SIGMA_DB, key)
 
     def test_zero_padded_nmse_equals_the_circular_focusing(self):
         """Issue 13: the zero-padded aperture's NMSE, every pixel normalised to a full
         correlation window (kernel::strip_pixel_weights), against the same run focused
         circularly (overlap_lines = 0: every window full, plain mean, no weights). Same data,
-        same noise, two focusings: equal within the sampling error of the 1533 independent
-        pixels (3 sigma = 0.33 dB); the plain mean of before read 2.6 dB lower."""
+        same noise, two focusings: equal within 3 sigma of one run's sampling error
+        (SAMPLING_SIGMA_DB); the plain mean of before read 2.6 dB lower."""
         num = params.make_numerology("tiny")
         r0 = 13 * num.range_bin_m(num.fft_size)
         x = math.sqrt(r0 ** 2 - params.make_geometry("paper").height_m ** 2)
@@ -210,9 +212,7 @@ class qa_stress(gr_unittest.TestCase):
         print(f"\nWF 0 dB, 1 s: NMSE zero-padded (normalised) {linear['nmse_db']:.3f} dB, "
               f"circular {circular['nmse_db']:.3f} dB, theory with the band term "
               f"{linear['nmse_theory_band_db']:.3f} dB")
-        k = linear["nmse_pixels"] / linear["lines"]
-        sigma = 10 * math.log10(1 + 1 / math.sqrt(k * linear["processed_band_hz"] * 1.0))
-        self.assertLess(abs(linear["nmse_db"] - circular["nmse_db"]), 3 * sigma)
+        self.assertLess(abs(linear["nmse_db"] - circular["nmse_db"]), 3 * SAMPLING_SIGMA_DB)
 
     # -- tiny constellation points --------------------------------------------------
     def test_tiny_points_rf_is_exact_down_to_the_empty_floor(self):
