@@ -52,41 +52,47 @@ nmse_probe::sptr nmse_probe::make(const numerology& num,
                                   filter_type filter,
                                   double snr_in_db,
                                   unsigned vlen,
-                                  bool reference_input,
-                                  unsigned lines_per_aperture,
-                                  std::uint64_t symbols_per_aperture,
-                                  unsigned num_subcarriers,
-                                  double range_resolution_m,
-                                  double azimuth_resolution_m,
-                                  double noise_guard_cells,
-                                  const std::vector<double>& noise_box,
-                                  double sidelobe_window_cells)
+                                  const probe_config& cfg)
 {
-    return gnuradio::make_block_sptr<nmse_probe_impl>(num,
-                                                      geo,
-                                                      scn,
-                                                      constellation,
-                                                      filter,
-                                                      snr_in_db,
-                                                      vlen,
-                                                      reference_input,
-                                                      lines_per_aperture,
-                                                      symbols_per_aperture,
-                                                      num_subcarriers,
-                                                      range_resolution_m,
-                                                      azimuth_resolution_m,
-                                                      noise_guard_cells,
-                                                      noise_box,
-                                                      sidelobe_window_cells);
+    return gnuradio::make_block_sptr<nmse_probe_impl>(
+        num, geo, scn, constellation, filter, snr_in_db, vlen, cfg);
+}
+
+void probe_config::validate() const
+{
+    const auto nonneg = [](const char* name, double v) {
+        if (!std::isfinite(v) || v < 0.0)
+            throw_param(name, v, "must be finite and >= 0");
+    };
+    nonneg("range_resolution_m", range_resolution_m);
+    nonneg("azimuth_resolution_m", azimuth_resolution_m);
+    nonneg("noise_guard_cells", noise_guard_cells);
+    nonneg("sidelobe_window_cells", sidelobe_window_cells);
+    if (sidelobe_window_cells > 0.0 && sidelobe_window_cells < 2.0)
+        throw_param("sidelobe_window_cells", sidelobe_window_cells, "must be 0 (whole cut) or >= 2");
+    if (!noise_box.empty()) {
+        if (noise_box.size() != 4)
+            throw_param("noise_box size", noise_box.size(), "must be 0 or 4 (r_min, r_max, y_min, y_max)");
+        for (double v : noise_box)
+            check_finite("noise_box value", v);
+        if (!(noise_box[1] > noise_box[0]))
+            throw_param("noise_box r_max", noise_box[1], "must be > r_min = " + std::to_string(noise_box[0]));
+        if (!(noise_box[3] > noise_box[2]))
+            throw_param("noise_box y_max", noise_box[3], "must be > y_min = " + std::to_string(noise_box[2]));
+    }
+    check_finite("band_lo_hz", band_lo_hz);
+    check_finite("band_hi_hz", band_hi_hz);
+    if ((band_lo_hz != 0.0 || band_hi_hz != 0.0) && !(band_hi_hz > band_lo_hz))
+        throw_param("band_hi_hz", band_hi_hz,
+                    "must be > band_lo_hz = " + std::to_string(band_lo_hz) + " (both 0: unknown)");
 }
 
 namespace {
-// Validation helpers run in the member initialisers, before anything is stored.
-double checked_nonneg(const std::string& name, double v)
+// Validates before anything is stored (member initialiser).
+const probe_config& validated(const probe_config& cfg)
 {
-    if (!std::isfinite(v) || v < 0.0)
-        throw_param(name, v, "must be finite and >= 0");
-    return v;
+    cfg.validate();
+    return cfg;
 }
 
 double closest_range(const geometry& geo, const point_target& t)
@@ -102,19 +108,11 @@ nmse_probe_impl::nmse_probe_impl(const numerology& num,
                                  filter_type filter,
                                  double snr_in_db,
                                  unsigned vlen,
-                                 bool reference_input,
-                                 unsigned lines_per_aperture,
-                                 std::uint64_t symbols_per_aperture,
-                                 unsigned num_subcarriers,
-                                 double range_resolution_m,
-                                 double azimuth_resolution_m,
-                                 double noise_guard_cells,
-                                 const std::vector<double>& noise_box,
-                                 double sidelobe_window_cells)
+                                 const probe_config& cfg)
     : gr::sync_block(
           "nmse_probe",
-          gr::io_signature::make(reference_input ? 2 : 1,
-                                 reference_input ? 2 : 1,
+          gr::io_signature::make(cfg.reference_input ? 2 : 1,
+                                 cfg.reference_input ? 2 : 1,
                                  sizeof(gr_complex) * check_at_least("vlen", vlen, 4u)),
           gr::io_signature::make(0, 0, 0)),
       d_num(num),
@@ -124,17 +122,11 @@ nmse_probe_impl::nmse_probe_impl(const numerology& num,
       d_filter(filter),
       d_snr_in_db(snr_in_db),
       d_vlen(vlen),
-      d_reference_input(reference_input),
-      d_lines_param(lines_per_aperture),
-      d_nm(static_cast<double>(num_subcarriers ? num_subcarriers : num.num_subcarriers) *
-           static_cast<double>(symbols_per_aperture ? symbols_per_aperture
-                                                    : geo.symbols_per_aperture(num))),
-      d_subcarriers(num_subcarriers ? num_subcarriers : num.num_subcarriers),
-      d_range_res_m(checked_nonneg("range_resolution_m", range_resolution_m)),
-      d_azimuth_res_m(checked_nonneg("azimuth_resolution_m", azimuth_resolution_m)),
-      d_guard_cells(checked_nonneg("noise_guard_cells", noise_guard_cells)),
-      d_noise_box(noise_box),
-      d_window_cells(checked_nonneg("sidelobe_window_cells", sidelobe_window_cells))
+      d_cfg(validated(cfg)),
+      d_nm(static_cast<double>(cfg.num_subcarriers ? cfg.num_subcarriers : num.num_subcarriers) *
+           static_cast<double>(cfg.symbols_per_aperture ? cfg.symbols_per_aperture
+                                                        : geo.symbols_per_aperture(num))),
+      d_subcarriers(cfg.num_subcarriers ? cfg.num_subcarriers : num.num_subcarriers)
 {
     num.validate();
     geo.validate();
@@ -146,22 +138,14 @@ nmse_probe_impl::nmse_probe_impl(const numerology& num,
     kernel::nmse_theory_db(d_constellation, d_filter, d_snr_in_db);
     if (!(d_nm >= 1.0))
         throw_param("symbols_per_aperture", geo.symbols_per_aperture(num), "must be at least 1");
-    if (sidelobe_window_cells > 0.0 && sidelobe_window_cells < 2.0)
-        throw_param("sidelobe_window_cells", sidelobe_window_cells, "must be 0 (whole cut) or >= 2");
-    if (!noise_box.empty()) {
-        if (noise_box.size() != 4)
-            throw_param("noise_box size", noise_box.size(), "must be 0 or 4 (r_min, r_max, y_min, y_max)");
-        for (double v : noise_box)
-            check_finite("noise_box value", v);
-        if (!(noise_box[1] > noise_box[0]))
-            throw_param("noise_box r_max", noise_box[1], "must be > r_min = " + std::to_string(noise_box[0]));
-        if (!(noise_box[3] > noise_box[2]))
-            throw_param("noise_box y_max", noise_box[3], "must be > y_min = " + std::to_string(noise_box[2]));
-    }
-    if (lines_per_aperture && std::uint64_t(lines_per_aperture) * vlen > max_pixels)
+    if (cfg.lines_per_aperture && std::uint64_t(cfg.lines_per_aperture) * vlen > max_pixels)
         throw_param("lines_per_aperture * vlen",
-                    std::uint64_t(lines_per_aperture) * vlen,
+                    std::uint64_t(cfg.lines_per_aperture) * vlen,
                     "must be at most 2^28 (one aperture is buffered)");
+    // B_target: the reference target's Doppler over the aperture, Ka Ta for a target seen
+    // all along the track (eq. (8) exactly, as compute_extent takes the scene's band).
+    d_target_band_hz =
+        compute_extent(geo, scene{ { scn.targets.front() } }).doppler_bandwidth_hz();
 
     message_port_register_out(metrics_port());
     set_tag_propagation_policy(TPP_DONT);
@@ -219,7 +203,7 @@ void nmse_probe_impl::open_aperture(std::uint64_t index)
     d_aaxis_fresh = false;
     d_ap_raxis = d_raxis;
     d_ap_aaxis = d_aaxis;
-    d_capacity = d_lines_param ? d_lines_param : d_aaxis.count;
+    d_capacity = d_cfg.lines_per_aperture ? d_cfg.lines_per_aperture : d_aaxis.count;
     d_aperture = index;
     d_lines_in = 0;
     d_nonfinite_ap = 0;
@@ -242,10 +226,10 @@ void nmse_probe_impl::finish_aperture(bool partial)
     const double dy = d_ap_aaxis.step, y0 = d_ap_aaxis.first;
     const double R0 = closest_range(d_geo, target);
     // Resolution cells: c / (2 N Delta f) (48) and lambda R0 / (2 v Ta) = v / Ba (49).
-    const double rho_r = d_range_res_m > 0.0
-                             ? d_range_res_m
+    const double rho_r = d_cfg.range_resolution_m > 0.0
+                             ? d_cfg.range_resolution_m
                              : speed_of_light / (2.0 * d_subcarriers * d_num.subcarrier_spacing_hz);
-    const double rho_a = d_azimuth_res_m > 0.0 ? d_azimuth_res_m
+    const double rho_a = d_cfg.azimuth_resolution_m > 0.0 ? d_cfg.azimuth_resolution_m
                                                : d_geo.wavelength_m() * R0 /
                                                      (2.0 * d_geo.velocity_mps * d_geo.aperture_s);
 
@@ -253,7 +237,7 @@ void nmse_probe_impl::finish_aperture(bool partial)
     cfg.nm_factor = d_nm;
     cfg.range_res_bins = rho_r / std::abs(dr);
     cfg.azimuth_res_lines = rho_a / std::abs(dy);
-    cfg.sidelobe_window_cells = d_window_cells;
+    cfg.sidelobe_window_cells = d_cfg.sidelobe_window_cells;
     // Other targets on a cut through the reference (within 2 cells across it) bound that
     // cut's sidelobe window at half their distance: their main lobes are not sidelobes.
     for (std::size_t q = 1; q < d_scene.targets.size(); ++q) {
@@ -269,7 +253,7 @@ void nmse_probe_impl::finish_aperture(bool partial)
     const double exp_bin = (R0 - r0) / dr;
     const double exp_line = (target.y_m - y0) / dy;
 
-    if (!d_reference_input) {
+    if (!d_cfg.reference_input) {
         // eq. (47) with chi = 1 at the true position; ramps of off-centre bands from the data.
         const auto pk = kernel::find_peak(d_img.data(), lines, bins, exp_line, exp_bin,
                                           cfg.search_cells * cfg.azimuth_res_lines,
@@ -289,27 +273,51 @@ void nmse_probe_impl::finish_aperture(bool partial)
     std::vector<std::uint8_t> bin_mask(bins, 1), line_mask(lines, 1);
     for (std::size_t k = 0; k < bins; ++k) {
         const double r = r0 + k * dr;
-        if (!d_noise_box.empty()) {
-            bin_mask[k] = r >= d_noise_box[0] && r <= d_noise_box[1];
+        if (!d_cfg.noise_box.empty()) {
+            bin_mask[k] = r >= d_cfg.noise_box[0] && r <= d_cfg.noise_box[1];
         } else {
             for (const auto& t : d_scene.targets)
-                if (std::abs(r - closest_range(d_geo, t)) <= d_guard_cells * rho_r)
+                if (std::abs(r - closest_range(d_geo, t)) <= d_cfg.noise_guard_cells * rho_r)
                     bin_mask[k] = 0;
         }
     }
-    if (!d_noise_box.empty())
+    if (!d_cfg.noise_box.empty())
         for (std::size_t m = 0; m < lines; ++m) {
             const double y = y0 + m * dy;
-            line_mask[m] = y >= d_noise_box[2] && y <= d_noise_box[3];
+            line_mask[m] = y >= d_cfg.noise_box[2] && y <= d_cfg.noise_box[3];
         }
 
+    // SPEC 8: the NMSE's mean over pixels that each carry a whole correlation window's noise
+    // and data randomness. A zero-padded aperture's pixels hold fewer pulses near its ends,
+    // and far bins (longer windows) fewer than near ones: normalise each pixel. Aperture i's
+    // pulses span track_start + [i, i + 1) M dy.
+    const bool band_known = d_cfg.band_hi_hz > d_cfg.band_lo_hz;
+    std::vector<float> weights;
+    if (band_known && d_cfg.zero_padded) {
+        const double span = static_cast<double>(d_capacity) * dy;
+        const double data0 = d_geo.track_start_m + static_cast<double>(d_aperture) * span;
+        weights = kernel::strip_pixel_weights(lines, bins, y0, dy, r0, dr,
+                                              std::min(data0, data0 + span),
+                                              std::max(data0, data0 + span), d_cfg.band_lo_hz,
+                                              d_cfg.band_hi_hz, d_geo.wavelength_m(),
+                                              d_geo.velocity_mps);
+    }
     const auto res = d_kernel.compute(d_img.data(), d_ref.data(), lines, bins, exp_line,
-                                      exp_bin, cfg, bin_mask.data(), line_mask.data());
+                                      exp_bin, cfg, bin_mask.data(), line_mask.data(),
+                                      weights.empty() ? nullptr : weights.data());
     // SPEC 8's theory is for one target. In a scene, every target's data-randomness
     // pedestal (rcs_q Var(chi)) and the noise (SNR_in is defined against the total RCS)
     // count against the reference target's peak: add 10 log10(total RCS / reference RCS).
     const double theory = kernel::nmse_theory_db(d_constellation, d_filter, d_snr_in_db) +
                           10.0 * std::log10(d_scene.total_rcs() / target.rcs);
+    // Band occupancy: noise and data randomness fill the processed band B_p, the target's
+    // energy only its own B_t; the reference (same band) peaks with min(B_p, B_t), so the
+    // NMSE rises by B_p / B_t for a wider band and by B_t / B_p for a narrower one.
+    const double band_hz = d_cfg.band_hi_hz - d_cfg.band_lo_hz;
+    const double theory_band =
+        band_known && d_target_band_hz > 0.0
+            ? theory + std::abs(10.0 * std::log10(band_hz / d_target_band_hz))
+            : nan_v;
 
     // Peak position: slant range -> ground range on the target's side of the track.
     const double r_pk = r0 + res.peak_bin * dr;
@@ -325,6 +333,10 @@ void nmse_probe_impl::finish_aperture(bool partial)
     m["nonfinite"] = static_cast<double>(d_nonfinite_ap);
     m["nmse_db"] = res.nmse_db;
     m["nmse_theory_db"] = theory;
+    m["nmse_theory_band_db"] = theory_band;
+    m["nmse_pixels"] = static_cast<double>(res.nmse_pixels);
+    m["processed_band_hz"] = band_known ? band_hz : nan_v;
+    m["target_band_hz"] = d_target_band_hz;
     m["pel_db"] = res.pel_db;
     m["c_hat_re"] = res.c_hat.real();
     m["c_hat_im"] = res.c_hat.imag();
@@ -358,7 +370,7 @@ void nmse_probe_impl::finish_aperture(bool partial)
     for (const auto& kv : m) {
         pmt::pmt_t v;
         if (kv.first == "aperture" || kv.first == "lines" || kv.first == "nonfinite" ||
-            kv.first == "noise_pixels")
+            kv.first == "noise_pixels" || kv.first == "nmse_pixels")
             v = pmt::from_uint64(static_cast<std::uint64_t>(kv.second));
         else if (kv.first == "partial")
             v = pmt::from_bool(partial);
@@ -389,7 +401,7 @@ int nmse_probe_impl::work(int noutput_items,
 {
     gr::thread::scoped_lock guard(d_setlock);
     const auto* img = static_cast<const gr_complex*>(input_items[0]);
-    const auto* ref = d_reference_input ? static_cast<const gr_complex*>(input_items[1]) : nullptr;
+    const auto* ref = d_cfg.reference_input ? static_cast<const gr_complex*>(input_items[1]) : nullptr;
     const std::uint64_t base = nitems_read(0);
 
     std::vector<gr::tag_t> tags;
@@ -431,7 +443,7 @@ int nmse_probe_impl::work(int noutput_items,
         if (new_aperture && d_open)
             finish_aperture(true); // an aperture tag before the previous one was complete
         if (!d_open) {
-            const std::uint64_t lines = d_lines_param ? d_lines_param : d_aaxis.count;
+            const std::uint64_t lines = d_cfg.lines_per_aperture ? d_cfg.lines_per_aperture : d_aaxis.count;
             const bool ready = d_raxis.known && d_aaxis.known && lines > 0 &&
                                lines * d_vlen <= max_pixels;
             if (!ready) {

@@ -32,15 +32,10 @@ private:
     filter_type d_filter;
     double d_snr_in_db;
     const unsigned d_vlen;
-    const bool d_reference_input;
-    const unsigned d_lines_param;
+    const probe_config d_cfg;
     const double d_nm;               // N M
     const double d_subcarriers;      // N
-    const double d_range_res_m;
-    const double d_azimuth_res_m;
-    const double d_guard_cells;
-    const std::vector<double> d_noise_box;
-    const double d_window_cells;
+    double d_target_band_hz = 0.0;   // B_target: the reference target's Doppler band
 
     // state of the aperture being buffered
     kernel::image_metrics d_kernel;
@@ -74,18 +69,12 @@ public:
                     filter_type filter,
                     double snr_in_db,
                     unsigned vlen,
-                    bool reference_input,
-                    unsigned lines_per_aperture,
-                    std::uint64_t symbols_per_aperture,
-                    unsigned num_subcarriers,
-                    double range_resolution_m,
-                    double azimuth_resolution_m,
-                    double noise_guard_cells,
-                    const std::vector<double>& noise_box,
-                    double sidelobe_window_cells);
+                    const probe_config& cfg);
     ~nmse_probe_impl() override;
 
     bool stop() override;
+
+    probe_config config() const override { return d_cfg; }
 
     void set_snr_in_db(double snr_in_db) override;
     double snr_in_db() const override;
@@ -94,6 +83,7 @@ public:
 
     double nmse_db() const override { return metric("nmse_db"); }
     double nmse_theory_db() const override { return metric("nmse_theory_db"); }
+    double nmse_theory_band_db() const override { return metric("nmse_theory_band_db"); }
     double pel_db() const override { return metric("pel_db"); }
     double snr_out_db() const override { return metric("snr_out_db"); }
     double islr_db() const override { return metric("islr_db"); }

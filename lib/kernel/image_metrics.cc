@@ -5,6 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "../param_check.h"
 #include <gnuradio/nrsar/kernel/image_metrics.h>
 #include <volk/volk.h>
 #include <algorithm>
@@ -226,6 +227,59 @@ std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
     return { ml, kb };
 }
 
+std::vector<float> strip_pixel_weights(std::size_t lines,
+                                       std::size_t bins,
+                                       double y0_m,
+                                       double dy_m,
+                                       double r0_m,
+                                       double dr_m,
+                                       double data_lo_m,
+                                       double data_hi_m,
+                                       double band_lo_hz,
+                                       double band_hi_hz,
+                                       double wavelength_m,
+                                       double velocity_mps)
+{
+    check_finite_positive("wavelength_m", wavelength_m);
+    check_finite_positive("velocity_mps", velocity_mps);
+    check_finite("y0_m", y0_m);
+    check_finite("dy_m", dy_m);
+    check_finite_positive("r0_m", r0_m);
+    check_finite("dr_m", dr_m);
+    if (bins > 0)
+        check_finite_positive("slant range of the last bin", r0_m + (bins - 1.0) * dr_m);
+    check_finite("band_lo_hz", band_lo_hz);
+    check_finite("band_hi_hz", band_hi_hz);
+    if (!(band_hi_hz > band_lo_hz))
+        throw_param("band_hi_hz", band_hi_hz, "must be > band_lo_hz = " + std::to_string(band_lo_hz));
+    if (!(data_hi_m > data_lo_m) || !std::isfinite(data_lo_m) || !std::isfinite(data_hi_m))
+        throw_param("data_hi_m", data_hi_m, "must be finite and > data_lo_m = " + std::to_string(data_lo_m));
+    // (y - y_p) / r of Doppler f: f = 2 v d / (lambda sqrt(r^2 + d^2)) solved for d. A band
+    // reaching (fl / (2 v))^2 >= 0.99 (towards endfire, e.g. the full PRF) maps parabolically,
+    // eq. (40), as the focuser's migration does there.
+    const double f_max = 2.0 * velocity_mps / wavelength_m; // Doppler of a target at endfire
+    const double a_edge = std::max(std::abs(band_lo_hz), std::abs(band_hi_hz)) / f_max;
+    const bool hyperbolic = a_edge * a_edge < 0.99;
+    const auto c = [&](double f) {
+        const double a = f / f_max;
+        return f * wavelength_m / (2.0 * velocity_mps) / (hyperbolic ? std::sqrt(1.0 - a * a) : 1.0);
+    };
+    const double c_lo = c(band_lo_hz), c_hi = c(band_hi_hz);
+    std::vector<float> w(lines * bins, 0.0f);
+    for (std::size_t k = 0; k < bins; ++k) {
+        const double r = r0_m + static_cast<double>(k) * dr_m;
+        const double u_lo = r * c_lo, u_hi = r * c_hi, window = u_hi - u_lo;
+        const double best = std::min(window, data_hi_m - data_lo_m);
+        for (std::size_t m = 0; m < lines; ++m) {
+            const double y = y0_m + static_cast<double>(m) * dy_m;
+            const double s = std::min(y - u_lo, data_hi_m) - std::max(y - u_hi, data_lo_m);
+            if (s >= 0.5 * best)
+                w[m * bins + k] = static_cast<float>(window / s);
+        }
+    }
+    return w;
+}
+
 std::size_t zero_nonfinite(gr_complex* data, std::size_t n)
 {
     std::size_t count = 0;
@@ -365,14 +419,14 @@ metrics_result image_metrics::compute(const gr_complex* img,
                                       double expected_bin,
                                       const metrics_config& cfg,
                                       const std::uint8_t* bin_mask,
-                                      const std::uint8_t* line_mask)
+                                      const std::uint8_t* line_mask,
+                                      const float* pixel_weight)
 {
     metrics_result res;
     if (lines == 0 || bins == 0) {
         res.pel_db = res.nmse = res.nmse_db = res.snr_out_db = res.islr_db = res.pslr_db = nan_v;
         return res;
     }
-    const std::size_t pixels = lines * bins;
 
     // Calibration factor c_hat and max |ref|^2 (SPEC section 8).
     res.c_hat = calibration_factor(img, ref, lines, bins);
@@ -393,7 +447,7 @@ metrics_result image_metrics::compute(const gr_complex* img,
     // times |c_hat|^2, the residual img - c_hat ref whose mean over the noise region is
     // the noise power (the reference's own sidelobes removed).
     double err_all = 0.0, err_region = 0.0;
-    std::size_t region_pixels = 0;
+    std::size_t region_pixels = 0, nmse_pixels = 0;
     if (cabs2 > 0.0) {
         const std::complex<double> inv = 1.0 / res.c_hat;
         const lv_32fc_t invf(static_cast<float>(inv.real()), static_cast<float>(inv.imag()));
@@ -408,21 +462,30 @@ metrics_result image_metrics::compute(const gr_complex* img,
             const bool line_in = !line_mask || line_mask[mline];
             double s_all = 0.0, s_reg = 0.0;
             std::size_t n_reg = 0;
+            const float* wl = pixel_weight ? pixel_weight + mline * bins : nullptr;
             for (std::size_t k = 0; k < bins; ++k) {
-                s_all += pw[k];
+                if (!wl) {
+                    s_all += pw[k];
+                } else if (wl[k] > 0.0f) {
+                    s_all += static_cast<double>(wl[k]) * pw[k];
+                    ++nmse_pixels;
+                }
                 if (line_in && (!bin_mask || bin_mask[k])) {
                     s_reg += pw[k];
                     ++n_reg;
                 }
             }
             err_all += s_all;
+            if (!wl)
+                nmse_pixels += bins;
             err_region += s_reg;
             region_pixels += n_reg;
         }
-        res.nmse = cfg.nm_factor * (err_all / pixels) / ref_max;
+        res.nmse = nmse_pixels ? cfg.nm_factor * (err_all / nmse_pixels) / ref_max : nan_v;
     } else {
         res.nmse = nan_v;
     }
+    res.nmse_pixels = nmse_pixels;
     res.nmse_db = db10(res.nmse);
     if (cabs2 > 0.0 && ref_max > 0.0 && res.nmse == 0.0)
         res.nmse_db = -std::numeric_limits<double>::infinity();

@@ -31,7 +31,8 @@ from gnuradio import blocks, fft, gr
 
 from . import params, progress, recording, results, runtime, scenario
 from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_config,
-                           nmse_probe, nr_isac_tx, presum_config, presum_domain, range_ifft,
+                           nmse_probe, nr_isac_tx, presum_config, presum_domain, probe_config,
+                           range_ifft,
                            rd_focuser, scene_echo, tf_filter, bp_config, bp_focuser)
 from .options import check_out_dir
 from .scenario import fft_size_of
@@ -186,10 +187,15 @@ class imaging_chain(gr.hier_block2):
         tff = tf_filter(n, filter_type, opts.snr_db, opts.estimate_snr)
         tff.set_constant_modulus_path(opts.cm_path == "on")
         tff.set_threads(opts.filter_threads)
+        # One aperture with zeros around it (linear correlation unless overlap_lines = 0):
+        # the probe normalises its lines to full correlation windows of the processed band
+        # (SPEC 8).
         probe = nmse_probe(num, geo, scn,
                            constellation(params.make_modulation(opts.modulation)).points(),
-                           filter_type, opts.snr_db, k, reference_input=reference,
-                           symbols_per_aperture=sc.symbols)
+                           filter_type, opts.snr_db, k, probe_config(
+                               reference_input=reference, symbols_per_aperture=sc.symbols,
+                               band_lo_hz=foc.band_lo_hz(), band_hi_hz=foc.band_hi_hz(),
+                               zero_padded=cfg.overlap_lines != 0))
         self.connect((self, 0), (tff, 0))
         self.connect((self, 1), (tff, 1))
         filters = [tff]

@@ -33,8 +33,13 @@ namespace nrsar {
  * the stream: reported as partial), computes
  *
  *  - c_hat = <ref, img> / <ref, ref>, pel_db = -20 log10 |c_hat|;
- *  - nmse_db: N M mean|img / c_hat - ref|^2 / max|ref|^2, mean over the image pixels;
+ *  - nmse_db: N M mean|img / c_hat - ref|^2 / max|ref|^2, mean over the image pixels (for a
+ *    zero-padded aperture with a known band: over the pixels holding at least half the pulses
+ *    of their bin's best-covered line, each normalised to a full correlation window, SPEC
+ *    section 8, docs/accuracy.md);
  *  - nmse_theory_db: (Var(chi) + E|g|^2 / SNR_in) / E{chi}^2 over the constellation;
+ *  - nmse_theory_band_db: that plus |10 log10(B_processed / B_target)|, B_target the
+ *    reference target's own Doppler band over the aperture (compute_extent);
  *  - snr_out_db: peak power over the mean power of img - c_hat ref in the noise region;
  *  - islr_db, pslr_db, irw_range_m, irw_azimuth_m from 1-D cuts through the peak,
  *    interpolated to >= 16 samples per resolution cell;
@@ -49,6 +54,44 @@ namespace nrsar {
  * Results go out as a PMT dict on message port "metrics" and are readable by getters.
  * Non-finite input samples are zeroed, counted, and logged once per aperture.
  */
+/*!
+ * \brief Options of nmse_probe (everything besides the scenario, the theory's constellation,
+ * filter and SNR_in, and the vector length).
+ */
+struct NRSAR_API probe_config {
+    //! true: input 1 carries the reference image; false: the PSF model of eq. (47).
+    bool reference_input = false;
+    unsigned lines_per_aperture = 0;         //!< lines per aperture; 0: from the azimuth axis tag
+    std::uint64_t symbols_per_aperture = 0;  //!< M_tx of the N M factor; 0: geo.symbols_per_aperture(num)
+    //! N of the N M factor and of the range Dirichlet kernel; 0: num.num_subcarriers.
+    unsigned num_subcarriers = 0;
+    double range_resolution_m = 0.0;   //!< range cell [m]; 0: c / (2 N Delta f)
+    double azimuth_resolution_m = 0.0; //!< azimuth cell [m]; 0: lambda R0 / (2 v Ta)
+    //! Noise region (when noise_box is empty): range bins farther than this many range cells
+    //! from every target's closest-approach slant range (>= 0).
+    double noise_guard_cells = 10.0;
+    //! Noise region as {r_min, r_max, y_min, y_max} [m] (slant range, along-track), or empty.
+    std::vector<double> noise_box;
+    double sidelobe_window_cells = 20.0; //!< ISLR/PSLR window half-width in cells; 0: whole cut
+    /*!
+     * Doppler band the focuser processed [Hz] (rd_focuser band_lo_hz() / band_hi_hz()); both
+     * 0: unknown (nmse_theory_band_db is then NaN and every line counts in the NMSE).
+     */
+    double band_lo_hz = 0.0;
+    double band_hi_hz = 0.0;
+    /*!
+     * true: each aperture was focused from its own pulses with zeros before and after (linear
+     * correlation, nrsar-sim's single aperture), so pixels near its ends hold fewer pulses;
+     * with a known band the NMSE then normalises every pixel to a full correlation window
+     * (kernel::strip_pixel_weights). false: every pixel's window is full (circular focusing,
+     * overlap_lines = 0, or the inner apertures of a stream).
+     */
+    bool zero_padded = false;
+
+    //! Throws std::invalid_argument naming the field, its value and the limit.
+    void validate() const;
+};
+
 class NRSAR_API nmse_probe : virtual public gr::sync_block
 {
 public:
@@ -58,26 +101,16 @@ public:
      * \param num Numerology: subcarrier spacing (range resolution of the PSF model) and the
      *        default N.
      * \param geo Geometry: height (closest-approach slant range sqrt(x^2 + H^2)), carrier,
-     *        speed and aperture time (azimuth resolution lambda R0 / (2 v Ta) of the PSF model),
-     *        and the default M_tx.
+     *        speed and aperture time (azimuth resolution lambda R0 / (2 v Ta) of the PSF model,
+     *        the reference target's own Doppler band), and the default M_tx.
      * \param scn Scene; targets[0] is the reference target, every target is kept out of the
      *        noise region.
      * \param constellation Constellation points (E|s|^2 = 1), each equally likely, for the theory.
      * \param filter Per-RE filter (RF, MF, WF) for the theory value.
      * \param snr_in_db SNR_in [dB] for the theory value (and WF's g).
      * \param vlen Range bins per image line K (>= 4).
-     * \param reference_input true: input 1 carries the reference image; false: PSF model.
-     * \param lines_per_aperture Lines per aperture; 0 = from the azimuth axis tag.
-     * \param symbols_per_aperture M_tx of the N M factor; 0 = geo.symbols_per_aperture(num).
-     * \param num_subcarriers N of the N M factor and of the range Dirichlet kernel;
-     *        0 = num.num_subcarriers.
-     * \param range_resolution_m Range cell [m]; 0 = c / (2 N Delta f).
-     * \param azimuth_resolution_m Azimuth cell [m]; 0 = lambda R0 / (2 v Ta).
-     * \param noise_guard_cells Noise region (when noise_box is empty): range bins farther than
-     *        this many range cells from every target's closest-approach slant range (>= 0).
-     * \param noise_box Noise region as {r_min, r_max, y_min, y_max} [m] (slant range,
-     *        along-track), or empty.
-     * \param sidelobe_window_cells ISLR/PSLR window half-width in resolution cells; 0 = whole cut.
+     * \param cfg options (probe_config: reference input, N M, resolutions, noise region,
+     *        sidelobe window, processed band, zero padding)
      */
     static sptr make(const numerology& num,
                      const geometry& geo,
@@ -86,15 +119,9 @@ public:
                      filter_type filter,
                      double snr_in_db,
                      unsigned vlen,
-                     bool reference_input = false,
-                     unsigned lines_per_aperture = 0,
-                     std::uint64_t symbols_per_aperture = 0,
-                     unsigned num_subcarriers = 0,
-                     double range_resolution_m = 0.0,
-                     double azimuth_resolution_m = 0.0,
-                     double noise_guard_cells = 10.0,
-                     const std::vector<double>& noise_box = std::vector<double>(),
-                     double sidelobe_window_cells = 20.0);
+                     const probe_config& cfg = probe_config());
+
+    virtual probe_config config() const = 0;
 
     //! Changes SNR_in of the theory value (takes effect at the next aperture).
     virtual void set_snr_in_db(double snr_in_db) = 0;
@@ -106,6 +133,8 @@ public:
     //! Latest values (NaN before the first aperture).
     virtual double nmse_db() const = 0;
     virtual double nmse_theory_db() const = 0;
+    //! nmse_theory_db + |10 log10(B_processed / B_target)| (NaN without a processed band).
+    virtual double nmse_theory_band_db() const = 0;
     virtual double pel_db() const = 0;
     virtual double snr_out_db() const = 0;
     virtual double islr_db() const = 0;

@@ -19,7 +19,7 @@ import pmt
 from gnuradio import blocks, gr
 
 from . import benchutil
-from ..nrsar_python import nmse_probe, tag_keys
+from ..nrsar_python import nmse_probe, probe_config, tag_keys
 from ..params import make_filter, make_geometry, make_numerology, make_scene
 
 C = 299792458.0
@@ -122,7 +122,8 @@ def run(quick=False):
     probes = []
 
     def build(tb, n_items):
-        probe = nmse_probe(num, geo, scn, consts, make_filter("mf"), 5.0, bins, reference_input=True)
+        probe = nmse_probe(num, geo, scn, consts, make_filter("mf"), 5.0, bins,
+                           probe_config(reference_input=True))
         tb.connect(blocks.vector_source_c(flat_img, False, bins, tags), (probe, 0))
         tb.connect(blocks.vector_source_c(flat_ref, False, bins), (probe, 1))
         probes.append(probe)

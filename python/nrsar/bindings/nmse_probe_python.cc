@@ -21,13 +21,70 @@
 namespace py = pybind11;
 
 #include <gnuradio/nrsar/kernel/filter_theory.h>
+#include <gnuradio/nrsar/kernel/image_metrics.h>
 #include <gnuradio/nrsar/nmse_probe.h>
 // pydoc.h is automatically generated in the build directory
 #include <nmse_probe_pydoc.h>
 
 void bind_nmse_probe(py::module& m)
 {
+    using gr::nrsar::probe_config;
     using nmse_probe = gr::nrsar::nmse_probe;
+
+    py::class_<probe_config>(m, "probe_config", "Options of nmse_probe")
+        .def(py::init([](bool reference_input,
+                         unsigned lines_per_aperture,
+                         std::uint64_t symbols_per_aperture,
+                         unsigned num_subcarriers,
+                         double range_resolution_m,
+                         double azimuth_resolution_m,
+                         double noise_guard_cells,
+                         const std::vector<double>& noise_box,
+                         double sidelobe_window_cells,
+                         double band_lo_hz,
+                         double band_hi_hz,
+                         bool zero_padded) {
+                 probe_config c;
+                 c.reference_input = reference_input;
+                 c.lines_per_aperture = lines_per_aperture;
+                 c.symbols_per_aperture = symbols_per_aperture;
+                 c.num_subcarriers = num_subcarriers;
+                 c.range_resolution_m = range_resolution_m;
+                 c.azimuth_resolution_m = azimuth_resolution_m;
+                 c.noise_guard_cells = noise_guard_cells;
+                 c.noise_box = noise_box;
+                 c.sidelobe_window_cells = sidelobe_window_cells;
+                 c.band_lo_hz = band_lo_hz;
+                 c.band_hi_hz = band_hi_hz;
+                 c.zero_padded = zero_padded;
+                 return c;
+             }),
+             py::arg("reference_input") = false,
+             py::arg("lines_per_aperture") = 0u,
+             py::arg("symbols_per_aperture") = std::uint64_t(0),
+             py::arg("num_subcarriers") = 0u,
+             py::arg("range_resolution_m") = 0.0,
+             py::arg("azimuth_resolution_m") = 0.0,
+             py::arg("noise_guard_cells") = 10.0,
+             py::arg("noise_box") = std::vector<double>(),
+             py::arg("sidelobe_window_cells") = 20.0,
+             py::arg("band_lo_hz") = 0.0,
+             py::arg("band_hi_hz") = 0.0,
+             py::arg("zero_padded") = false,
+             "probe_config with every field as a keyword (defaults as in C++)")
+        .def_readwrite("reference_input", &probe_config::reference_input)
+        .def_readwrite("lines_per_aperture", &probe_config::lines_per_aperture)
+        .def_readwrite("symbols_per_aperture", &probe_config::symbols_per_aperture)
+        .def_readwrite("num_subcarriers", &probe_config::num_subcarriers)
+        .def_readwrite("range_resolution_m", &probe_config::range_resolution_m)
+        .def_readwrite("azimuth_resolution_m", &probe_config::azimuth_resolution_m)
+        .def_readwrite("noise_guard_cells", &probe_config::noise_guard_cells)
+        .def_readwrite("noise_box", &probe_config::noise_box)
+        .def_readwrite("sidelobe_window_cells", &probe_config::sidelobe_window_cells)
+        .def_readwrite("band_lo_hz", &probe_config::band_lo_hz)
+        .def_readwrite("band_hi_hz", &probe_config::band_hi_hz)
+        .def_readwrite("zero_padded", &probe_config::zero_padded)
+        .def("validate", &probe_config::validate);
 
     py::class_<nmse_probe, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<nmse_probe>>(
         m, "nmse_probe", D(nmse_probe))
@@ -40,16 +97,9 @@ void bind_nmse_probe(py::module& m)
              py::arg("filter"),
              py::arg("snr_in_db"),
              py::arg("vlen"),
-             py::arg("reference_input") = false,
-             py::arg("lines_per_aperture") = 0,
-             py::arg("symbols_per_aperture") = 0,
-             py::arg("num_subcarriers") = 0,
-             py::arg("range_resolution_m") = 0.0,
-             py::arg("azimuth_resolution_m") = 0.0,
-             py::arg("noise_guard_cells") = 10.0,
-             py::arg("noise_box") = std::vector<double>(),
-             py::arg("sidelobe_window_cells") = 20.0,
+             py::arg("cfg") = probe_config(),
              D(nmse_probe, make))
+        .def("config", &nmse_probe::config)
 
         .def("set_snr_in_db", &nmse_probe::set_snr_in_db, py::arg("snr_in_db"),
              "SNR_in [dB] of the theory value, from the next aperture on")
@@ -59,6 +109,8 @@ void bind_nmse_probe(py::module& m)
         .def("filter", &nmse_probe::filter)
         .def("nmse_db", &nmse_probe::nmse_db, "Latest calibrated NMSE [dB] (NaN before the first aperture)")
         .def("nmse_theory_db", &nmse_probe::nmse_theory_db, "Latest theory NMSE [dB]")
+        .def("nmse_theory_band_db", &nmse_probe::nmse_theory_band_db,
+             "Latest theory NMSE plus the band-occupancy term |10 log10(B_p / B_t)| [dB]")
         .def("pel_db", &nmse_probe::pel_db, "Latest peak energy loss -20 log10|c_hat| [dB]")
         .def("snr_out_db", &nmse_probe::snr_out_db, "Latest output SNR [dB]")
         .def("islr_db", &nmse_probe::islr_db, "Latest ISLR of the two cuts pooled [dB]")
@@ -69,6 +121,23 @@ void bind_nmse_probe(py::module& m)
         .def("metrics", &nmse_probe::metrics, "All values of the latest aperture (dict)")
         .def("apertures", &nmse_probe::apertures, "Apertures evaluated so far")
         .def("nonfinite_count", &nmse_probe::nonfinite_count, "Non-finite input samples zeroed");
+
+    m.def("strip_pixel_weights",
+          &gr::nrsar::kernel::strip_pixel_weights,
+          py::arg("lines"),
+          py::arg("bins"),
+          py::arg("y0_m"),
+          py::arg("dy_m"),
+          py::arg("r0_m"),
+          py::arg("dr_m"),
+          py::arg("data_lo_m"),
+          py::arg("data_hi_m"),
+          py::arg("band_lo_hz"),
+          py::arg("band_hi_hz"),
+          py::arg("wavelength_m"),
+          py::arg("velocity_mps"),
+          "Per-pixel weights W / s (lines x bins, row-major) of the NMSE of a zero-padded "
+          "aperture (kernel::strip_pixel_weights, SPEC section 8)");
 
     m.def("nmse_theory_db",
           &gr::nrsar::kernel::nmse_theory_db,

@@ -65,8 +65,8 @@ from gnuradio import blocks, gr
 
 from .. import chain, params, results, runtime, scenario
 from ..options import PRESUM, SimOptions, option
-from ..nrsar_python import (constellation, focuser_config, nmse_probe,
-                           nr_isac_tx, rd_focuser, tag_keys)
+from ..nrsar_python import (constellation, focuser_config, nmse_probe, nr_isac_tx, probe_config,
+                            rd_focuser, strip_pixel_weights, tag_keys)
 
 C = 299792458.0
 COLS = 128        # subcarriers per column block of the work files
@@ -351,11 +351,11 @@ def run_fast(opts):
     return fast, img, ref
 
 
-def interior_nmse_db(img, ref, nm, edge):
+def interior_nmse_db(img, ref, nm, edge, weights):
     """SPEC 8 NMSE in float64 on the range bins at least `edge` bins from the crop edges
     (where the fast RCMC's kernel reads zeros beyond the crop)."""
     return nmse64_db(img[:, edge:-edge].astype(np.complex128),
-                     ref[:, edge:-edge].astype(np.complex128), nm)
+                     ref[:, edge:-edge].astype(np.complex128), nm, weights[:, edge:-edge])
 
 
 def probe_metrics(opts, num, geo, scn, symbols, img, ref, az_first, az_step, fast):
@@ -363,9 +363,12 @@ def probe_metrics(opts, num, geo, scn, symbols, img, ref, az_first, az_step, fas
     lines, k = img.shape
     first, rho = fast["range_axis_m"]
     mod = params.make_modulation(opts.modulation)
+    band_lo, band_hi = fast["doppler_band_hz"]  # as nrsar-sim's probe: one zero-padded aperture
     probe = nmse_probe(num, geo, scn, constellation(mod).points(), params.make_filter(opts.filter),
-                       opts.snr_db, k, reference_input=True, lines_per_aperture=lines,
-                       symbols_per_aperture=symbols)
+                       opts.snr_db, k, probe_config(reference_input=True, lines_per_aperture=lines,
+                                                    symbols_per_aperture=symbols,
+                                                    band_lo_hz=band_lo, band_hi_hz=band_hi,
+                                                    zero_padded=True))
     def tag(key, value):
         return gr.tag_utils.python_to_tag((0, pmt.intern(key), value, pmt.PMT_F))
 
@@ -383,11 +386,24 @@ def probe_metrics(opts, num, geo, scn, symbols, img, ref, az_first, az_step, fas
     return {key: float(val) for key, val in probe.metrics().items()}
 
 
-def nmse64_db(img, ref, nm):
+def strip_weights(geo, shape, az_first, az_step, fast):
+    """The probe's per-pixel NMSE weights of a zero-padded aperture (SPEC 8) for an image of
+    `shape` on the fast image's range axis and band."""
+    lines, k = shape
+    first, rho = fast["range_axis_m"]
+    w = strip_pixel_weights(lines, k, az_first, az_step, first, rho, geo.track_start_m,
+                            geo.track_start_m + lines * az_step, *fast["doppler_band_hz"],
+                            geo.wavelength_m(), geo.velocity_mps)
+    return np.asarray(w, np.float64).reshape(shape)
+
+
+def nmse64_db(img, ref, nm, weights):
     """SPEC 8's calibrated NMSE in float64 numpy (cross-check of the probe on the float64
-    image)."""
+    image): the weighted mean over the pixels of non-zero weight."""
     c = np.vdot(ref, img) / np.vdot(ref, ref)
-    return 10 * math.log10(nm * np.mean(np.abs(img / c - ref) ** 2) / np.max(np.abs(ref)) ** 2)
+    err = np.abs(img / c - ref) ** 2
+    return 10 * math.log10(nm * np.sum(weights * err) / np.count_nonzero(weights) /
+                           np.max(np.abs(ref)) ** 2)
 
 
 def run(argv=None):
@@ -430,18 +446,22 @@ def run(argv=None):
     nm = num.num_subcarriers * symbols
     met = probe_metrics(opts, num, geo, scn, symbols, images["img"], images["ref"],
                         info["azimuth_first_m"], info["line_m"], fast)
-    met["nmse64_db"] = nmse64_db(images["img"], images["ref"], nm)
+    w_double = strip_weights(geo, images["img"].shape, info["azimuth_first_m"], info["line_m"],
+                             fast)
+    met["nmse64_db"] = nmse64_db(images["img"], images["ref"], nm, w_double)
     results.write_npy(os.path.join(opts.out, "image_double.npy"), images["img"])
     results.write_npy(os.path.join(opts.out, "reference_double.npy"), images["ref"])
     # float64 NMSE of both images on the whole window and on the interior range bins
     img_fast = np.load(os.path.join(opts.work, "fast_img.npy"))
     ref_fast = np.load(os.path.join(opts.work, "fast_ref.npy"))
     edge = int(math.ceil(info["max_migration_bins"])) + opts.rcmc_taps // 2
+    w_fast = strip_weights(geo, img_fast.shape, *fast["azimuth_axis_m"], fast)
     result["nmse64_db"] = {
-        "fast": nmse64_db(img_fast.astype(np.complex128), ref_fast.astype(np.complex128), nm),
+        "fast": nmse64_db(img_fast.astype(np.complex128), ref_fast.astype(np.complex128), nm,
+                          w_fast),
         "double": met["nmse64_db"], "interior_edge_bins": edge,
-        "fast_interior": interior_nmse_db(img_fast, ref_fast, nm, edge),
-        "double_interior": interior_nmse_db(images["img"], images["ref"], nm, edge)}
+        "fast_interior": interior_nmse_db(img_fast, ref_fast, nm, edge, w_fast),
+        "double_interior": interior_nmse_db(images["img"], images["ref"], nm, edge, w_double)}
     del img_fast, ref_fast
     t4 = time.perf_counter()
     if not opts.keep_work:

@@ -149,7 +149,7 @@ class scenario:
     def probe(self, reference_input, filt="mf", snr_db=5.0, **kw):
         return nrsar.nmse_probe(self.num, self.geo, self.scn, list(qam256().astype(np.complex64)),
                                 nrsar.make_filter(filt), snr_db, self.bins,
-                                reference_input=reference_input, **kw)
+                                nrsar.probe_config(reference_input=reference_input, **kw))
 
     def noise_mask(self, guard=10.0):
         r = self.r_first + np.arange(self.bins) * self.dr
@@ -364,8 +364,10 @@ class qa_nmse_probe(gr_unittest.TestCase):
             ref = np.fft.ifft2(steer * g_of(np.ones_like(s)), norm="ortho")
             tb = gr.top_block()
             probe = nrsar.nmse_probe(sc.num, sc.geo, sc.scn, list(pts.astype(np.complex64)),
-                                     nrsar.make_filter(filt), snr_db, n_sub, reference_input=True,
-                                     symbols_per_aperture=lines, num_subcarriers=n_sub)
+                                     nrsar.make_filter(filt), snr_db, n_sub,
+                                     nrsar.probe_config(reference_input=True,
+                                                        symbols_per_aperture=lines,
+                                                        num_subcarriers=n_sub))
             run(tb, sc, probe, [img], [ref])
             got = probe.metrics()
             img32, ref32 = (x.astype(np.complex64).astype(complex) for x in (img, ref))
@@ -383,8 +385,9 @@ class qa_nmse_probe(gr_unittest.TestCase):
         sc = scenario()
         args = dict(num=sc.num, geo=sc.geo, scn=sc.scn, constellation=list(qam256()),
                     filter=nrsar.filter_type.MF, snr_in_db=5.0, vlen=96)
-        args.update(kw)
-        return nrsar.nmse_probe(**args)
+        args.update({k: v for k, v in kw.items() if k in args})
+        return nrsar.nmse_probe(**args, cfg=nrsar.probe_config(
+            **{k: v for k, v in kw.items() if k not in args}))
 
     def _bad(self, text, **kw):
         with self.assertRaises(ValueError) as cm:

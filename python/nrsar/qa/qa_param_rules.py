@@ -19,7 +19,7 @@ import numpy as np
 from gnuradio import fft, gr, gr_unittest
 from gnuradio import blocks
 from gnuradio import nrsar
-from gnuradio.nrsar import (cheby_presum, focuser_config, make_filter, make_geometry,
+from gnuradio.nrsar import (cheby_presum, focuser_config, probe_config, make_filter, make_geometry,
                             make_dmrs, make_modulation, make_numerology, make_scene, make_srs,
                             make_tx_mode, nmse_probe, nr_isac_tx, range_ifft, rd_focuser,
                             scene_echo, tf_filter)
@@ -88,8 +88,8 @@ def foc(n=None, g=None, s=None, k=16, first=900.0, rho=0.0, c=None):
 def probe(**kw):
     a = dict(num=num(), geo=geo(), scn=scn(), constellation=points(),
              filter=make_filter("wf"), snr_in_db=10.0, vlen=16)
-    a.update(kw)
-    return nmse_probe(**a)
+    a.update({k: v for k, v in kw.items() if k in a})
+    return nmse_probe(**a, cfg=probe_config(**{k: v for k, v in kw.items() if k not in a}))
 
 
 def presum(**kw):
@@ -321,6 +321,9 @@ RULES = [
     ("nmse_probe", "one aperture above 2^28 pixels",
      lambda: probe(vlen=2**16, lines_per_aperture=2**13), "lines_per_aperture * vlen"),
     ("nmse_probe", "empty scene", lambda: probe(scn=nrsar.scene([])), "scene has no targets"),
+    ("nmse_probe", "band NaN", lambda: probe(band_lo_hz=NAN), "band_lo_hz = nan"),
+    ("nmse_probe", "band_hi <= band_lo", lambda: probe(band_lo_hz=50.0, band_hi_hz=-50.0),
+     "band_hi_hz = -50 must be > band_lo_hz"),
     # cheby_presum
     ("cheby_presum", "D = 0", lambda: presum(decim=0), "decim = 0"),
     ("cheby_presum", "D beyond the eq. (P-36) bound", lambda: presum(decim=100000),

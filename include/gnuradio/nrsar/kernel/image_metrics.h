@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <memory>
 #include <utility>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -62,6 +63,7 @@ struct NRSAR_API metrics_result {
     double pel_db = 0.0;       //!< -20 log10 |c_hat|
     double nmse = 0.0;         //!< N M mean|img / c_hat - ref|^2 / max|ref|^2 (linear)
     double nmse_db = 0.0;
+    std::size_t nmse_pixels = 0; //!< pixels the NMSE's mean ran over (pixel_weight > 0)
     double peak_power = 0.0;   //!< |img|^2 at the interpolated 2-D peak
     double noise_power = 0.0;  //!< mean |img - c_hat ref|^2 over the noise region
     std::size_t noise_pixels = 0;
@@ -134,6 +136,39 @@ NRSAR_API std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
                                                         double half_lines,
                                                         double half_bins);
 
+/*!
+ * \brief Per-pixel weights that put the pixels of one linearly focused, zero-padded aperture
+ * on the footing of the paper's circular processing, or of a continuous strip (SPEC section
+ * 8: every pixel carries the noise of its whole correlation window).
+ *
+ * Azimuth compression over the Doppler band [band_lo_hz, band_hi_hz] correlates the pixel of
+ * line m (along-track position y = y0 + m dy) and range bin k (closest-approach slant range
+ * r = r0 + k dr) with the pulses taken at platform positions y_p whose Doppler
+ * 2 v (y - y_p) / (lambda sqrt(r^2 + (y - y_p)^2)) lies in the band (stationary phase):
+ * y - y_p in [r c(f_lo), r c(f_hi)], c(f) = f lambda / (2 v sqrt(1 - (f lambda / (2 v))^2))
+ * (f lambda / (2 v) for every f when a band edge has (f lambda / (2 v))^2 >= 0.99, the
+ * focuser's parabolic fallback, eq. (40)).
+ * Of that window, W = r (c(f_hi) - c(f_lo)) long, only the part s within [data_lo_m,
+ * data_hi_m] holds pulses, and the pixel's noise and data-randomness power scale with s
+ * (circular processing: with W). Returns lines x bins weights (row-major) W / s where
+ * s >= min(W, data_hi_m - data_lo_m) / 2, 0 elsewhere (pixels holding less than half the
+ * pulses of the bin's best-covered line; no weight exceeds 2 W / min(W, span)).
+ * Throws std::invalid_argument for an empty or non-finite band, an empty data span, or a
+ * bin at a slant range <= 0.
+ */
+NRSAR_API std::vector<float> strip_pixel_weights(std::size_t lines,
+                                                 std::size_t bins,
+                                                 double y0_m,
+                                                 double dy_m,
+                                                 double r0_m,
+                                                 double dr_m,
+                                                 double data_lo_m,
+                                                 double data_hi_m,
+                                                 double band_lo_hz,
+                                                 double band_hi_hz,
+                                                 double wavelength_m,
+                                                 double velocity_mps);
+
 //! Replaces non-finite samples by 0; returns how many there were.
 NRSAR_API std::size_t zero_nonfinite(gr_complex* data, std::size_t n);
 
@@ -159,6 +194,9 @@ public:
      * expected_line/expected_bin: where the target should be (peak search centre).
      * bin_mask/line_mask (bins / lines entries, non-zero = in the region) select the
      * target-free noise region as their outer product; nullptr = all bins / all lines.
+     * pixel_weight (lines x bins, >= 0; nullptr = all 1): the NMSE's mean runs over the
+     * pixels of non-zero weight, each pixel's error power times its weight
+     * (strip_pixel_weights).
      * Non-finite metrics (no noise pixel, reference all zero, ...) come back as NaN.
      */
     metrics_result compute(const gr_complex* img,
@@ -169,7 +207,8 @@ public:
                            double expected_bin,
                            const metrics_config& cfg,
                            const std::uint8_t* bin_mask = nullptr,
-                           const std::uint8_t* line_mask = nullptr);
+                           const std::uint8_t* line_mask = nullptr,
+                           const float* pixel_weight = nullptr);
 
     /*!
      * \brief IRW, PSLR, ISLR and sub-sample peak of one cut of n samples (stride apart).

@@ -15,4 +15,4 @@
 static const char* __doc_gr_nrsar_nmse_probe = R"doc(Point-target image metrics per focused aperture (SPEC section 8).)doc";
 
 
-static const char* __doc_gr_nrsar_nmse_probe_make = R"doc(nmse_probe(num, geo, scn, constellation, filter, snr_in_db, vlen, reference_input=False, lines_per_aperture=0, symbols_per_aperture=0, num_subcarriers=0, range_resolution_m=0, azimuth_resolution_m=0, noise_guard_cells=10, noise_box=[], sidelobe_window_cells=20))doc";
+static const char* __doc_gr_nrsar_nmse_probe_make = R"doc(nmse_probe(num, geo, scn, constellation, filter, snr_in_db, vlen, cfg=probe_config()))doc";
