@@ -202,7 +202,7 @@ class qa_stress(gr_unittest.TestCase):
         argv = ["--preset", "tiny", "--aperture-s", "1", "--target", f"{x},25", "--filter", "wf",
                 "--snr-db", "0", "--out", "/tmp"]
         linear = sim_metrics(argv)
-        with mock.patch.object(sim, "focuser_config",
+        with mock.patch.object(chain, "focuser_config",
                                lambda: nrsar.focuser_config(overlap_lines=0)):
             circular = sim_metrics(argv)
         print(f"\nWF 0 dB, 1 s: NMSE zero-padded (normalised) {linear['nmse_db']:.3f} dB, "
