@@ -21,10 +21,11 @@ cheby_presum::sptr cheby_presum::make(const numerology& num,
                                       unsigned num_bins,
                                       double first_range_m,
                                       double range_bin_m,
-                                      const kernel::presum_config& cfg)
+                                      const kernel::presum_config& cfg,
+                                      const trajectory& nav)
 {
     return gnuradio::make_block_sptr<cheby_presum_impl>(
-        kernel::cheby_presum(num, geo, scn, num_bins, first_range_m, range_bin_m, cfg));
+        kernel::cheby_presum(num, geo, scn, num_bins, first_range_m, range_bin_m, cfg, nav));
 }
 
 unsigned cheby_presum::max_decim(const numerology& num,

@@ -59,6 +59,8 @@ public:
     }
     std::vector<std::string> warnings() const override { return d_kernel.warnings(); }
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
+    bool follows_path() const override { return d_kernel.follows_path(); }
+    unsigned phase_segment() const override { return d_kernel.phase_segment(); }
 
     void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
     int general_work(int noutput_items,

@@ -26,11 +26,12 @@ rd_focuser::sptr rd_focuser::make(const numerology& num,
                                   unsigned num_range_bins,
                                   double first_range_m,
                                   double range_bin_m,
-                                  const focuser_config& cfg)
+                                  const focuser_config& cfg,
+                                  const trajectory& nav)
 {
     check_at_least("num_range_bins", num_range_bins, 1u); // before the io_signatures
     return gnuradio::make_block_sptr<rd_focuser_impl>(
-        num, geo, scn, num_range_bins, first_range_m, range_bin_m, cfg);
+        num, geo, scn, num_range_bins, first_range_m, range_bin_m, cfg, nav);
 }
 
 namespace {
@@ -60,7 +61,8 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
                                  unsigned num_range_bins,
                                  double first_range_m,
                                  double range_bin_m,
-                                 const focuser_config& cfg)
+                                 const focuser_config& cfg,
+                                 const trajectory& nav)
     : gr::block("rd_focuser",
                 gr::io_signature::make(1, 1, sizeof(gr_complex) * num_range_bins),
                 // out: the image; optional rd_map: the range-Doppler map after RCMC.
@@ -76,7 +78,8 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
                 cfg,
                 num.symbol_s() * cfg.symbols_per_pulse,
                 first_range_m,
-                d_ctor_range_bin)
+                d_ctor_range_bin,
+                nav)
 {
     log_warnings();
     // The output is a different domain (azimuth lines); the block places its own tags.

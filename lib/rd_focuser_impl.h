@@ -64,7 +64,8 @@ public:
                     unsigned num_range_bins,
                     double first_range_m,
                     double range_bin_m,
-                    const focuser_config& cfg);
+                    const focuser_config& cfg,
+                    const trajectory& nav);
     ~rd_focuser_impl() override;
 
     void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;

@@ -41,13 +41,17 @@ aperture_focuser::aperture_focuser(const numerology& num,
                                    const focuser_config& cfg,
                                    double pulse_interval_s,
                                    double first_range_m,
-                                   double range_bin_m)
+                                   double range_bin_m,
+                                   const trajectory& nav)
     : d_num(num), d_geo(geo), d_scn(scn), d_cfg(cfg), d_K(num_range_bins)
 {
     check_at_least("num_range_bins", num_range_bins, 1u);
     d_geo.validate();
     d_scn.validate();
     d_cfg.validate();
+    double y_ref = 0.0;
+    los_reference::scene_centre(d_geo, d_scn, y_ref, d_los_range);
+    d_los = std::make_shared<const los_reference>(d_geo, nav, y_ref);
     check_first_range(first_range_m);
     configure(pulse_interval_s, first_range_m, range_bin_m);
 }
@@ -202,6 +206,10 @@ void aperture_focuser::prepare()
                                     d_K,
                                     gib));
     d_kernel = std::make_unique<rd_focuser>(d_cfg, blk);
+    d_kernel->set_motion(d_los,
+                         d_geo.carrier_hz +
+                             0.5 * (d_num.num_subcarriers - 1.0) * d_num.subcarrier_spacing_hz,
+                         d_los_range);
 
     // Resize the input block (range-major: row k holds the P lines of range bin k, the
     // kernel's own layout), keeping the most recent lines (history and look-ahead).
@@ -290,6 +298,10 @@ void aperture_focuser::focus(bool with_rd_map)
         std::fill(&d_block[static_cast<size_t>(k) * P + d_fill],
                   &d_block[static_cast<size_t>(k) * P] + P,
                   gr_complex(0.0f, 0.0f));
+    // Slow time of the block's first line (motion compensation): aperture i's block starts
+    // at input line i M + (shift - before) with overlap, at i M without.
+    const long long o = (d_before + d_after == 0) ? 0 : d_line_shift - d_before;
+    d_kernel->set_block_start_s((static_cast<double>(d_aperture_start) + o) * d_T);
     // Only lines [before, before + M) of the block are valid output (overlap-save).
     if (with_rd_map) {
         // The map of this block: band bins x K (at most the FFT size).

@@ -28,6 +28,16 @@ double closest_range(const geometry& geo, const point_target& t)
 {
     return std::sqrt(t.x_m * t.x_m + geo.height_m * geo.height_m);
 }
+
+double scene_centre_y(const geometry& geo, const scene& scn)
+{
+    double y = 0.0, r0 = 0.0;
+    los_reference::scene_centre(geo, scn, y, r0);
+    return y;
+}
+
+constexpr double max_path_phase_error_rad = 1e-4; // linear interpolation within a segment
+constexpr unsigned max_segment = 64;
 } // namespace
 
 unsigned cheby_presum::max_decim(const numerology& num,
@@ -53,9 +63,10 @@ cheby_presum::cheby_presum(const numerology& num,
                            unsigned num_bins,
                            double first_range_m,
                            double range_bin_m,
-                           const presum_config& cfg)
+                           const presum_config& cfg,
+                           const trajectory& nav)
     : d_num(num), d_geo(geo), d_cfg(cfg), d_k(num_bins), d_first_m(first_range_m),
-      d_bin_m(range_bin_m)
+      d_bin_m(range_bin_m), d_los(geo, nav, scene_centre_y(geo, scn))
 {
     num.validate();
     geo.validate();
@@ -99,15 +110,7 @@ cheby_presum::cheby_presum(const numerology& num,
     }
 
     // Scene centre: along-track middle of the targets, middle of their closest ranges.
-    double ylo = INFINITY, yhi = -INFINITY, rlo = INFINITY, rhi = 0.0;
-    for (const auto& t : scn.targets) {
-        ylo = std::min(ylo, t.y_m);
-        yhi = std::max(yhi, t.y_m);
-        rlo = std::min(rlo, closest_range(geo, t));
-        rhi = std::max(rhi, closest_range(geo, t));
-    }
-    d_yc = 0.5 * (ylo + yhi);
-    d_rc0 = 0.5 * (rlo + rhi);
+    los_reference::scene_centre(geo, scn, d_yc, d_rc0);
     const scene_extent ext = compute_extent(geo, scn);
     d_fdc = 0.5 * (ext.min_doppler_hz + ext.max_doppler_hz);
     const double margin = 0.1 * ext.doppler_bandwidth_hz() + 2.0 / geo.aperture_s;
@@ -203,6 +206,9 @@ cheby_presum::cheby_presum(const numerology& num,
     d_row.assign(d_k, gr_complex(0.0f, 0.0f));
     d_z.assign(d_k, gr_complex(0.0f, 0.0f));
     d_w.assign(d_k, gr_complex(0.0f, 0.0f));
+    if (!d_los.ideal())
+        for (auto* r : { &d_ra, &d_rb, &d_rm, &d_rrow })
+            r->assign(d_k, 0.0);
     set_range_axis(first_range_m, range_bin_m);
 }
 
@@ -296,6 +302,10 @@ double cheby_presum::phase_frequency_hz(unsigned element) const
 
 double cheby_presum::ref_range(unsigned element, double t) const
 {
+    if (!d_los.ideal()) // the flown path: |p(t) - reference point|
+        return d_cfg.domain == presum_domain::RANGE
+                   ? d_los.range(t, d_first_m + element * d_bin_m)
+                   : d_los.range(t, d_rc0);
     // eq. (P-25): R(n, t) = sqrt(R0(n)^2 + (V t)^2), V t measured from the scene centre.
     const double u = d_geo.track_start_m + d_geo.velocity_mps * t - d_yc;
     const double r0sq = d_cfg.domain == presum_domain::RANGE ? d_r0sq[element] : d_rc0 * d_rc0;
@@ -313,7 +323,14 @@ void cheby_presum::phase_row(double t, bool conj, gr_complex* row) const
 {
     // exp(+-j 4 pi f R_ref(n, t) / c), phases formed in double (about 1.5e5 rad).
     const double sgn = conj ? -1.0 : 1.0;
-    if (d_cfg.domain == presum_domain::RANGE) {
+    if (d_cfg.domain == presum_domain::RANGE && !d_los.ideal()) {
+        const double k = 2.0 * two_pi * phase_frequency_hz(0) / speed_of_light;
+        path_ranges(t, d_rrow.data());
+        for (unsigned n = 0; n < d_k; ++n) {
+            const double ph = std::fmod(k * d_rrow[n], two_pi) * sgn;
+            row[n] = gr_complex(std::cos(ph), std::sin(ph));
+        }
+    } else if (d_cfg.domain == presum_domain::RANGE) {
         const double k = 2.0 * two_pi * phase_frequency_hz(0) / speed_of_light;
         for (unsigned n = 0; n < d_k; ++n) {
             const double ph = std::fmod(k * ref_range(n, t), two_pi) * sgn;
@@ -377,8 +394,57 @@ void cheby_presum::update_segment()
     d_seg_left = 0;
 }
 
+void cheby_presum::path_ranges(double t, double* r) const
+{
+    if (d_cfg.domain == presum_domain::RANGE)
+        d_los.ranges(t, d_first_m, d_bin_m, d_k, r);
+    else
+        r[0] = d_los.range(t, d_rc0);
+}
+
+void cheby_presum::start_path_segment(double t)
+{
+    // The flown range is no hyperbola: its curvature includes the platform's acceleration
+    // along the line of sight. The segment P is halved from 64 until the linear phase
+    // interpolation errs at most 1e-4 rad at its midpoint (the largest error of a locally
+    // quadratic phase) in every element, and ends within the path's span.
+    const unsigned n = d_cfg.domain == presum_domain::RANGE ? d_k : 1;
+    const double fmax = phase_frequency_hz(d_cfg.domain == presum_domain::TF ? d_k - 1 : 0);
+    const double kmax = 2.0 * two_pi * fmax / speed_of_light;
+    path_ranges(t, d_ra.data());
+    phase_row(t, false, d_z.data());
+    const double room = std::floor((d_los.path().end_s() - t) / d_t_in);
+    unsigned p = static_cast<unsigned>(std::clamp(room, 0.0, double(max_segment)));
+    if (p == 0) { // the path's last pulse interval: exact row, no recurrence
+        std::fill(d_w.begin(), d_w.end(), gr_complex(1.0f, 0.0f));
+        d_seg = d_seg_left = 1;
+        return;
+    }
+    for (;; p /= 2) {
+        path_ranges(t + p * d_t_in, d_rb.data());
+        path_ranges(t + 0.5 * p * d_t_in, d_rm.data());
+        double err = 0.0;
+        for (unsigned i = 0; i < n; ++i)
+            err = std::max(err, std::abs(d_rm[i] - 0.5 * (d_ra[i] + d_rb[i])));
+        if (kmax * err <= max_path_phase_error_rad || p == 1)
+            break;
+    }
+    const double k = 2.0 * two_pi / speed_of_light / p;
+    for (unsigned i = 0; i < d_k; ++i) {
+        const double dph = d_cfg.domain == presum_domain::RANGE
+                               ? k * phase_frequency_hz(0) * (d_rb[i] - d_ra[i])
+                               : k * phase_frequency_hz(i) * (d_rb[0] - d_ra[0]);
+        d_w[i] = gr_complex(std::cos(dph), std::sin(dph));
+    }
+    d_seg = d_seg_left = p;
+}
+
 void cheby_presum::start_segment(double t)
 {
+    if (!d_los.ideal()) {
+        start_path_segment(t);
+        return;
+    }
     // Exact rows at t; per-pulse rotation w = exp(+j dphi / P) with dphi the exact
     // (double) phase change over the segment: the phase is interpolated linearly, error
     // at most curvature P^2 / 8 (paper preset: 6e-7 rad per pulse^2 -> 3e-4 rad).

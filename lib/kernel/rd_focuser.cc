@@ -30,6 +30,8 @@ void focuser_config::validate() const
     check_range("rcmc_skip_below_bins", rcmc_skip_below_bins, 0.0, 1.0);
     if (!std::isnan(range_centre_cycles))
         check_range("range_centre_cycles", range_centre_cycles, -1.0, 1.0);
+    if (static_cast<int>(moco) < 0 || static_cast<int>(moco) > 2)
+        throw_param("moco", static_cast<int>(moco), "must be OFF, FIRST or SECOND");
     // The window and its parameter are checked by sinc_interpolator.
     kernel::sinc_interpolator(rcmc_taps, rcmc_window, rcmc_window_param, 1);
 }
@@ -152,6 +154,61 @@ double rd_focuser::compression_phase(unsigned k, double f_hz) const
     }
     // eq. (47): -pi f^2 / Ka, Ka = 2 v^2 / (lambda R0).
     return -M_PI * f_hz * f_hz * lambda * r0 / (2.0 * d_blk.velocity_mps * d_blk.velocity_mps);
+}
+
+void rd_focuser::set_motion(std::shared_ptr<const los_reference> los,
+                            double phase_frequency_hz,
+                            double ref_range_m)
+{
+    check_finite_positive("phase_frequency_hz", phase_frequency_hz);
+    check_finite("ref_range_m", ref_range_m);
+    d_los = std::move(los);
+    d_moco_f = phase_frequency_hz;
+    d_moco_ref = ref_range_m;
+}
+
+void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
+{
+    const unsigned K = d_blk.num_range_bins;
+    const unsigned P = d_blk.num_lines;
+    const double T = d_blk.pulse_interval_s, rho = d_blk.range_bin_m;
+    const double r_first = d_blk.first_range_m;
+    const double kf = 4.0 * M_PI * d_moco_f / speed_of_light;
+    d_moco.resize(static_cast<size_t>(K) * P);
+    d_moco_shift.resize(K);
+    d_moco_dr.resize(K);
+    d_moco_max_m = 0.0;
+    for (unsigned m = 0; m < P; ++m) {
+        const double t = d_t0 + m * T;
+        gr_complex* col = d_col.data();
+        for (unsigned k = 0; k < K; ++k)
+            col[k] = in[k * row_stride + m];
+        if (!d_los->covers(t)) { // before the stream or past a flush: zeros, left alone
+            for (unsigned k = 0; k < K; ++k)
+                d_moco[static_cast<size_t>(k) * P + m] = col[k];
+            continue;
+        }
+        // First order: the envelope moves by the reference range's displacement (a target
+        // at R + dR comes back to R) ...
+        const double dref = d_los->displacement(t, d_moco_ref);
+        d_moco_max_m = std::max(d_moco_max_m, std::abs(dref));
+        volk_32fc_x2_multiply_32fc(col, col, d_demod.data(), K);
+        std::fill(d_moco_shift.begin(), d_moco_shift.end(), static_cast<float>(dref / rho));
+        d_interp.resample(col, static_cast<int>(K), d_moco_shift.data(), d_col2.data());
+        // ... and its phase -4 pi f dR / c is removed, at the reference range (FIRST) or
+        // per bin (SECOND: the range-dependent residual too); the spectrum centre restored.
+        if (d_cfg.moco == moco_order::SECOND)
+            d_los->displacements(t, r_first, rho, K, d_moco_dr.data());
+        else
+            std::fill(d_moco_dr.begin(), d_moco_dr.end(), dref);
+        for (unsigned k = 0; k < K; ++k) {
+            const double ph = std::fmod(kf * d_moco_dr[k], 2.0 * M_PI);
+            const gr_complex c = std::conj(d_demod[k]) *
+                                 gr_complex(static_cast<float>(std::cos(ph)),
+                                            static_cast<float>(std::sin(ph)));
+            d_moco[static_cast<size_t>(k) * P + m] = d_col2[k] * c;
+        }
+    }
 }
 
 void rd_focuser::select_band()
@@ -340,6 +397,13 @@ void rd_focuser::focus_range_major(const gr_complex* in,
     const unsigned K = d_blk.num_range_bins;
     const unsigned P = d_blk.num_lines;
     const unsigned N = d_nfft;
+
+    // 0. Motion compensation from the navigation (a copy of the block).
+    if (moco_active()) {
+        compensate_motion(in, row_stride);
+        in = d_moco.data();
+        row_stride = P;
+    }
 
     // 1. Azimuth FFT of every range bin zero-padded to N, eq. (31). With a fixed band only
     //    the band bins of each spectrum are kept (band-major, B x K); the estimator needs the

@@ -33,7 +33,8 @@ from . import params, progress, recording, results, runtime, scenario
 from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_config,
                            nmse_probe, nr_isac_tx, presum_config, presum_domain, probe_config,
                            range_ifft,
-                           rd_focuser, scene_echo, tf_filter, bp_config, bp_focuser)
+                           rd_focuser, scene_echo, tf_filter, bp_config, bp_focuser,
+                           moco_order, trajectory)
 from .options import check_out_dir
 from .scenario import fft_size_of
 
@@ -85,6 +86,7 @@ def focuser_config_of(opts, sc, guard_bins):
     cfg.rcmc_taps = opts.rcmc_taps
     cfg.guard_bins = guard_bins
     cfg.lines_per_aperture = sc.symbols // cfg.symbols_per_pulse
+    cfg.moco = moco_order.SECOND if opts.moco == "on" else moco_order.OFF
     return cfg
 
 
@@ -141,6 +143,7 @@ class imaging_chain(gr.hier_block2):
         crop, guard = range_crop(opts, sc, nfft)
         cfg = focuser_config_of(opts, sc, guard)
         decim = opts.presum_factor()
+        nav = getattr(sc, "navigation", None) or trajectory()  # empty: the ideal line
 
         def range_and_focus():
             """(block taking the filtered TF pulses, range IFFT, focuser, presummer)"""
@@ -152,19 +155,19 @@ class imaging_chain(gr.hier_block2):
                                            lines_per_aperture=cfg.lines_per_aperture))
             else:
                 foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
-                                 rif.range_bin_m(), cfg)
+                                 rif.range_bin_m(), cfg, nav)
             if decim == 1:
                 return rif, rif, foc, None, [(rif, foc)]
             method = params.PRESUM_METHODS[opts.presum]
             if opts.presum_domain == "tf":  # presum the TF pulses, range-compress D x fewer
                 pre = cheby_presum(num, geo, scn, n, cfg=presum_config(
                     method=method, decim=decim, domain=presum_domain.TF,
-                    symbols_per_pulse=sc.pulse_symbols))
+                    symbols_per_pulse=sc.pulse_symbols), nav=nav)
                 return pre, rif, foc, pre, [(pre, rif, foc)]
             pre = cheby_presum(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                                rif.range_bin_m(), presum_config(
                                    method=method, decim=decim, domain=presum_domain.RANGE,
-                                   symbols_per_pulse=sc.pulse_symbols))
+                                   symbols_per_pulse=sc.pulse_symbols), nav)
             return rif, rif, foc, pre, [(rif, pre, foc)]
 
         entry, rif, foc, pre, paths = range_and_focus()

@@ -293,6 +293,9 @@ class SimOptions(_Options):
     focuser: str = option("rd", "image former, both branches: rd = range-Doppler (rd_focuser), "
                           "bp = time-domain back-projection along the ideal line (bp_focuser)",
                           choices=["rd", "bp"])
+    moco: str = option("on", "rd_focuser's motion compensation from the navigation (first and "
+                       "second order, docs/flight.md); a no-op on the ideal line, so 'on' "
+                       "changes no ideal-line output", choices=["on", "off"])
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "

@@ -194,6 +194,7 @@ def image_results(opts, chain, sc, runtime_s):
         "doppler_band_hz": [foc.band_lo_hz(), foc.band_hi_hz()],
         "rcmc_applied": bool(foc.rcmc_applied()) if opts.focuser == "rd" else False,
         "focuser": opts.focuser,
+        "moco": opts.moco,
         "nonfinite": chain["echo"].nonfinite_count() + chain["filter"].nonfinite_count(),
         "empty_res": chain["filter"].empty_re_count(),
         "warnings": warnings,

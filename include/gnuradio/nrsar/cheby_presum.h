@@ -50,6 +50,9 @@ public:
      *        compensation; FILTER_DROP: half the scene band; plus 10 % of the band + 2 / Ta),
      *        stopband edge (<= 0: PRF / (2 D)), Parks-McClellan stopband weight, input pulse
      *        interval in OFDM symbols: see kernel::presum_config
+     * \param nav navigation path (CHEBY): the compensation follows the line of sight from
+     *        it to the reference scatterers, pulse by pulse; empty (the default) or geo's
+     *        ideal line: the ideal line, with its phase tables
      */
     static sptr make(const numerology& num,
                      const geometry& geo,
@@ -57,7 +60,8 @@ public:
                      unsigned num_bins = 256,
                      double first_range_m = 0.0,
                      double range_bin_m = 1.0,
-                     const kernel::presum_config& cfg = kernel::presum_config());
+                     const kernel::presum_config& cfg = kernel::presum_config(),
+                     const trajectory& nav = trajectory());
 
     //! eq. (P-36) bound for these parameters.
     static unsigned max_decim(const numerology& num,
@@ -91,6 +95,10 @@ public:
     virtual double compensation_phase(unsigned element, double t_ref_s, double offset) const = 0;
     virtual std::vector<std::string> warnings() const = 0;
     virtual std::uint64_t nonfinite_count() const = 0;
+    //! Whether the compensation follows the navigation path (false: the ideal line).
+    virtual bool follows_path() const = 0;
+    //! Pulses between exact phase rows (the last segment's, with a path).
+    virtual unsigned phase_segment() const = 0;
 };
 
 } // namespace nrsar

@@ -22,6 +22,14 @@ enum class doppler_band {
     FULL      //!< every Doppler bin of the PRF (the explicit full-band option)
 };
 
+//! Motion compensation from the navigation before the azimuth FFT (docs/flight.md).
+enum class moco_order {
+    OFF,   //!< none: the pulses are focused as flown
+    FIRST, //!< per pulse, the line-of-sight displacement at the scene's reference range:
+           //!< its phase and its range (envelope) shift
+    SECOND //!< FIRST, and the range-dependent residual phase per range bin
+};
+
 /*!
  * \brief Processing options of the range-Doppler focuser (rd_focuser block and
  * kernel::rd_focuser). Plain values; validate() throws std::invalid_argument naming the
@@ -73,6 +81,12 @@ struct NRSAR_API focuser_config {
      * block outputs only the K - 2 g inner bins (range_axis tag moved by g bins). 0: none.
      */
     unsigned guard_bins = 0;
+    /*!
+     * Motion compensation from the navigation path given to the block (docs/flight.md).
+     * On the ideal line (no navigation) every order is a no-op and the output is unchanged,
+     * so SECOND is the default: a navigation, when given, is used.
+     */
+    moco_order moco = moco_order::SECOND;
 
     void validate() const;
 };

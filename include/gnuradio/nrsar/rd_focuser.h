@@ -12,6 +12,7 @@
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/focuser_config.h>
 #include <gnuradio/nrsar/params.h>
+#include <gnuradio/nrsar/trajectory.h>
 #include <cstdint>
 
 namespace gr {
@@ -72,7 +73,10 @@ public:
      *        K - 2 cfg.guard_bins inner bins (num_output_bins())
      * \param first_range_m slant range of bin 0 [m] when no range_axis tag arrives
      * \param range_bin_m slant-range spacing of the bins [m]; 0: c / (2 num.fft_size Delta f)
-     * \param cfg processing options (focuser_config: band, RCMC, overlap, M, FFT size)
+     * \param cfg processing options (focuser_config: band, RCMC, overlap, M, FFT size,
+     *        motion compensation)
+     * \param nav navigation path for the motion compensation (cfg.moco) before the azimuth
+     *        FFT; empty (the default): the ideal line, nothing to compensate
      */
     static sptr make(const numerology& num,
                      const geometry& geo,
@@ -80,7 +84,8 @@ public:
                      unsigned num_range_bins,
                      double first_range_m,
                      double range_bin_m = 0.0,
-                     const focuser_config& cfg = focuser_config());
+                     const focuser_config& cfg = focuser_config(),
+                     const trajectory& nav = trajectory());
 
     virtual focuser_config config() const = 0;
     //! Output lines per aperture M (current pulse interval).

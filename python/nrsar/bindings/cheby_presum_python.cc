@@ -93,6 +93,7 @@ void bind_cheby_presum(py::module& m)
              py::arg("first_range_m") = 0.0,
              py::arg("range_bin_m") = 1.0,
              py::arg("cfg") = presum_config(),
+             py::arg("nav") = gr::nrsar::trajectory(),
              D(cheby_presum, make))
         .def_static("max_decim",
                     &cheby_presum::max_decim,
@@ -129,5 +130,11 @@ void bind_cheby_presum(py::module& m)
              py::arg("offset"),
              "eq. (P-27) phase [rad]: 4 pi f (R(t_ref + offset T) - R(t_ref)) / c.")
         .def("warnings", &cheby_presum::warnings)
-        .def("nonfinite_count", &cheby_presum::nonfinite_count);
+        .def("nonfinite_count", &cheby_presum::nonfinite_count)
+        .def("follows_path",
+             &cheby_presum::follows_path,
+             "Whether the compensation follows the navigation path (False: the ideal line).")
+        .def("phase_segment",
+             &cheby_presum::phase_segment,
+             "Pulses between exact phase rows (the last segment's, with a path).");
 }

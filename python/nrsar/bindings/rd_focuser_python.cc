@@ -37,6 +37,12 @@ void bind_rd_focuser(py::module& m)
         .value("ESTIMATE", doppler_band::ESTIMATE)
         .value("FULL", doppler_band::FULL)
         .export_values();
+    py::enum_<gr::nrsar::moco_order>(
+        m, "moco_order", "Motion compensation from the navigation (docs/flight.md)")
+        .value("OFF", gr::nrsar::moco_order::OFF)
+        .value("FIRST", gr::nrsar::moco_order::FIRST)
+        .value("SECOND", gr::nrsar::moco_order::SECOND)
+        .export_values();
 
     py::class_<focuser_config>(m, "focuser_config", "Processing options of rd_focuser")
         .def(py::init([](unsigned symbols_per_pulse,
@@ -53,7 +59,8 @@ void bind_rd_focuser(py::module& m)
                          double rcmc_window_param,
                          double rcmc_skip_below_bins,
                          double range_centre_cycles,
-                         unsigned guard_bins) {
+                         unsigned guard_bins,
+                         gr::nrsar::moco_order moco) {
                  focuser_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -70,6 +77,7 @@ void bind_rd_focuser(py::module& m)
                  c.rcmc_skip_below_bins = rcmc_skip_below_bins;
                  c.range_centre_cycles = range_centre_cycles;
                  c.guard_bins = guard_bins;
+                 c.moco = moco;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -87,6 +95,7 @@ void bind_rd_focuser(py::module& m)
              py::arg("rcmc_skip_below_bins") = 0.05,
              py::arg("range_centre_cycles") = std::numeric_limits<double>::quiet_NaN(),
              py::arg("guard_bins") = 0u,
+             py::arg("moco") = gr::nrsar::moco_order::SECOND,
              "focuser_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &focuser_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &focuser_config::lines_per_aperture)
@@ -103,6 +112,7 @@ void bind_rd_focuser(py::module& m)
         .def_readwrite("rcmc_skip_below_bins", &focuser_config::rcmc_skip_below_bins)
         .def_readwrite("range_centre_cycles", &focuser_config::range_centre_cycles)
         .def_readwrite("guard_bins", &focuser_config::guard_bins)
+        .def_readwrite("moco", &focuser_config::moco)
         .def("validate", &focuser_config::validate);
 
     py::class_<rd_focuser, gr::block, gr::basic_block, std::shared_ptr<rd_focuser>>(
@@ -115,6 +125,7 @@ void bind_rd_focuser(py::module& m)
              py::arg("first_range_m"),
              py::arg("range_bin_m") = 0.0,
              py::arg("cfg") = focuser_config(),
+             py::arg("nav") = gr::nrsar::trajectory(),
              D(rd_focuser, make))
         .def("config", &rd_focuser::config)
         .def("lines_per_aperture", &rd_focuser::lines_per_aperture)

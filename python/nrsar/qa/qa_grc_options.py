@@ -61,6 +61,7 @@ ACCEPTED = {
     "make_colormap": members(nrsar.image_colormap),
     "make_beam": members(nrsar.beam_mode),
     "make_navigation": members(nrsar.nav_error_model),
+    "make_moco_order": members(nrsar.moco_order),
 }
 
 # A builder's name argument passed by keyword: keyword -> builder

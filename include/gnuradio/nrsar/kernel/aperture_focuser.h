@@ -46,6 +46,7 @@ class NRSAR_API aperture_focuser
 {
 public:
     //! Validates geo, scn, cfg and the axes (std::invalid_argument naming the parameter).
+    //! nav: the navigation path for cfg.moco (rd_focuser::set_motion; empty: the ideal line).
     aperture_focuser(const numerology& num,
                      const geometry& geo,
                      const scene& scn,
@@ -53,7 +54,8 @@ public:
                      const focuser_config& cfg,
                      double pulse_interval_s,
                      double first_range_m,
-                     double range_bin_m);
+                     double range_bin_m,
+                     const trajectory& nav = trajectory());
     aperture_focuser(const aperture_focuser&) = delete;
     aperture_focuser& operator=(const aperture_focuser&) = delete;
 
@@ -152,6 +154,8 @@ private:
     long long d_line_shift = 0; // output window offset from the aperture's pulses [lines]
     std::uint64_t d_skip = 0;   // pulses still to drop before the first block
     std::unique_ptr<rd_focuser> d_kernel; // built lazily (it owns the FFT plans)
+    std::shared_ptr<const los_reference> d_los; // the navigation's line of sight (moco)
+    double d_los_range = 0.0;                   // its first-order reference range
 
     // Pending axes (applied at the next aperture boundary).
     bool d_pending = false;

@@ -10,7 +10,9 @@
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/motion_compensation.h>
 #include <gnuradio/nrsar/params.h>
+#include <gnuradio/nrsar/trajectory.h>
 #include <volk/volk_alloc.hh>
 #include <cstdint>
 #include <string>
@@ -64,12 +66,19 @@ struct NRSAR_API presum_config {
  * L-tap equiripple low-pass (DC gain D) is applied and the result re-modulated with the
  * reference phase at the output time: out = sum_j h_j s_j C(j), C = exp(+j 4 pi f dR / c)
  * (eqs. P-25..P-29).
+ *
+ * With a navigation path (not empty, not geo's ideal line) the reference scatterer's range
+ * is measured from the path (los_reference: the actual line-of-sight change per pulse and
+ * per element, double precision) instead of the ideal line's hyperbola, so the window is
+ * summed coherently whatever the platform's sway; the output keeps the reference phase of
+ * the path at the window centre. The path must cover the stream's slow times.
  */
 class NRSAR_API cheby_presum
 {
 public:
     //! Pulses between exact evaluations of the demodulation phases (1..64, chosen so
-    //! that the linear phase interpolation errs by at most 1e-4 rad).
+    //! that the linear phase interpolation errs by at most 1e-4 rad; with a navigation
+    //! path: of the last segment, halved from 64 until its midpoint errs at most that).
     unsigned phase_segment() const { return d_seg; }
 
     cheby_presum(const numerology& num,
@@ -78,7 +87,8 @@ public:
                  unsigned num_bins,
                  double first_range_m,
                  double range_bin_m,
-                 const presum_config& cfg);
+                 const presum_config& cfg,
+                 const trajectory& nav = trajectory());
     cheby_presum(const cheby_presum&) = delete;
     cheby_presum& operator=(const cheby_presum&) = delete;
     cheby_presum(cheby_presum&&) = default;
@@ -139,11 +149,15 @@ public:
      * 4 pi f (R(t_ref + offset T) - R(t_ref)) / c (double precision).
      */
     double compensation_phase(unsigned element, double t_ref_s, double offset_pulses) const;
+    //! Whether the compensation follows a navigation path (false: the ideal line).
+    bool follows_path() const { return !d_los.ideal(); }
 
 private:
     double ref_range(unsigned element, double t) const; // eq. (P-25)
     void phase_row(double t, bool conj, gr_complex* row) const;
     void start_segment(double t);
+    void start_path_segment(double t);
+    void path_ranges(double t, double* r) const; // reference ranges of every element
     void design();
 
     numerology d_num;
@@ -171,6 +185,9 @@ private:
     unsigned d_seg = 1;
     void update_segment();
     std::vector<double> d_r0sq;      // per element squared closest slant range (RANGE)
+    los_reference d_los;             // the navigation path's line of sight
+    std::vector<double> d_ra, d_rb, d_rm; // path ranges at a segment's start, end, middle
+    mutable std::vector<double> d_rrow;   // path ranges of a phase row
     std::uint64_t d_pushed = 0, d_out = 0;
     double d_t_next = 0.0;
 };

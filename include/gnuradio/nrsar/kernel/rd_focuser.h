@@ -12,6 +12,7 @@
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/focuser_config.h>
+#include <gnuradio/nrsar/kernel/motion_compensation.h>
 #include <gnuradio/nrsar/kernel/sinc_interpolator.h>
 #include <volk/volk_alloc.hh>
 #include <memory>
@@ -135,6 +136,31 @@ public:
     //! Azimuth compression phase at range bin k and Doppler f [rad] (double precision).
     double compression_phase(unsigned k, double f_hz) const;
 
+    /*!
+     * \brief Motion compensation (cfg.moco) before the azimuth FFT, eq. (31), from the line
+     * of sight los: line m of a block at slow time block_start_s() + m T. Per line, with the
+     * displacement dR(R0, t) = |p(t) - P(R0)| - ideal range (los_reference): FIRST shifts the
+     * range profile by dR(ref_range_m, t) / rho (windowed-sinc, the RCMC interpolator, on the
+     * profile demodulated by its spectrum centre) and multiplies it by
+     * exp(+j 4 pi f dR(ref_range_m, t) / c); SECOND multiplies bin k by
+     * exp(+j 4 pi f dR(R0(k), t) / c) instead (the residual per bin). f: the frequency of the
+     * range-compressed phase, fc + (N - 1) Delta f / 2. Lines outside the path's span (the
+     * zeros before the stream, a flush's padding) are left as they are. An ideal los or
+     * moco OFF: nothing is done.
+     */
+    void set_motion(std::shared_ptr<const los_reference> los,
+                    double phase_frequency_hz,
+                    double ref_range_m);
+    void set_block_start_s(double t0_s) { d_t0 = t0_s; }
+    double block_start_s() const { return d_t0; }
+    //! Whether focus() compensates motion (moco on and a non-ideal path).
+    bool moco_active() const
+    {
+        return d_los && !d_los->ideal() && d_cfg.moco != moco_order::OFF;
+    }
+    //! Largest |dR(ref_range, t)| of the last compensated block [m].
+    double moco_max_shift_m() const { return d_moco_max_m; }
+
 private:
     focuser_config d_cfg;
     rd_block d_blk;
@@ -161,6 +187,13 @@ private:
     std::vector<unsigned> d_filter_bins;   // bins d_filter was built for
     std::vector<unsigned> d_rd_row;        // band bin b -> rd_map line (ascending Doppler)
 
+    std::shared_ptr<const los_reference> d_los; // motion compensation (set_motion)
+    double d_moco_f = 0.0, d_moco_ref = 0.0, d_t0 = 0.0, d_moco_max_m = 0.0;
+    volk::vector<gr_complex> d_moco;       // K x num_lines compensated, range-major
+    volk::vector<float> d_moco_shift;      // K, one line's envelope shift
+    std::vector<double> d_moco_dr;         // K, one line's displacements
+
+    void compensate_motion(const gr_complex* in, size_t row_stride);
     void select_band(); // from the configuration (SCENE / FULL)
     void estimate_band();
     void build_filter();

@@ -1,0 +1,277 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""QA of the processing from navigation (issue #14): cheby_presum's inter-pulse compensation
+along the flown path and rd_focuser's motion compensation.
+
+The echo is the exact range-compressed echo of a point target (eqs. 8, 29) seen from a
+`gusty` path, evaluated here in numpy float64 from the path's positions; the references are
+written here in float64 too: the presummer's coherent sum with the path's line of sight (and
+the ideal line's, for what it loses), and a matched filter along the flown path for the
+impulse-response width the path can give. Geometry: focus_scenario (PRF 400 Hz, 1.5 m range
+bins, H = 600 m, the target at 1000 m slant range).
+"""
+
+import math
+
+import numpy as np
+from gnuradio import blocks, gr, gr_unittest
+
+try:
+    from gnuradio import nrsar
+except ImportError:
+    import os
+    import sys
+    dirname, filename = os.path.split(os.path.abspath(__file__))
+    sys.path.append(os.path.join(dirname, "..", "bindings"))
+    from gnuradio import nrsar
+
+from gnuradio.nrsar.focus_scenario import (C, FC, V, H, N_SUB, NFFT, RHO, K, R_FIRST, SPP, NUM,
+                                          T, geometry)
+
+F_PHASE = FC + 0.5 * (N_SUB - 1) * NUM.subcarrier_spacing_hz  # phase of a compressed bin
+X_T, Y_T = 800.0, 25.0          # target: ground range, along track
+R0_T = math.hypot(X_T, H)       # 1000 m: range bin 30
+K_T = int(round((R0_T - R_FIRST) / RHO))
+SEED = 5
+
+
+def path_echo(pos, targets=((X_T, Y_T, 1.0),)):
+    """Range-compressed echo (pulses x K) from antenna positions pos (pulses x 3): line m,
+    bin k: a sum_{n<N} exp(j 2 pi n (k - k_m) / NFFT) / sqrt(N) exp(-j 4 pi fc R_m / c),
+    R_m = |pos_m - (x, y, 0)|, k_m = (R_m - R_FIRST) / RHO."""
+    k = np.arange(K)
+    n = np.arange(N_SUB)
+    out = np.zeros((len(pos), K), complex)
+    for x, y, a in targets:
+        r = np.sqrt((pos[:, 0] - x) ** 2 + (pos[:, 1] - y) ** 2 + pos[:, 2] ** 2)
+        kq = (r - R_FIRST) / RHO
+        prof = np.exp(2j * np.pi * (k[None, :, None] - kq[:, None, None]) * n[None, None, :]
+                      / NFFT).sum(-1) / np.sqrt(N_SUB)
+        out += a * prof * np.exp(-4j * np.pi * np.mod(r * FC / C, 1.0))[:, None]
+    return out
+
+
+def flight(n_pulses, motion=True):
+    """(geometry, scene, true path, positions of the pulses): aperture n_pulses T."""
+    geo = geometry(n_pulses * T)
+    scn = nrsar.make_scene([(X_T, Y_T)])
+    if motion:
+        path = nrsar.trajectory.motion(geo, nrsar.motion_model.GUSTY, SEED, n_pulses * T + 0.5)
+    else:
+        path = nrsar.trajectory.ideal(geo)
+    pos = np.array(path.positions(list(np.arange(n_pulses) * T)))
+    return geo, scn, path, pos
+
+
+def run(block, data, vlen_out):
+    src = blocks.vector_source_c(np.asarray(data, np.complex64).ravel().tolist(), False, K)
+    snk = blocks.vector_sink_c(vlen_out)
+    tb = gr.top_block()
+    tb.connect(src, block, snk)
+    tb.run()
+    return np.array(snk.data(), complex).reshape(-1, vlen_out)
+
+
+def irw(values, spacing):
+    """-3 dB width of |values|^2 around its peak (linear interpolation of the crossings)."""
+    p = np.abs(values) ** 2
+    c = int(np.argmax(p))
+    half = p[c] / 2
+    lo = c
+    while p[lo - 1] > half:
+        lo -= 1
+    hi = c
+    while p[hi + 1] > half:
+        hi += 1
+    x_lo = lo - (p[lo] - half) / (p[lo] - p[lo - 1])
+    x_hi = hi + (p[hi] - half) / (p[hi] - p[hi + 1])
+    return (x_hi - x_lo) * spacing
+
+
+def upsampled(cut, factor=16):
+    """An azimuth cut interpolated by zero padding its spectrum at PRF / 2 (the processed
+    band sits around 0 Hz, far from it)."""
+    n = len(cut)
+    spec = np.fft.fft(cut)
+    h = n // 2
+    padded = np.concatenate([spec[:h], np.zeros(n * (factor - 1)), spec[h:]])
+    return np.fft.ifft(padded) * factor
+
+
+class qa_motion_compensation(gr_unittest.TestCase):
+
+    # ---- cheby_presum ------------------------------------------------------------------
+
+    def presum_case(self, decim=4):
+        n = 480
+        geo, scn, path, pos = flight(n)
+        data = path_echo(pos)
+        cfg = nrsar.presum_config(decim=decim, symbols_per_pulse=SPP)
+        return geo, scn, path, pos, data, cfg
+
+    def expected_presum(self, blk, data, path, ideal_geo=None):
+        """Output of eqs. (P-25..P-29) in float64: out(k, g) = sum_j h_j s(k, p_j) C(k, j),
+        C = exp(+j 4 pi f (R(t_j) - R(t_c)) / c), R the range of the reference scatterer
+        (the scene centre, ground range sqrt(R0(k)^2 - H^2)) from the path (ideal_geo None)
+        or from the ideal line of ideal_geo."""
+        d, taps = blk.decim(), np.array(blk.taps())
+        a = (blk.num_taps() - 1) // 2  # window of output g: pulses g D - a .. g D + b
+        r0 = R_FIRST + RHO * np.arange(K)
+        gx = np.sqrt(np.maximum(r0 * r0 - H * H, 0.0))
+
+        def ranges(t):
+            if ideal_geo is not None:
+                u = ideal_geo.track_start_m + ideal_geo.velocity_mps * t - Y_T
+                return np.sqrt(r0 * r0 + u * u)
+            p = np.array(path.position(float(t)))
+            return np.sqrt((p[0] - gx) ** 2 + (p[1] - Y_T) ** 2 + p[2] ** 2)
+
+        outs = []
+        g = 0
+        while g * d + blk.lookahead() < len(data):
+            first = g * d - a
+            if first >= 0:  # full windows only
+                tc = (first + 0.5 * (blk.num_taps() - 1)) * T
+                rc = ranges(tc)
+                acc = np.zeros(K, complex)
+                for j in range(blk.num_taps()):
+                    c = np.exp(4j * np.pi * F_PHASE * (ranges((first + j) * T) - rc) / C)
+                    acc += taps[j] * data[first + j] * c
+                outs.append((g, acc))
+            g += 1
+        return outs
+
+    def test_001_presum_follows_the_navigation(self):
+        # gusty path, perfect navigation: the block's output equals the float64 coherent
+        # sum along the path's line of sight, and the target keeps the full coherent gain
+        # D^2 (what eq. P-29 promises); the ideal-line compensation loses what the float64
+        # sum with the ideal line predicts.
+        geo, scn, path, pos, data, cfg = self.presum_case()
+        d = cfg.decim
+        nav = nrsar.cheby_presum(NUM, geo, scn, K, R_FIRST, RHO, cfg, path)
+        ideal = nrsar.cheby_presum(NUM, geo, scn, K, R_FIRST, RHO, cfg)
+        self.assertTrue(nav.follows_path())
+        self.assertFalse(ideal.follows_path())
+        out_nav = run(nav, data, K)
+        out_ideal = run(ideal, data, K)
+        pulse_power = np.mean(np.abs(data[:, K_T]) ** 2)
+        for blk, out, geo_ref in ((nav, out_nav, None), (ideal, out_ideal, geo)):
+            exp = self.expected_presum(blk, data, path, geo_ref)
+            got = np.array([out[g] for g, _ in exp])
+            ref = np.array([e for _, e in exp])
+            nmse = np.sum(np.abs(got - ref) ** 2) / np.sum(np.abs(ref) ** 2)
+            self.assertLess(10 * np.log10(nmse), -50.0)
+            blk.gain_db = 10 * np.log10(np.mean(np.abs(got[:, K_T]) ** 2) / (d * d * pulse_power))
+            blk.expected_gain_db = 10 * np.log10(np.mean(np.abs(ref[:, K_T]) ** 2)
+                                                 / (d * d * pulse_power))
+            self.assertAlmostEqual(blk.gain_db, blk.expected_gain_db, delta=0.02)
+        # the coherent sum along the flown line of sight: D^2 x the pulse power (the
+        # envelope moves by at most 0.02 bins over a window)
+        self.assertAlmostEqual(nav.gain_db, 0.0, delta=0.05)
+        # the ideal line leaves the sway's Doppler (8 Hz rms) in the filter's transition band
+        self.assertLess(ideal.gain_db, -1.0)
+        print(f"\nD = {d}: coherent gain re D^2, navigation {nav.gain_db:+.2f} dB, ideal line "
+              f"{ideal.gain_db:+.2f} dB (float64 expectation {ideal.expected_gain_db:+.2f} dB); "
+              f"phase segment {nav.phase_segment()} pulses")
+
+    def test_002_ideal_navigation_is_the_ideal_line_bit_for_bit(self):
+        n = 160
+        geo, scn, path, pos = flight(n, motion=False)
+        data = path_echo(pos)
+        cfg = nrsar.presum_config(decim=4, symbols_per_pulse=SPP)
+        a = run(nrsar.cheby_presum(NUM, geo, scn, K, R_FIRST, RHO, cfg), data, K)
+        b = run(nrsar.cheby_presum(NUM, geo, scn, K, R_FIRST, RHO, cfg, path), data, K)
+        self.assertEqual(a.shape, b.shape)
+        self.assertTrue(np.array_equal(a, b))
+
+    # ---- rd_focuser ----------------------------------------------------------------------
+
+    def focus(self, data, geo, scn, nav=None, moco=nrsar.moco_order.SECOND):
+        cfg = nrsar.focuser_config(symbols_per_pulse=SPP, lines_per_aperture=len(data),
+                                   overlap_lines=0, moco=moco)
+        blk = nrsar.rd_focuser(NUM, geo, scn, K, R_FIRST, RHO, cfg,
+                               nav if nav is not None else nrsar.trajectory())
+        return run(blk, data, K)
+
+    def matched_filter_irw(self, data, pos):
+        """Azimuth IRW [m] the flown pulses give the target: the float64 matched filter of
+        its range bin along the path, I(y) = sum_m s_m exp(+j 4 pi f |pos_m - (x, y, 0)| / c),
+        on a 1 cm grid around the target."""
+        y = Y_T + np.arange(-300, 301) * 0.01
+        r = np.sqrt((pos[:, 0, None] - X_T) ** 2 + (pos[:, 1, None] - y[None, :]) ** 2
+                    + pos[:, 2, None] ** 2)
+        img = (data[:, K_T, None] * np.exp(4j * np.pi * F_PHASE * r / C)).sum(0)
+        return irw(img, 0.01)
+
+    def test_003_rd_motion_compensation_refocuses_gusty_flight(self):
+        n = 400
+        geo, scn, path, pos = flight(n)
+        _, _, _, pos_ideal = flight(n, motion=False)
+        rng = np.random.default_rng(7)
+        noise = (rng.standard_normal((n, K)) + 1j * rng.standard_normal((n, K))) * 0.05
+        ref_ideal = self.focus(path_echo(pos_ideal), geo, scn)
+        flown = path_echo(pos)
+        img = {
+            "ideal": (ref_ideal, self.focus(path_echo(pos_ideal) + noise, geo, scn)),
+            "off": (self.focus(flown, geo, scn, path, nrsar.moco_order.OFF),
+                    self.focus(flown + noise, geo, scn, path, nrsar.moco_order.OFF)),
+            "first": (self.focus(flown, geo, scn, path, nrsar.moco_order.FIRST),
+                      self.focus(flown + noise, geo, scn, path, nrsar.moco_order.FIRST)),
+            "second": (self.focus(flown, geo, scn, path, nrsar.moco_order.SECOND),
+                       self.focus(flown + noise, geo, scn, path, nrsar.moco_order.SECOND)),
+        }
+        dy = V * T
+        res = {}
+        peak_ideal = np.abs(ref_ideal).max()
+        for name, (ref, noisy) in img.items():
+            # SPEC 8 against the case's own noise-free image: c, NMSE (N M mean / max^2)
+            c = np.vdot(ref, noisy) / np.vdot(ref, ref)
+            nmse = N_SUB * n * np.mean(np.abs(noisy / c - ref) ** 2) / np.abs(ref).max() ** 2
+            # PEL against the ideal flight's noise-free image (focus and position)
+            pel = -20 * np.log10(abs(np.vdot(ref_ideal, ref) / np.vdot(ref_ideal, ref_ideal)))
+            line = int(np.argmax(np.abs(ref[:, K_T])))
+            res[name] = dict(nmse_db=10 * np.log10(nmse), pel_db=pel,
+                             peak_db=20 * np.log10(np.abs(ref).max() / peak_ideal),
+                             irw_m=irw(upsampled(ref[:, K_T]), dy / 16), line=line)
+        model_flown = self.matched_filter_irw(flown, pos)
+        model_ideal = self.matched_filter_irw(path_echo(pos_ideal), pos_ideal)
+        print()
+        for name, r in res.items():
+            print(f"{name:>6}: NMSE {r['nmse_db']:6.2f} dB, PEL {r['pel_db']:6.2f} dB, peak "
+                  f"{r['peak_db']:+6.2f} dB, az IRW {r['irw_m']:.3f} m, line {r['line']}")
+        print(f"matched filter along the path: IRW {model_flown:.3f} m (ideal line "
+              f"{model_ideal:.3f} m)")
+        # the ideal flight focuses to its matched filter's width
+        self.assertAlmostEqual(res["ideal"]["irw_m"] / model_ideal, 1.0, delta=0.05)
+        # without MoCo the gusty flight defocuses
+        self.assertGreater(res["off"]["pel_db"], 3.0)
+        self.assertGreater(res["off"]["nmse_db"], res["ideal"]["nmse_db"] + 3.0)
+        # with it: within 0.5 dB NMSE of the ideal flight, IRW within 5 % of the flown
+        # path's matched filter, at the ideal flight's line
+        for name in ("second",):
+            self.assertLess(abs(res[name]["nmse_db"] - res["ideal"]["nmse_db"]), 0.5)
+            self.assertAlmostEqual(res[name]["irw_m"] / model_flown, 1.0, delta=0.05)
+            self.assertLess(res[name]["pel_db"], 0.5)
+            self.assertEqual(res[name]["line"], res["ideal"]["line"])
+        self.res = res
+
+    def test_004_moco_on_the_ideal_line_changes_nothing(self):
+        n = 200
+        geo, scn, path, pos = flight(n, motion=False)
+        data = path_echo(pos)
+        off = self.focus(data, geo, scn, None, nrsar.moco_order.OFF)
+        for nav in (None, path):
+            on = self.focus(data, geo, scn, nav, nrsar.moco_order.SECOND)
+            self.assertTrue(np.array_equal(on, off))
+
+    def test_005_bad_moco_value(self):
+        with self.assertRaises(ValueError):
+            nrsar.make_moco_order("third")
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_motion_compensation)
