@@ -276,6 +276,15 @@ class qa_motion_compensation(gr_unittest.TestCase):
     def test_005_bad_moco_value(self):
         with self.assertRaises(ValueError):
             nrsar.make_moco_order("third")
+        with self.assertRaises(nrsar.OptionError):
+            nrsar.SimOptions(preset="tiny", moco="maybe").validate()
+
+    def test_006_sim_moco_option_sets_the_focuser(self):
+        from gnuradio.nrsar import chain, scenario
+        for flag, order in (("on", nrsar.moco_order.SECOND), ("off", nrsar.moco_order.OFF)):
+            opts = nrsar.SimOptions(preset="tiny", moco=flag).validate()
+            cfg = chain.focuser_config_of(opts, scenario.of(opts), 0)
+            self.assertEqual(cfg.moco, order)
 
 
 if __name__ == "__main__":
