@@ -31,6 +31,7 @@ except ImportError:
 
 from gnuradio.nrsar.focus_scenario import (C, FC, V, H, N_SUB, NFFT, RHO, K, R_FIRST, SPP, NUM,
                                           T, geometry)
+from qa_rd_focuser import cut_metrics  # peak, IRW [samples], PSLR, ISLR of a cut
 
 F_PHASE = FC + 0.5 * (N_SUB - 1) * NUM.subcarrier_spacing_hz  # phase of a compressed bin
 X_T, Y_T = 800.0, 25.0          # target: ground range, along track
@@ -74,32 +75,6 @@ def run(block, data, vlen_out):
     tb.connect(src, block, snk)
     tb.run()
     return np.array(snk.data(), complex).reshape(-1, vlen_out)
-
-
-def irw(values, spacing):
-    """-3 dB width of |values|^2 around its peak (linear interpolation of the crossings)."""
-    p = np.abs(values) ** 2
-    c = int(np.argmax(p))
-    half = p[c] / 2
-    lo = c
-    while p[lo - 1] > half:
-        lo -= 1
-    hi = c
-    while p[hi + 1] > half:
-        hi += 1
-    x_lo = lo - (p[lo] - half) / (p[lo] - p[lo - 1])
-    x_hi = hi + (p[hi] - half) / (p[hi] - p[hi + 1])
-    return (x_hi - x_lo) * spacing
-
-
-def upsampled(cut, factor=16):
-    """An azimuth cut interpolated by zero padding its spectrum at PRF / 2 (the processed
-    band sits around 0 Hz, far from it)."""
-    n = len(cut)
-    spec = np.fft.fft(cut)
-    h = n // 2
-    padded = np.concatenate([spec[:h], np.zeros(n * (factor - 1)), spec[h:]])
-    return np.fft.ifft(padded) * factor
 
 
 class qa_motion_compensation(gr_unittest.TestCase):
@@ -207,7 +182,7 @@ class qa_motion_compensation(gr_unittest.TestCase):
         r = np.sqrt((pos[:, 0, None] - x) ** 2 + (pos[:, 1, None] - y[None, :]) ** 2
                     + pos[:, 2, None] ** 2)
         img = (data[:, bin_, None] * np.exp(4j * np.pi * F_PHASE * r / C)).sum(0)
-        return irw(img, 0.01)
+        return cut_metrics(img)[1] * 0.01
 
     def test_003_rd_motion_compensation_refocuses_gusty_flight(self):
         # Two targets 21 m either side of the scene's reference range (bins 30 and 58): the
@@ -240,7 +215,7 @@ class qa_motion_compensation(gr_unittest.TestCase):
                 nmse_db=10 * np.log10(nmse), pel_db=pel,
                 peak_db=[20 * np.log10(np.abs(ref[:, b]).max() / np.abs(ref_ideal[:, b]).max())
                          for b in bins],
-                irw_m=[irw(upsampled(ref[:, b]), dy / 16) for b in bins],
+                irw_m=[cut_metrics(ref[:, b])[1] * dy for b in bins],
                 line=[int(np.argmax(np.abs(ref[:, b]))) for b in bins])
         model = [self.matched_filter_irw(flown, pos, t[0], b) for t, b in zip(targets, bins)]
         print()
