@@ -115,9 +115,10 @@ def receive(cfg, grid, eq=False):
     return rx, msgs, (np.array(snk.data(), np.complex64) if eq else None)
 
 
-# Es/N0 of the HARQ test: QPSK at R 0.59 needs about 2.5 dB in one transmission; rv 0 + rv 2
-# (rate 0.29, 3 dB more energy) about -2 dB
-HARQ_ESN0_DB = -0.5
+# Es/N0 of the HARQ test (flat channel, pusch2, the receiver's own channel estimate): one
+# transmission of QPSK at R 0.59 failed 10 of 10 TBs at 1-2 dB and 8 of 10 at 3 dB; rv 0 + rv 2
+# combined (twice the energy, rate 0.29) decoded 10 of 10 from 1 dB, 1 of 10 at -0.5 dB
+HARQ_ESN0_DB = 1.5
 
 
 class qa_pusch_receiver(gr_unittest.TestCase):
@@ -202,7 +203,9 @@ class qa_pusch_receiver(gr_unittest.TestCase):
 
     def test_harq_combines_repetitions(self):
         # QPSK, qam256 MCS 4 (R 602/1024), each TB in 2 slots (rv 0 then rv 2) at an Es/N0
-        # where one transmission alone fails: the receiver decodes after combining both.
+        # where one transmission alone fails: the receiver decodes after combining both
+        # (HARQ_ESN0_DB: 1.5 dB below where single TBs start to pass, 2 dB above where the
+        # combination fails).
         num = nrsar.make_numerology("tiny")
         ntb, esn0_db = 10, HARQ_ESN0_DB
         pdus = [bytes([i]) * 100 for i in range(ntb)]
@@ -274,12 +277,12 @@ class qa_pusch_receiver(gr_unittest.TestCase):
         self.assertEqual(msgs[0][1], b"hello")
 
     def test_nonfinite_input_counted(self):
-        cfg = cfg_of("qpsk", "none")
+        cfg = cfg_of("qpsk")
         grid, _ = transmit(cfg, [], 1)
         grid[4, 7] = np.nan
         rx, msgs, _ = receive(cfg, grid)
         self.assertEqual(rx.nonfinite_samples(), 1)
-        self.assertTrue(msgs[0][0]["crc_ok"])  # one erased RE of QPSK: still decodes
+        self.assertTrue(msgs[0][0]["crc_ok"])  # one erased RE: the LDPC code fills it in
 
     def test_soft_demapper_binding(self):
         d = nrsar.soft_demapper(nrsar.make_modulation("qpsk"))
