@@ -266,6 +266,7 @@ def run(opts):
     result.update({
         "radar_domain": opts.radar_domain,
         "dmrs": opts.dmrs,
+        "ldpc": "38.212" if opts.coding == "nr-ldpc" else "none",
         "coding": opts.coding,
         "mcs_table": opts.mcs_table,
         "mcs": int(opts.pusch_config(num).mcs) if opts.coding == "nr-ldpc" else None,
