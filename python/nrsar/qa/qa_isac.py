@@ -56,6 +56,7 @@ class qa_isac(gr_unittest.TestCase):
         # uncoded TB of (G - 24) / 8 bytes, less the MAC subheader and the RLC header
         # (pusch_encoder.md)
         cls.per_slot = (g - 24) // 8 - 4
+        cls.g = g
 
     def run_isac(self, extra, name):
         out = os.path.join(self.dir, name)
@@ -195,8 +196,7 @@ class qa_isac(gr_unittest.TestCase):
         r = self.run_isac(["--mcs", "20", "--bs-snr-db", "25"], "ldpc")
         self.assertTrue(r["payload_identical"])
         self.assertEqual(r["blocks_failed"], 0)
-        g = nrsar.pusch_slot_bits(nrsar.make_numerology("sdr20"),
-                                  nrsar.make_modulation("qam256"), nrsar.make_dmrs("pusch2"))
+        g = self.g
         # 38.214 5.1.3.2 on 51 PRB x 144 REs: N_info = 7344 x 682.5/1024 x 8 = 39159,
         # n = 10, N'_info = 1024 round(39135 / 1024) = 38912, C = ceil(38936 / 8424) = 5,
         # TBS = 40 ceil(38936 / 40) - 24 = 38936
