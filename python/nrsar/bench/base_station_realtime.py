@@ -14,7 +14,8 @@ flowgraph, real-time factor = air / wall (>= 1: keeps up on this machine as load
 cores needed = CPU / air (what real time takes with perfect parallelism; each block is one
 thread in GNU Radio, so the busiest block's CPU / air must stay below 1 as well: reported).
 
-Run: /usr/bin/python3 -m gnuradio.nrsar.bench.bench_base_station [--preset sdr20] [--slots 200]
+Not an nrsar-bench module (those compare with a peer on the same work); docs/isac.md holds
+its numbers. Run: /usr/bin/python3 -m gnuradio.nrsar.bench.base_station_realtime [--preset sdr20] [--slots 200]
 """
 
 import argparse
