@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <random>
 #include <stdexcept>
 
@@ -278,36 +279,28 @@ TEST(transport_block, bad_parameters)
             EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
         }
     };
-    auto c = tiny_cfg(pusch_coding::NR_LDPC);
-    c.mcs = 28; // qam256 rows 28-31 are reserved
-    expect_refused(c, "mcs = 28 must be in [0, 27]");
-    c = tiny_cfg(pusch_coding::NR_LDPC);
-    c.mcs = 10; // 16-QAM row with mod 256-QAM
-    expect_refused(c, "mcs = 10 of mcs_table qam256 has Qm = 4 but mod has 8");
-    c = tiny_cfg(pusch_coding::NR_LDPC);
-    c.mcs_table = "qam1024";
-    expect_refused(c, "mcs_table");
-    c = tiny_cfg(pusch_coding::NR_LDPC);
-    c.rv = 4;
-    expect_refused(c, "rv = 4");
-    c.rv = 0;
-    c.repetitions = 3;
-    expect_refused(c, "repetitions = 3");
-    c = tiny_cfg(pusch_coding::NONE);
-    c.repetitions = 2;
-    expect_refused(c, "repetitions = 2 needs coding NR_LDPC");
-    c = tiny_cfg(pusch_coding::NR_LDPC);
-    c.n_id = 1024;
-    expect_refused(c, "n_id = 1024");
-    c.n_id = 0;
-    c.n_rnti = 65536;
-    expect_refused(c, "n_rnti = 65536");
-    c = tiny_cfg(pusch_coding::NR_LDPC, modulation::QAM64, 28); // qam64 table
+    // each case breaks one field of a valid configuration
+    const std::vector<std::pair<std::function<void(pusch_config&)>, const char*>> cases = {
+        { [](pusch_config& c) { c.mcs = 28; }, "mcs = 28 must be in [0, 27]" }, // reserved rows
+        { [](pusch_config& c) { c.mcs = 10; }, // a 16-QAM row with 256-QAM
+          "mcs = 10 of mcs_table qam256 has Qm = 4 but mod has 8" },
+        { [](pusch_config& c) { c.mcs_table = "qam1024"; }, "mcs_table" },
+        { [](pusch_config& c) { c.rv = 4; }, "rv = 4" },
+        { [](pusch_config& c) { c.repetitions = 3; }, "repetitions = 3" },
+        { [](pusch_config& c) { c.coding = pusch_coding::NONE; c.repetitions = 2; },
+          "repetitions = 2 needs coding NR_LDPC" },
+        { [](pusch_config& c) { c.n_id = 1024; }, "n_id = 1024" },
+        { [](pusch_config& c) { c.n_rnti = 65536; }, "n_rnti = 65536" },
+        { [](pusch_config& c) { c.mod = modulation::PSK8; }, "mod" },
+    };
+    for (const auto& [breaks, message] : cases) {
+        auto c = tiny_cfg(pusch_coding::NR_LDPC);
+        breaks(c);
+        expect_refused(c, message);
+    }
+    auto c = tiny_cfg(pusch_coding::NR_LDPC, modulation::QAM64, 28); // qam64 table
     c.mcs_table = "qam64";
     c.dmrs = dmrs_config::preset("pusch1");
     // 64-QAM R 948/1024, one DMRS symbol: TBS 4352, (4352 + 24) / 4992 = 0.88 (< 0.95)
     EXPECT_NO_THROW(transport_block_codec{ c });
-    c = tiny_cfg(pusch_coding::NR_LDPC);
-    c.mod = modulation::PSK8;
-    expect_refused(c, "mod");
 }
