@@ -87,6 +87,10 @@ N = "num_subcarriers"
 NUM = "sdr20"
 SCENE = "'''300,2'''"
 QAM = "qam16"
+# the PUSCH's coding, as pusch_encoder and pusch_receiver must share it (qam256 table MCS 10 =
+# 16-QAM, R 658/1024)
+PUSCH = dict(coding="nr_ldpc", mcs_table="qam256", mcs="10", rv="0", repetitions="1",
+             n_rnti="17921", n_id="0", scrambling="standard")
 
 
 def common_vars(g, y=12):
@@ -130,9 +134,10 @@ def payload_strobe(g, comment):
 
 def uav_tx(g, x, y):
     g.add("encoder", "nrsar_pusch_encoder", (x, y),
-          "TB per slot: header, payload, CRC24A, scrambling (uncoded; an alist file adds LDPC)",
-          numerology=NUM, modulation=QAM, dmrs="pusch2", dmrs_id="0", ldpc_alist="",
-          scrambling_id="0", max_queued_bytes="1048576")
+          "TB per slot: MAC PDU, TS 38.212 UL-SCH (MCS 10 of the qam256 table: 16-QAM, "
+          "R 0.64), 38.211 scrambling",
+          numerology=NUM, modulation=QAM, dmrs="pusch2", dmrs_id="0", **PUSCH,
+          max_queued_bytes="1048576")
     g.add("tx", "nrsar_nr_isac_tx", (x + 240, y),
           "the UAV uplink grid: 16-QAM PUSCH data + DMRS {2, 11}; also the radar reference",
           numerology=NUM, num_subcarriers=N, modulation=QAM, mode="data", srs_start="0",
@@ -165,9 +170,9 @@ def base_station(g, x, y, src, src_port="0", eq=False, channel=True):
     g.add("bs_demod", "nrsar_ofdm_demod", (x + 620, y), "", numerology=NUM,
           num_subcarriers=N, fft_start="-1", tx_start_time="-1")
     g.add("bs_rx", "nrsar_pusch_receiver", (x + 820, y),
-          "DMRS channel estimate, ZF equaliser, soft demapper, CRC24A: one PDU per slot",
+          "DMRS channel estimate, ZF equaliser, soft demapper, NR LDPC, CRCs: one PDU per TB",
           numerology=NUM, num_subcarriers=N, modulation=QAM, dmrs="pusch2", dmrs_id="0",
-          ldpc_alist="", scrambling_id="0", freq_window="3", max_iterations="25",
+          **PUSCH, freq_window="3", max_iterations="8",
           show_eq="True" if eq else "False")
     g.add("not_filler", "pdu_pdu_filter", (x + 820, y + 140), "drop filler TBs",
           k='pmt.intern("filler")', v="pmt.PMT_F", invert="False")

@@ -9,54 +9,25 @@
 #include "message_ports.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/nrsar/kernel/soft_demapper.h>
 #include <algorithm>
 
 namespace gr {
 namespace nrsar {
 
-namespace {
-
-std::size_t checked_slot_bits(const numerology& num,
-                              modulation mod,
-                              const dmrs_config& dmrs,
-                              std::uint64_t max_queued_bytes)
+pusch_encoder::sptr pusch_encoder::make(const pusch_config& cfg)
 {
-    num.validate();
-    dmrs.validate(num);
-    if (!kernel::soft_demapper::supported(mod))
-        throw_param("mod",
-                    static_cast<int>(mod),
-                    "is not decodable by pusch_receiver (QPSK, QAM16, QAM64, QAM256 only)");
-    check_at_least("max_queued_bytes", max_queued_bytes, std::uint64_t{ 1 });
-    return kernel::pusch_slot_bits(num, mod, dmrs);
-}
-} // namespace
-
-pusch_encoder::sptr pusch_encoder::make(const numerology& num,
-                                        modulation mod,
-                                        const dmrs_config& dmrs,
-                                        const std::string& ldpc_alist,
-                                        unsigned scrambling_id,
-                                        std::uint64_t max_queued_bytes)
-{
-    return gnuradio::make_block_sptr<pusch_encoder_impl>(
-        num, mod, dmrs, ldpc_alist, scrambling_id, max_queued_bytes);
+    return gnuradio::make_block_sptr<pusch_encoder_impl>(cfg);
 }
 
-pusch_encoder_impl::pusch_encoder_impl(const numerology& num,
-                                       modulation mod,
-                                       const dmrs_config& dmrs,
-                                       const std::string& ldpc_alist,
-                                       unsigned scrambling_id,
-                                       std::uint64_t max_queued_bytes)
+pusch_encoder_impl::pusch_encoder_impl(const pusch_config& cfg)
     : gr::block("pusch_encoder",
                 gr::io_signature::make(0, 0, 0),
                 gr::io_signature::make(1, 1, sizeof(std::uint8_t))),
-      d_num(num),
-      d_codec(checked_slot_bits(num, mod, dmrs, max_queued_bytes), ldpc_alist, scrambling_id),
-      d_max_queued(max_queued_bytes)
+      d_cfg(cfg),
+      d_codec(cfg),
+      d_max_queued(cfg.max_queued_bytes)
 {
+    d_tb.resize(d_codec.tb_bytes());
     d_tb_bits.resize(d_codec.slot_bits());
     message_port_register_in(pdus_port());
     set_msg_handler(pdus_port(), [this](const pmt::pmt_t& msg) { handle_pdu(msg); });
@@ -65,7 +36,7 @@ pusch_encoder_impl::pusch_encoder_impl(const numerology& num,
 double pusch_encoder_impl::throughput_bps() const
 {
     return static_cast<double>(payload_bits_per_slot()) /
-           (d_num.symbols_per_slot * d_num.symbol_s());
+           (d_cfg.repetitions * d_cfg.num.symbols_per_slot * d_cfg.num.symbol_s());
 }
 
 void pusch_encoder_impl::drop_pdu(const std::string& why)
@@ -87,6 +58,11 @@ void pusch_encoder_impl::handle_pdu(const pmt::pmt_t& msg)
     const std::uint8_t* data = pmt::u8vector_elements(pmt::cdr(msg), len);
     if (len == 0)
         return;
+    if (len > 65535) {
+        drop_pdu("PDU of " + std::to_string(len) +
+                 " bytes > 65535 (the RLC segment offset has 16 bits)");
+        return;
+    }
     if (d_queued_bytes + len > d_max_queued) {
         drop_pdu("queue full: " + std::to_string(d_queued_bytes.load()) + " + " +
                  std::to_string(len) + " bytes > max_queued_bytes = " +
@@ -97,33 +73,60 @@ void pusch_encoder_impl::handle_pdu(const pmt::pmt_t& msg)
     d_queued_bytes += len;
 }
 
+void pusch_encoder_impl::next_tb()
+{
+    using kernel::mac_sdu;
+    mac_sdu sdu;
+    if (d_pdus.empty()) {
+        d_filler++;
+        sdu.write(d_tb.data(), d_tb.size());
+        return;
+    }
+    // RLC UM segmentation (38.322 5.2.2.1): SN only on segmented SDUs, SO on all but the first
+    const auto& front = d_pdus.front();
+    const std::size_t rest = front.size() - d_pdu_offset;
+    sdu.filler = false;
+    if (d_pdu_offset == 0)
+        sdu.si = rest <= mac_sdu::capacity(d_tb.size(), mac_sdu::complete) ? mac_sdu::complete
+                                                                            : mac_sdu::first;
+    else
+        sdu.si = rest <= mac_sdu::capacity(d_tb.size(), mac_sdu::last) ? mac_sdu::last
+                                                                        : mac_sdu::middle;
+    const std::size_t len = std::min(rest, mac_sdu::capacity(d_tb.size(), sdu.si));
+    sdu.sn = d_sn;
+    sdu.so = static_cast<std::uint16_t>(d_pdu_offset);
+    sdu.data.assign(front.begin() + static_cast<std::ptrdiff_t>(d_pdu_offset),
+                    front.begin() + static_cast<std::ptrdiff_t>(d_pdu_offset + len));
+    sdu.write(d_tb.data(), d_tb.size());
+    d_pdu_offset += len;
+    d_payload_bytes += len;
+    d_queued_bytes -= len;
+    if (d_pdu_offset == front.size()) {
+        if (sdu.si != mac_sdu::complete)
+            d_sn = static_cast<std::uint8_t>((d_sn + 1) & 0x3f);
+        d_pdus.pop_front();
+        d_pdu_offset = 0;
+    }
+}
+
 void pusch_encoder_impl::encode_slot()
 {
-    kernel::tb_header h;
-    h.seq = d_seq++;
-    const std::uint8_t* payload = nullptr;
-    std::size_t len = 0;
-    if (d_pdus.empty()) {
-        h.flags = kernel::tb_header::filler;
-        d_filler++;
-    } else {
-        const auto& front = d_pdus.front();
-        len = std::min(d_codec.payload_bytes(), front.size() - d_pdu_offset);
-        payload = front.data() + d_pdu_offset;
-        if (d_pdu_offset == 0)
-            h.flags |= kernel::tb_header::pdu_start;
-        if (d_pdu_offset + len == front.size())
-            h.flags |= kernel::tb_header::pdu_end;
+    // a new TB every repetitions slots; each slot sends it with the rv of its position
+    const auto pos = static_cast<unsigned>(d_slot % d_cfg.repetitions);
+    if (pos == 0) {
+        next_tb();
+        d_tbs++;
     }
-    d_codec.encode(h, payload, len, d_slot, d_tb_bits.data());
-    if (len > 0) {
-        d_pdu_offset += len;
-        d_payload_bytes += len;
-        d_queued_bytes -= len;
-        if (d_pdu_offset == d_pdus.front().size()) {
-            d_pdus.pop_front();
-            d_pdu_offset = 0;
-        }
+    // A TB, rv and c_init equal to the last slot's give its bits again: every padding-only
+    // slot under the standard scrambler, i.e. most of a radar aperture.
+    const unsigned rv = d_cfg.rv_of(pos);
+    const std::uint32_t c_init = d_codec.c_init(d_slot);
+    if (!(d_last_valid && rv == d_last_rv && c_init == d_last_c_init && d_tb == d_last_tb)) {
+        d_codec.encode(d_tb.data(), rv, d_slot, d_tb_bits.data());
+        d_last_tb = d_tb;
+        d_last_rv = rv;
+        d_last_c_init = c_init;
+        d_last_valid = true;
     }
     // continuous MSB-first bit stream
     for (std::uint8_t b : d_tb_bits) {
@@ -135,7 +138,6 @@ void pusch_encoder_impl::encode_slot()
         }
     }
     d_slot++;
-    d_tbs++;
 }
 
 int pusch_encoder_impl::general_work(int noutput_items,

@@ -20,16 +20,21 @@ namespace nrsar {
 class pusch_encoder_impl : public pusch_encoder
 {
 private:
-    numerology d_num;
+    pusch_config d_cfg;
     kernel::transport_block_codec d_codec;
     std::uint64_t d_max_queued;
 
     std::deque<std::vector<std::uint8_t>> d_pdus;
     std::size_t d_pdu_offset = 0;
     std::uint64_t d_slot = 0;
-    std::uint16_t d_seq = 0;
+    std::uint8_t d_sn = 0;                 // RLC SN of the next segmented PDU (6 bits)
 
+    std::vector<std::uint8_t> d_tb;        // the MAC PDU of the current TB
     std::vector<std::uint8_t> d_tb_bits;   // G unpacked bits of the current slot
+    std::vector<std::uint8_t> d_last_tb;   // the TB, rv and c_init d_tb_bits were made of
+    unsigned d_last_rv = 0;
+    std::uint32_t d_last_c_init = 0;
+    bool d_last_valid = false;
     std::deque<std::uint8_t> d_out;        // packed bytes ready for the output
     std::uint8_t d_acc = 0;                // partial byte
     unsigned d_acc_bits = 0;
@@ -42,15 +47,11 @@ private:
 
     void handle_pdu(const pmt::pmt_t& msg);
     void drop_pdu(const std::string& why);
+    void next_tb();
     void encode_slot();
 
 public:
-    pusch_encoder_impl(const numerology& num,
-                       modulation mod,
-                       const dmrs_config& dmrs,
-                       const std::string& ldpc_alist,
-                       unsigned scrambling_id,
-                       std::uint64_t max_queued_bytes);
+    explicit pusch_encoder_impl(const pusch_config& cfg);
 
     int general_work(int noutput_items,
                      gr_vector_int& ninput_items,
@@ -63,7 +64,12 @@ public:
     std::uint64_t pdus_dropped() const override { return d_dropped; }
     std::uint64_t queued_bytes() const override { return d_queued_bytes; }
     double code_rate() const override { return d_codec.code_rate(); }
-    std::uint64_t payload_bits_per_slot() const override { return 8 * d_codec.payload_bytes(); }
+    std::uint64_t payload_bits_per_slot() const override
+    {
+        return 8 * d_codec.payload_bytes();
+    }
+    std::uint64_t tbs_bits() const override { return d_codec.tbs_bits(); }
+    unsigned code_blocks() const override { return d_codec.code_blocks(); }
     std::uint64_t slot_bits() const override { return d_codec.slot_bits(); }
     double throughput_bps() const override;
 };

@@ -25,36 +25,24 @@ int checked_itemsize(const numerology& num)
 }
 } // namespace
 
-pusch_receiver::sptr pusch_receiver::make(const numerology& num,
-                                          modulation mod,
-                                          const dmrs_config& dmrs,
-                                          const std::string& ldpc_alist,
-                                          unsigned scrambling_id,
-                                          unsigned freq_window,
-                                          unsigned max_iterations)
+pusch_receiver::sptr pusch_receiver::make(const pusch_config& cfg)
 {
-    return gnuradio::make_block_sptr<pusch_receiver_impl>(
-        num, mod, dmrs, ldpc_alist, scrambling_id, freq_window, max_iterations);
+    return gnuradio::make_block_sptr<pusch_receiver_impl>(cfg);
 }
 
-pusch_receiver_impl::pusch_receiver_impl(const numerology& num,
-                                         modulation mod,
-                                         const dmrs_config& dmrs,
-                                         const std::string& ldpc_alist,
-                                         unsigned scrambling_id,
-                                         unsigned freq_window,
-                                         unsigned max_iterations)
+pusch_receiver_impl::pusch_receiver_impl(const pusch_config& cfg)
     : gr::block("pusch_receiver",
-                gr::io_signature::make(1, 1, checked_itemsize(num)),
+                gr::io_signature::make(1, 1, checked_itemsize(cfg.num)),
                 gr::io_signature::make(0, 1, sizeof(gr_complex))),
-      d_num(num),
-      d_rx(num, mod, dmrs, ldpc_alist, scrambling_id, freq_window, max_iterations)
+      d_num(cfg.num),
+      d_rx(cfg),
+      d_repetitions(cfg.repetitions)
 {
     set_tag_propagation_policy(TPP_DONT);
     // Room for two slots of equalised REs: a slot is only finished when its REs all fit
     // (see general_work), so none are left behind when the input ends.
     set_min_output_buffer(0, 2 * static_cast<long>(d_rx.data_res()));
-    d_slot_buf.resize(static_cast<std::size_t>(num.symbols_per_slot) * num.num_subcarriers);
+    d_slot_buf.resize(static_cast<std::size_t>(d_num.symbols_per_slot) * d_num.num_subcarriers);
     message_port_register_out(pdus_port());
 }
 
@@ -77,38 +65,57 @@ void pusch_receiver_impl::finish_slot()
     const auto res = d_rx.process(d_slot_buf.data(), d_slot, d_eq_output ? d_eq.data() : nullptr);
     if (d_eq_output)
         d_eq_pos = 0;
+    d_snr = res.snr_db;
+    d_evm = res.evm_db;
     const auto& tb = res.tb;
+    if (res.transmissions > 0 && tb.code_blocks > 0) {
+        d_decodes++;
+        d_iterations_sum = d_iterations_sum + tb.mean_iterations;
+    }
+    if (!res.tb_final) {
+        d_slot++;
+        d_fill = 0;
+        return;
+    }
     const bool ok = tb.header_ok;
-    const bool filler = ok && (tb.header.flags & kernel::tb_header::filler);
+    const bool filler = ok && tb.sdu.filler;
+    const auto si = tb.sdu.si;
     if (ok) {
         d_ok++;
         if (filler)
             d_filler++;
-        d_bytes += tb.payload.size();
+        if (res.transmissions > 1)
+            d_harq_ok++;
+        d_bytes += tb.sdu.data.size();
     } else {
         d_failed++;
     }
-    d_snr = res.snr_db;
-    d_evm = res.evm_db;
-
+    const bool data = ok && !filler;
+    const long payload_len = data ? static_cast<long>(tb.sdu.data.size()) : 0;
     pmt::pmt_t meta = pmt::make_dict();
-    meta = pmt::dict_add(meta, pmt::mp("slot"), pmt::from_uint64(d_slot));
-    meta = pmt::dict_add(meta, pmt::mp("seq"), pmt::from_long(ok ? tb.header.seq : -1));
-    meta = pmt::dict_add(meta, pmt::mp("crc_ok"), pmt::from_bool(ok));
-    meta = pmt::dict_add(meta, pmt::mp("filler"), pmt::from_bool(filler));
-    meta = pmt::dict_add(
-        meta, pmt::mp("payload_len"), pmt::from_long(ok ? static_cast<long>(tb.payload.size()) : 0));
-    meta = pmt::dict_add(meta,
-                         pmt::mp("pdu_start"),
-                         pmt::from_bool(ok && (tb.header.flags & kernel::tb_header::pdu_start)));
-    meta = pmt::dict_add(meta,
-                         pmt::mp("pdu_end"),
-                         pmt::from_bool(ok && (tb.header.flags & kernel::tb_header::pdu_end)));
-    meta = pmt::dict_add(meta, pmt::mp("snr_db"), pmt::from_double(res.snr_db));
-    meta = pmt::dict_add(meta, pmt::mp("evm_db"), pmt::from_double(res.evm_db));
-    const pmt::pmt_t data = ok ? pmt::init_u8vector(tb.payload.size(), tb.payload)
-                               : pmt::make_u8vector(0, 0);
-    message_port_pub(pdus_port(), pmt::cons(meta, data));
+    auto add = [&meta](const char* key, const pmt::pmt_t& v) {
+        meta = pmt::dict_add(meta, pmt::mp(key), v);
+    };
+    add("slot", pmt::from_uint64(res.tb_index * d_repetitions));
+    add("seq", pmt::from_long(ok ? static_cast<long>(res.tb_index & 0xffffu) : -1));
+    add("crc_ok", pmt::from_bool(ok));
+    add("filler", pmt::from_bool(filler));
+    add("payload_len", pmt::from_long(payload_len));
+    add("pdu_start",
+        pmt::from_bool(data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::first)));
+    add("pdu_end",
+        pmt::from_bool(data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::last)));
+    add("sn", pmt::from_long(data ? tb.sdu.sn : -1));
+    add("so", pmt::from_long(data ? tb.sdu.so : -1));
+    add("transmissions", pmt::from_long(res.transmissions));
+    add("ldpc_iterations", pmt::from_double(tb.mean_iterations));
+    add("code_blocks", pmt::from_long(tb.code_blocks));
+    add("cb_crc_ok", pmt::from_long(tb.cb_crc_ok));
+    add("snr_db", pmt::from_double(res.snr_db));
+    add("evm_db", pmt::from_double(res.evm_db));
+    const pmt::pmt_t bytes = data ? pmt::init_u8vector(tb.sdu.data.size(), tb.sdu.data)
+                                  : pmt::make_u8vector(0, 0);
+    message_port_pub(pdus_port(), pmt::cons(meta, bytes));
     d_slot++;
     d_fill = 0;
 }

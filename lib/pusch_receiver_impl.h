@@ -40,17 +40,15 @@ private:
     std::atomic<std::uint64_t> d_nonfinite_count{ 0 };
     std::atomic<double> d_snr{ 0.0 };
     std::atomic<double> d_evm{ 0.0 };
+    std::atomic<std::uint64_t> d_harq_ok{ 0 };
+    std::atomic<std::uint64_t> d_decodes{ 0 };       // decoding attempts
+    std::atomic<double> d_iterations_sum{ 0.0 };    // their mean iterations, summed
+    unsigned d_repetitions;
 
     void finish_slot();
 
 public:
-    pusch_receiver_impl(const numerology& num,
-                        modulation mod,
-                        const dmrs_config& dmrs,
-                        const std::string& ldpc_alist,
-                        unsigned scrambling_id,
-                        unsigned freq_window,
-                        unsigned max_iterations);
+    explicit pusch_receiver_impl(const pusch_config& cfg);
 
     bool check_topology(int ninputs, int noutputs) override;
     void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;
@@ -72,6 +70,13 @@ public:
     {
         return 8 * d_rx.codec().payload_bytes();
     }
+    std::uint64_t tbs_bits() const override { return d_rx.codec().tbs_bits(); }
+    unsigned code_blocks() const override { return d_rx.codec().code_blocks(); }
+    double ldpc_iterations_mean() const override
+    {
+        return d_decodes ? d_iterations_sum / double(d_decodes) : 0.0;
+    }
+    std::uint64_t harq_combined_ok() const override { return d_harq_ok; }
 };
 
 } // namespace nrsar

@@ -19,14 +19,31 @@ using namespace gr::nrsar::kernel;
 
 namespace {
 // One slot through encode -> grid -> channel h(k) exp(j phi l) + noise -> pusch_rx.
+// The qam256 table's highest MCS of each modulation (38.214 Table 5.1.3.1-2).
+unsigned top_mcs(modulation m)
+{
+    switch (m) {
+    case modulation::QPSK:
+        return 4;
+    case modulation::QAM16:
+        return 10;
+    case modulation::QAM64:
+        return 19;
+    default:
+        return 27;
+    }
+}
+
 struct loop {
-    numerology num = numerology::preset("tiny");
-    modulation mod;
-    dmrs_config dmrs;
-    std::string alist;
-    loop(modulation m, const char* d, std::string a = "")
-        : mod(m), dmrs(dmrs_config::preset(d)), alist(std::move(a))
+    pusch_config cfg;
+    loop(modulation m, const char* d, pusch_coding coding = pusch_coding::NONE)
     {
+        cfg.num = numerology::preset("tiny");
+        cfg.mod = m;
+        cfg.dmrs = dmrs_config::preset(d);
+        cfg.coding = coding;
+        cfg.mcs = top_mcs(m);
+        cfg.n_id = 9;
     }
 
     pusch_slot_result run(std::uint64_t slot,
@@ -36,14 +53,20 @@ struct loop {
                           std::vector<std::uint8_t>* got,
                           double timing_samples = 0.0)
     {
+        const numerology& num = cfg.num;
         const unsigned n = num.num_subcarriers, sps = num.symbols_per_slot;
-        transport_block_codec codec(pusch_slot_bits(num, mod, dmrs), alist, 9);
+        transport_block_codec codec(cfg);
+        mac_sdu sdu;
+        sdu.filler = false;
+        sdu.data = payload;
+        std::vector<std::uint8_t> tb(codec.tb_bytes());
+        sdu.write(tb.data(), tb.size());
         std::vector<std::uint8_t> bits(codec.slot_bits());
-        codec.encode(tb_header{}, payload.data(), payload.size(), slot, bits.data());
+        codec.encode(tb.data(), 0, slot, bits.data());
         std::vector<std::uint8_t> packed((bits.size() + 7) / 8, 0);
         for (std::size_t i = 0; i < bits.size(); i++)
             packed[i / 8] |= static_cast<std::uint8_t>(bits[i] << (7 - i % 8));
-        nr_grid grid(num, mod, tx_mode::DATA, srs_config(), dmrs);
+        nr_grid grid(num, cfg.mod, tx_mode::DATA, srs_config(), cfg.dmrs);
         std::vector<gr_complex> y(static_cast<std::size_t>(sps) * n);
         std::size_t pos = 0;
         const auto noise = nrsar_test::gaussian_samples(y.size(), 17);
@@ -68,10 +91,10 @@ struct loop {
             }
         }
         EXPECT_EQ(pos, bits.size());
-        pusch_rx rx(num, mod, dmrs, alist, 9, 3);
+        pusch_rx rx(cfg);
         auto res = rx.process(y.data(), slot);
         if (got)
-            *got = res.tb.payload;
+            *got = res.tb.sdu.data;
         return res;
     }
 };
@@ -81,19 +104,22 @@ TEST(pusch_rx, decodes_through_channel_and_phase_drift)
 {
     std::mt19937 rng(1);
     for (const char* d : { "pusch1", "pusch2", "pusch4" })
-        for (auto mod : { modulation::QPSK, modulation::QAM64, modulation::QAM256 }) {
-            loop lp(mod, d);
+        for (auto mod : { modulation::QPSK, modulation::QAM64, modulation::QAM256 })
+            for (auto coding : { pusch_coding::NONE, pusch_coding::NR_LDPC }) {
+            loop lp(mod, d, coding);
             std::vector<std::uint8_t> payload(50), got;
             for (auto& b : payload)
                 b = static_cast<std::uint8_t>(rng());
             // one DMRS symbol cannot follow a drift: give it none
             const double drift = std::string(d) == "pusch1" ? 0.0 : 0.02;
             const auto res = lp.run(21, payload, 1e-5, drift, &got);
-            EXPECT_TRUE(res.tb.crc_ok) << d << " " << static_cast<int>(mod);
+            EXPECT_TRUE(res.tb.header_ok) << d << " " << static_cast<int>(mod);
             EXPECT_EQ(got, payload);
             // noise from the empty odd DMRS subcarriers: 1e-5 within the sampling spread
             EXPECT_NEAR(res.noise_var, 1e-5, 0.35e-5);
-        }
+            EXPECT_TRUE(res.tb_final);
+            EXPECT_EQ(res.transmissions, 1u);
+            }
 }
 
 // ofdm_sync's backoff (b samples of the CP) turns the phase by 4 pi b / F between
@@ -109,7 +135,7 @@ TEST(pusch_rx, phase_slope_of_an_early_fft_window)
         for (auto& v : payload)
             v = static_cast<std::uint8_t>(rng());
         const auto res = lp.run(3, payload, 1e-5, 0.0, &got, b);
-        EXPECT_TRUE(res.tb.crc_ok) << b;
+        EXPECT_TRUE(res.tb.header_ok) << b;
         EXPECT_EQ(got, payload);
         EXPECT_LT(res.evm_db, -35.0) << b;
     }
@@ -117,38 +143,42 @@ TEST(pusch_rx, phase_slope_of_an_early_fft_window)
 
 TEST(pusch_rx, ldpc_loop_and_low_snr_failure)
 {
-    loop lp(modulation::QPSK, "pusch2",
-            "/usr/share/gnuradio/fec/ldpc/n_0300_k_0152_gap_03.alist");
+    loop lp(modulation::QPSK, "pusch2", pusch_coding::NR_LDPC);
     std::vector<std::uint8_t> payload(20, 0xa5), got;
-    EXPECT_TRUE(lp.run(3, payload, 1e-3, 0.0, &got).tb.crc_ok);
+    EXPECT_TRUE(lp.run(3, payload, 1e-3, 0.0, &got).tb.header_ok);
     EXPECT_EQ(got, payload);
     const auto bad = lp.run(3, payload, 10.0, 0.0, &got);
-    EXPECT_FALSE(bad.tb.crc_ok);
+    EXPECT_FALSE(bad.tb.header_ok);
     EXPECT_TRUE(got.empty());
 }
 
 TEST(pusch_rx, bad_parameters)
 {
-    const auto num = numerology::preset("tiny");
-    EXPECT_THROW(pusch_rx(num, modulation::QAM16, dmrs_config()), std::invalid_argument);
-    EXPECT_THROW(pusch_rx(num, modulation::PSK8, dmrs_config::preset("pusch2")),
-                 std::invalid_argument);
-    EXPECT_THROW(pusch_rx(num, modulation::QAM16, dmrs_config::preset("pusch2"), "", 0, 2),
-                 std::invalid_argument);
+    loop lp(modulation::QAM16, "pusch2");
+    auto c = lp.cfg;
+    c.dmrs = dmrs_config();
+    EXPECT_THROW(pusch_rx{ c }, std::invalid_argument);
+    c = lp.cfg;
+    c.mod = modulation::PSK8;
+    EXPECT_THROW(pusch_rx{ c }, std::invalid_argument);
+    c = lp.cfg;
+    c.freq_window = 2;
+    EXPECT_THROW(pusch_rx{ c }, std::invalid_argument);
 }
 
 TEST(pusch_rx, garbage_slot_is_a_clean_failure)
 {
     // Huge, infinite and NaN samples (the block zeroes non-finite ones first; the kernel must
     // still not misbehave): every case is a CRC failure with an empty payload.
-    const auto num = numerology::preset("tiny");
-    pusch_rx rx(num, modulation::QAM256, dmrs_config::preset("pusch2"));
+    pusch_config cfg;
+    cfg.num = numerology::preset("tiny");
+    pusch_rx rx(cfg);
     const float vals[] = { 3e38f, -3e38f, std::numeric_limits<float>::infinity(),
                            std::numeric_limits<float>::quiet_NaN(), 1e-38f, 0.0f };
     for (float v : vals) {
         std::vector<gr_complex> y(14 * 64, gr_complex(v, -v));
         const auto r = rx.process(y.data(), 0);
-        EXPECT_FALSE(r.tb.crc_ok);
-        EXPECT_TRUE(r.tb.payload.empty());
+        EXPECT_FALSE(r.tb.header_ok);
+        EXPECT_TRUE(r.tb.sdu.data.empty());
     }
 }

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <random>
 #include <stdexcept>
 
@@ -16,7 +17,6 @@ using namespace gr::nrsar;
 using namespace gr::nrsar::kernel;
 
 namespace {
-const char* alist_small = "/usr/share/gnuradio/fec/ldpc/n_0300_k_0152_gap_03.alist";
 
 // Bit-by-bit TS 38.211 5.2.1 Gold sequence, independent of gold_sequence.
 std::vector<int> gold_ref(std::uint32_t c_init, std::size_t n)
@@ -77,178 +77,230 @@ TEST(dmrs, values_match_bitwise_gold)
             }
 }
 
-TEST(transport_block, crc24a_check_value)
+
+namespace {
+pusch_config tiny_cfg(pusch_coding coding, modulation mod = modulation::QAM256, unsigned mcs = 27)
 {
-    // CRC-24/LTE-A catalogue check value of "123456789" is 0xCDE703.
-    const char* s = "123456789";
-    EXPECT_EQ(crc24a_ref(reinterpret_cast<const std::uint8_t*>(s), 9), 0xCDE703u);
-    // The codec appends exactly this CRC: check it on an unscrambled uncoded TB.
-    transport_block_codec codec(8 * (5 + 9 + 3), "", 0);
-    ASSERT_EQ(codec.payload_bytes(), 9u);
-    std::vector<std::uint8_t> bits(codec.slot_bits());
-    codec.encode(tb_header{}, reinterpret_cast<const std::uint8_t*>(s), 9, 0, bits.data());
-    const auto c = gold_ref(0x2545F491u, bits.size()); // c_init of id 0, slot 0 (below)
-    std::vector<std::uint8_t> bytes(17, 0);
-    for (std::size_t i = 0; i < bits.size(); i++)
-        bytes[i / 8] |= static_cast<std::uint8_t>((bits[i] ^ c[i]) << (7 - i % 8));
-    EXPECT_EQ(bytes[0], 0);
-    EXPECT_EQ(bytes[1], 9);
-    EXPECT_EQ(std::memcmp(bytes.data() + 5, s, 9), 0);
-    const std::uint32_t crc = crc24a_ref(bytes.data(), 14);
-    EXPECT_EQ((std::uint32_t{ bytes[14] } << 16) | (bytes[15] << 8) | bytes[16], crc);
+    pusch_config c;
+    c.num = numerology::preset("tiny");
+    c.mod = mod;
+    c.coding = coding;
+    c.mcs = mcs;
+    return c;
+}
+
+std::vector<std::uint8_t> mac_pdu(const std::vector<std::uint8_t>& data, std::size_t tb_bytes)
+{
+    mac_sdu s;
+    s.filler = false;
+    s.data = data;
+    std::vector<std::uint8_t> tb(tb_bytes);
+    s.write(tb.data(), tb.size());
+    return tb;
+}
+} // namespace
+
+// The bytes of 38.321 6.1.2 / 38.322 6.2.2.3 written by hand.
+TEST(mac_sdu, layout_of_the_standard_headers)
+{
+    mac_sdu s;
+    s.filler = false;
+    s.data = { 0xd0, 0xd1, 0xd2, 0xd3, 0xd4 };
+    std::vector<std::uint8_t> tb(12, 0xee);
+    s.write(tb.data(), tb.size());
+    // R 0 F 1 LCID 4 = 0x44, L = 1 + 5, SI 00 R 000000, data, padding LCID 63, zeros
+    EXPECT_EQ(tb, (std::vector<std::uint8_t>{ 0x44, 0x00, 0x06, 0x00, 0xd0, 0xd1, 0xd2, 0xd3,
+                                              0xd4, 0x3f, 0x00, 0x00 }));
+    s.si = mac_sdu::middle; // SI 11, SN 5, SO 0x1234
+    s.sn = 5;
+    s.so = 0x1234;
+    s.data = { 0xaa };
+    s.write(tb.data(), 7);
+    EXPECT_EQ(std::vector<std::uint8_t>(tb.begin(), tb.begin() + 7),
+              (std::vector<std::uint8_t>{ 0x44, 0x00, 0x04, 0xc5, 0x12, 0x34, 0xaa }));
+    mac_sdu r;
+    ASSERT_TRUE(r.read(tb.data(), 7));
+    EXPECT_FALSE(r.filler);
+    EXPECT_EQ(r.si, mac_sdu::middle);
+    EXPECT_EQ(r.sn, 5);
+    EXPECT_EQ(r.so, 0x1234);
+    EXPECT_EQ(r.data, s.data);
+    mac_sdu f; // filler: the padding subheader alone
+    f.write(tb.data(), 12);
+    EXPECT_EQ(tb[0], 0x3f);
+    ASSERT_TRUE(r.read(tb.data(), 12));
+    EXPECT_TRUE(r.filler);
+    // capacity: TB bytes minus 3 (MAC) minus 1 or 3 (RLC)
+    EXPECT_EQ(mac_sdu::capacity(12, mac_sdu::complete), 8u);
+    EXPECT_EQ(mac_sdu::capacity(12, mac_sdu::last), 6u);
+    EXPECT_EQ(mac_sdu::capacity(4, mac_sdu::complete), 0u);
+}
+
+TEST(mac_sdu, refuses_what_it_does_not_write)
+{
+    mac_sdu r;
+    const std::vector<std::vector<std::uint8_t>> bad = {
+        { 0x00, 0x00, 0x00, 0x00 },             // LCID 0 (all-zero TB)
+        { 0xc4, 0x00, 0x02, 0x00, 0x01 },       // R bit set
+        { 0x44, 0x00, 0x09, 0x00, 0x01 },       // L beyond the TB
+        { 0x44, 0x00, 0x01, 0x00, 0x3f },       // no data byte
+        { 0x44, 0x00, 0x02, 0x05, 0x01, 0x3f }, // complete SDU with R bits set
+        { 0x44, 0x00, 0x02, 0x00, 0x01, 0x00 }, // no padding subheader after the SDU
+        { 0x05, 0x02, 0x00, 0x01 },             // F = 0, another LCID
+    };
+    for (const auto& tb : bad)
+        EXPECT_FALSE(r.read(tb.data(), tb.size())) << int(tb[0]) << " " << int(tb[2]);
 }
 
 TEST(transport_block, sizes)
 {
-    transport_block_codec u(1000, "", 3);
-    EXPECT_EQ(u.payload_bytes(), (1000u - 24u) / 8u - 5u);
-    EXPECT_DOUBLE_EQ(u.code_rate(), 1.0);
-    transport_block_codec l(1000, alist_small, 3);
-    EXPECT_EQ(l.code_n(), 300u);
-    EXPECT_EQ(l.code_k(), 152u);
-    EXPECT_EQ(l.codewords(), 3u);
-    EXPECT_EQ(l.payload_bytes(), (3u * 152u - 24u) / 8u - 5u);
+    // uncoded: A = 8 floor((G - 24) / 8), G = 12 x 64 x 4 (16-QAM, pusch2)
+    const transport_block_codec u(tiny_cfg(pusch_coding::NONE, modulation::QAM16));
+    EXPECT_EQ(u.slot_bits(), 3072u);
+    EXPECT_EQ(u.tbs_bits(), 3048u);
+    EXPECT_EQ(u.payload_bytes(), 3048u / 8 - 4);
+    EXPECT_FALSE(u.coded());
+    // coded, qam256 table MCS 27 (Qm 8, R 948/1024) on 5 PRB x (168 - 24) REs:
+    // N_info = 720 x 948/1024 x 8 = 5332.5 > 3824: n = floor(log2(5332.5 - 24)) - 5 = 7,
+    // N'_info = max(3840, 2^7 round((5332.5 - 24) / 2^7)) = 5248; R > 1/4, N'_info <= 8424:
+    // C = ceil((5248 + 24) / 8424) = 1, TBS = 8 ceil((5248 + 24) / 8) - 24 = 5248
+    const transport_block_codec c(tiny_cfg(pusch_coding::NR_LDPC));
+    EXPECT_EQ(c.slot_bits(), 6144u);
+    EXPECT_EQ(c.tbs_bits(), 5248u);
+    EXPECT_EQ(c.code_blocks(), 1u);
+    EXPECT_EQ(c.base_graph(), 1); // A > 3824 and R > 0.67 (38.212 6.2.2)
+    EXPECT_NEAR(c.code_rate(), (5248.0 + 24.0) / 6144.0, 1e-12);
 }
 
-TEST(transport_block, roundtrip_uncoded_and_ldpc)
+TEST(transport_block, roundtrip_uncoded_and_coded)
 {
     std::mt19937 rng(5);
-    for (const char* alist : { "", alist_small }) {
-        transport_block_codec codec(2000, alist, 77);
-        std::vector<std::uint8_t> bits(codec.slot_bits());
-        for (std::size_t len : { std::size_t{ 0 }, std::size_t{ 1 }, codec.payload_bytes() }) {
-            std::vector<std::uint8_t> payload(len);
-            for (auto& b : payload)
+    for (auto coding : { pusch_coding::NONE, pusch_coding::NR_LDPC }) {
+        transport_block_codec codec(tiny_cfg(coding));
+        for (std::size_t len : { std::size_t{ 1 }, std::size_t{ 37 }, codec.payload_bytes() }) {
+            std::vector<std::uint8_t> data(len);
+            for (auto& b : data)
                 b = static_cast<std::uint8_t>(rng());
-            tb_header h;
-            h.seq = 4242;
-            h.flags = len ? tb_header::pdu_start : tb_header::filler;
-            const std::uint64_t slot = 123456;
-            codec.encode(h, payload.data(), len, slot, bits.data());
-            const auto r = codec.decode(bits_to_llr(bits).data(), slot);
-            EXPECT_TRUE(r.crc_ok) << alist;
-            EXPECT_TRUE(r.header_ok);
-            EXPECT_EQ(r.header.seq, 4242);
-            EXPECT_EQ(r.header.payload_len, len);
-            EXPECT_EQ(r.payload, payload);
-            // wrong slot = wrong descrambling: CRC fails
-            EXPECT_FALSE(codec.decode(bits_to_llr(bits).data(), slot + 1).crc_ok);
+            auto tb = mac_pdu(data, codec.tb_bytes());
+            std::vector<std::uint8_t> bits(codec.slot_bits());
+            codec.encode(tb.data(), 0, 11, bits.data());
+            const auto r = codec.decode(bits_to_llr(bits).data(), 0, 11, false);
+            EXPECT_TRUE(r.crc_ok && r.parity_ok && r.header_ok) << len;
+            EXPECT_EQ(r.sdu.data, data);
+            EXPECT_EQ(r.sdu.si, mac_sdu::complete);
         }
     }
 }
 
-TEST(transport_block, scrambling_c_init)
+// 38.211 6.3.1.1: c_init = n_RNTI 2^15 + n_ID, the same every slot; uncoded, the G bits are
+// the TB, its CRC24A and zeros, xor c(n).
+TEST(transport_block, standard_scrambling_by_hand)
 {
-    // The documented c_init = ((2^15 scrambling_id + (slot mod 2^15)) a + b) mod 2^31,
-    // a = 0x9E3779B1 = 2654435761, b = 0x2545F491 = 625341585, worked out by hand:
-    //  id 0, slot 0: v = 0, c_init = b = 0x2545F491.
-    EXPECT_EQ(transport_block_codec::scrambling_c_init(0, 0), 0x2545F491u);
-    //  id 3, slot 70000: 70000 mod 32768 = 4464, v = 3 * 32768 + 4464 = 102768,
-    //  v a = 272791054286448 = 127028 * 2^31 + 501448304, 501448304 + 625341585 = 1126789889
-    //  (< 2^31) = 0x43297301.
-    EXPECT_EQ(transport_block_codec::scrambling_c_init(3, 70000), 0x43297301u);
-    //  id 65535, slot 65535: v = 65535 * 2^15 + 32767 = 2^31 - 1 = -1 mod 2^31, so
-    //  v a = -(a mod 2^31) = 2^31 - 506952113 = 1640531535; + b = 2265873120 - 2^31 =
-    //  118389472 = 0x070E7AE0.
-    EXPECT_EQ(transport_block_codec::scrambling_c_init(65535, 65535), 0x070E7AE0u);
-    // The pre-image is TS 38.211 6.3.1.1's PUSCH form c_init = n_RNTI 2^15 + n_ID (PUSCH has
-    // no codeword term q 2^14; that is PDSCH's 7.3.1.1) with n_RNTI = scrambling_id and
-    // n_ID = slot mod 2^15: undo the affine map with a^-1 mod 2^31 = 0x0E8B2F51.
-    const std::uint64_t a = 0x9E3779B1u, a_inv = 0x0E8B2F51u, b = 0x2545F491u, m = 1ull << 31;
-    ASSERT_EQ(a * a_inv % m, 1u);
-    for (unsigned id : { 0u, 1u, 7u, 1234u, 65535u })
-        for (std::uint64_t slot : { 0ull, 1ull, 2ull, 32767ull, 32768ull, 123456ull }) {
-            const std::uint64_t c = transport_block_codec::scrambling_c_init(id, slot);
-            EXPECT_EQ((c + m - b) % m * a_inv % m, std::uint64_t{ id } * 32768 + slot % 32768)
-                << "id " << id << " slot " << slot;
-        }
-}
-
-TEST(transport_block, scrambled_bits_are_tb_xor_gold_sequence)
-{
-    // Uncoded G = 6000: the codec's output must be the TB (header | zero payload | CRC24A,
-    // built here) xor c(i) of the bit-by-bit 38.211 5.2.1 Gold sequence with the hand c_init
-    // 0x43297301 (id 3, slot 70000, above), and c(i) alone over the zero padding.
-    transport_block_codec codec(6000, "", 3);
-    tb_header h;
-    h.seq = 0x1234;
-    h.flags = tb_header::filler;
-    std::vector<std::uint8_t> out(codec.slot_bits());
-    codec.encode(h, nullptr, 0, 70000, out.data());
-    std::vector<std::uint8_t> tb(codec.tb_bits() / 8, 0);
-    tb[2] = 0x12;
-    tb[3] = 0x34;
-    tb[4] = tb_header::filler;
-    const std::uint32_t crc = crc24a_ref(tb.data(), tb.size() - 3);
-    tb[tb.size() - 3] = static_cast<std::uint8_t>(crc >> 16);
-    tb[tb.size() - 2] = static_cast<std::uint8_t>(crc >> 8);
-    tb[tb.size() - 1] = static_cast<std::uint8_t>(crc);
-    const auto c = gold_ref(0x43297301u, out.size());
-    int wrong = 0;
-    for (std::size_t i = 0; i < out.size(); i++) {
-        const int bit = i < 8 * tb.size() ? (tb[i / 8] >> (7 - i % 8)) & 1 : 0;
-        wrong += out[i] != (bit ^ c[i]);
-    }
-    EXPECT_EQ(wrong, 0);
-}
-
-TEST(transport_block, zero_payload_looks_random)
-{
-    // 38.211 6.3.1.1: scrambled bits of an all-zero filler TB are balanced and differ per slot.
-    transport_block_codec codec(6000, "", 0);
-    std::vector<std::uint8_t> a(6000), b(6000);
-    codec.encode(tb_header{}, nullptr, 0, 0, a.data());
-    codec.encode(tb_header{}, nullptr, 0, 1, b.data());
-    int ones = 0, diff = 0;
-    for (int i = 0; i < 6000; i++) {
-        ones += a[i];
-        diff += a[i] != b[i];
-    }
-    EXPECT_NEAR(ones, 3000, 250);
-    EXPECT_NEAR(diff, 3000, 250);
-}
-
-TEST(transport_block, ldpc_corrects_errors)
-{
-    transport_block_codec codec(2000, alist_small, 1);
+    auto cfg = tiny_cfg(pusch_coding::NONE, modulation::QPSK);
+    cfg.n_rnti = 0x4601;
+    cfg.n_id = 77;
+    transport_block_codec codec(cfg);
+    const std::uint32_t c_init = 0x4601u * 32768u + 77u; // 589,332,557
+    EXPECT_EQ(codec.c_init(0), c_init);
+    EXPECT_EQ(codec.c_init(123), c_init);
+    const auto tb = mac_pdu({ 1, 2, 3 }, codec.tb_bytes());
     std::vector<std::uint8_t> bits(codec.slot_bits());
-    std::vector<std::uint8_t> payload(codec.payload_bytes(), 0x5a);
-    codec.encode(tb_header{}, payload.data(), payload.size(), 9, bits.data());
-    // BPSK over AWGN, sigma = 0.45: raw bit error rate Q(1/0.45) = 1.3 %, LLR = 2 y / sigma^2
-    std::mt19937 rng(3);
-    std::normal_distribution<float> g(0.0f, 0.45f);
-    std::vector<float> llr(bits.size());
-    int raw_errors = 0;
+    codec.encode(tb.data(), 0, 5, bits.data());
+    const auto c = gold_ref(c_init, bits.size());
+    const std::uint32_t crc = crc24a_ref(tb.data(), tb.size());
     for (std::size_t i = 0; i < bits.size(); i++) {
-        const float y = (bits[i] ? -1.0f : 1.0f) + g(rng);
-        llr[i] = 2.0f * y / (0.45f * 0.45f);
-        raw_errors += (y < 0) != (bits[i] != 0);
+        int b = 0;
+        if (i < 8 * tb.size())
+            b = (tb[i / 8] >> (7 - i % 8)) & 1;
+        else if (i < 8 * tb.size() + 24)
+            b = (crc >> (23 - (i - 8 * tb.size()))) & 1;
+        ASSERT_EQ(bits[i], b ^ c[i]) << i;
     }
-    EXPECT_GT(raw_errors, 5); // hard decisions alone would fail the CRC
-    const auto r = codec.decode(llr.data(), 9);
-    EXPECT_TRUE(r.crc_ok);
-    EXPECT_EQ(r.payload, payload);
+    // the module's option: a different sequence per slot
+    cfg.scrambling = pusch_scrambling::PER_SLOT;
+    transport_block_codec per_slot(cfg);
+    EXPECT_EQ(per_slot.c_init(3), transport_block_codec::per_slot_c_init(77, 3));
+    EXPECT_EQ(per_slot.c_init(3),
+              static_cast<std::uint32_t>(((77ull * 32768 + 3) * 0x9E3779B1ull + 0x2545F491ull) %
+                                         (1ull << 31)));
+    EXPECT_NE(per_slot.c_init(3), per_slot.c_init(4));
 }
 
-TEST(transport_block, header_rules_and_garbage)
+TEST(transport_block, wrong_scrambling_or_noise_fails_cleanly)
 {
-    tb_header h;
-    std::uint8_t raw[5] = { 0, 10, 0, 1, tb_header::filler };
-    EXPECT_FALSE(h.read(raw, 100)); // filler with payload
-    raw[4] = 0x80;
-    EXPECT_FALSE(h.read(raw, 100)); // unknown flag
-    raw[4] = 0;
-    EXPECT_FALSE(h.read(raw, 9)); // longer than the capacity
-    EXPECT_TRUE(h.read(raw, 10));
-    transport_block_codec codec(500, "", 0);
-    std::vector<float> llr(500, std::nanf(""));
-    EXPECT_FALSE(codec.decode(llr.data(), 0).header_ok);
+    auto cfg = tiny_cfg(pusch_coding::NR_LDPC, modulation::QPSK, 4);
+    transport_block_codec tx(cfg);
+    cfg.n_rnti += 1;
+    transport_block_codec other(cfg);
+    const auto tb = mac_pdu({ 9, 8, 7 }, tx.tb_bytes());
+    std::vector<std::uint8_t> bits(tx.slot_bits());
+    tx.encode(tb.data(), 0, 0, bits.data());
+    auto r = other.decode(bits_to_llr(bits).data(), 0, 0, false);
+    EXPECT_FALSE(r.header_ok);
+    EXPECT_TRUE(r.sdu.data.empty());
+    // all-zero LLRs (nothing received) decode to zeros: CRC ok, but no MAC PDU
+    std::vector<float> zero(tx.slot_bits(), 0.0f);
+    r = tx.decode(zero.data(), 0, 0, false);
+    EXPECT_FALSE(r.header_ok);
+    std::vector<float> nan(tx.slot_bits(), std::nanf(""));
+    r = tx.decode(nan.data(), 0, 0, false);
+    EXPECT_FALSE(r.header_ok);
+}
+
+// HARQ: rv 0 and rv 2 each keep fewer bits than the K' = 1880 information bits of the block
+// (60 % and 40 % of E = 3072: 1843 and 1228), so neither decodes alone; together they do.
+TEST(transport_block, harq_combining_of_rv0_and_rv2)
+{
+    auto cfg = tiny_cfg(pusch_coding::NR_LDPC, modulation::QAM16, 10); // R 658/1024
+    transport_block_codec codec(cfg);
+    const auto tb = mac_pdu({ 0x5a, 0xa5, 0x0f }, codec.tb_bytes());
+    std::vector<std::uint8_t> b0(codec.slot_bits()), b2(codec.slot_bits());
+    codec.encode(tb.data(), 0, 0, b0.data());
+    codec.encode(tb.data(), 2, 1, b2.data());
+    auto l0 = bits_to_llr(b0);
+    std::fill(l0.begin() + l0.size() * 6 / 10, l0.end(), 0.0f);
+    EXPECT_FALSE(codec.decode(l0.data(), 0, 0, false).header_ok);
+    auto l2 = bits_to_llr(b2);
+    std::fill(l2.begin() + l2.size() * 4 / 10, l2.end(), 0.0f);
+    EXPECT_FALSE(codec.decode(l2.data(), 2, 1, false).header_ok);
+    codec.decode(l0.data(), 0, 0, false);
+    const auto r = codec.decode(l2.data(), 2, 1, true);
+    EXPECT_TRUE(r.header_ok);
+    EXPECT_EQ(r.sdu.data, (std::vector<std::uint8_t>{ 0x5a, 0xa5, 0x0f }));
 }
 
 TEST(transport_block, bad_parameters)
 {
-    EXPECT_THROW(transport_block_codec(1000, "/nonexistent.alist"), std::invalid_argument);
-    EXPECT_THROW(transport_block_codec(200, alist_small), std::invalid_argument);
-    EXPECT_THROW(transport_block_codec(64, ""), std::invalid_argument);
-    EXPECT_THROW(transport_block_codec(1000, "", 65536), std::invalid_argument);
+    auto expect_refused = [](pusch_config c, const char* name) {
+        try {
+            transport_block_codec t(c);
+            ADD_FAILURE() << name << " accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+        }
+    };
+    // each case breaks one field of a valid configuration
+    const std::vector<std::pair<std::function<void(pusch_config&)>, const char*>> cases = {
+        { [](pusch_config& c) { c.mcs = 28; }, "mcs = 28 must be in [0, 27]" }, // reserved rows
+        { [](pusch_config& c) { c.mcs = 10; }, // a 16-QAM row with 256-QAM
+          "mcs = 10 of mcs_table qam256 has Qm = 4 but mod has 8" },
+        { [](pusch_config& c) { c.mcs_table = "qam1024"; }, "mcs_table" },
+        { [](pusch_config& c) { c.rv = 4; }, "rv = 4" },
+        { [](pusch_config& c) { c.repetitions = 3; }, "repetitions = 3" },
+        { [](pusch_config& c) { c.coding = pusch_coding::NONE; c.repetitions = 2; },
+          "repetitions = 2 needs coding NR_LDPC" },
+        { [](pusch_config& c) { c.n_id = 1024; }, "n_id = 1024" },
+        { [](pusch_config& c) { c.n_rnti = 65536; }, "n_rnti = 65536" },
+        { [](pusch_config& c) { c.mod = modulation::PSK8; }, "mod" },
+    };
+    for (const auto& [breaks, message] : cases) {
+        auto c = tiny_cfg(pusch_coding::NR_LDPC);
+        breaks(c);
+        expect_refused(c, message);
+    }
+    auto c = tiny_cfg(pusch_coding::NR_LDPC, modulation::QAM64, 28); // qam64 table
+    c.mcs_table = "qam64";
+    c.dmrs = dmrs_config::preset("pusch1");
+    // 64-QAM R 948/1024, one DMRS symbol: TBS 4352, (4352 + 24) / 4992 = 0.88 (< 0.95)
+    EXPECT_NO_THROW(transport_block_codec{ c });
 }

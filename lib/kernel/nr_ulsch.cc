@@ -57,6 +57,17 @@ nr_ulsch::nr_ulsch(std::size_t tbs,
     d_scr.resize(d_G);
 }
 
+void nr_ulsch::scrambling(std::uint32_t c_init)
+{
+    // 38.211's c_init is the same for every slot of a UE: the sequence is made once
+    if (d_scr_valid && c_init == d_scr_c_init)
+        return;
+    gold_sequence c(c_init);
+    c.generate_unpacked(d_scr.data(), d_G);
+    d_scr_c_init = c_init;
+    d_scr_valid = true;
+}
+
 void nr_ulsch::encode(const std::uint8_t* a, unsigned rv, std::uint32_t c_init, std::uint8_t* out)
 {
     d_tb_crc.attach(a, d_A, d_tb.data());
@@ -74,8 +85,7 @@ void nr_ulsch::encode(const std::uint8_t* a, unsigned rv, std::uint32_t c_init, 
         nr_rate_match(d_d.data(), p, d_E[r], out + pos);
         pos += d_E[r];
     }
-    gold_sequence c(c_init);
-    c.generate_unpacked(d_scr.data(), d_G);
+    scrambling(c_init);
     for (std::size_t i = 0; i < d_G; i++)
         out[i] ^= d_scr[i];
 }
@@ -92,8 +102,7 @@ nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combi
     p.n_ref = d_n_ref;
     p.rv = rv;
     p.qm = d_qm;
-    gold_sequence c(c_init);
-    c.generate_unpacked(d_scr.data(), d_G);
+    scrambling(c_init);
     nr_ulsch_result res;
     res.code_blocks = d_seg.C;
     const std::size_t N = d_enc.n();

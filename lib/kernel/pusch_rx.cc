@@ -28,22 +28,15 @@ const dmrs_config& checked_dmrs(const numerology& num, const dmrs_config& dmrs)
 }
 } // namespace
 
-pusch_rx::pusch_rx(const numerology& num,
-                   modulation mod,
-                   const dmrs_config& dmrs,
-                   const std::string& ldpc_alist,
-                   unsigned scrambling_id,
-                   unsigned freq_window,
-                   unsigned max_iterations)
-    : d_num(num),
-      d_dmrs(checked_dmrs(num, dmrs)),
-      d_const(mod),
-      d_demapper(mod),
-      d_codec(pusch_slot_bits(num, mod, dmrs), ldpc_alist, scrambling_id, max_iterations),
-      d_window(freq_window)
+pusch_rx::pusch_rx(const pusch_config& cfg)
+    : d_num(cfg.num),
+      d_dmrs(checked_dmrs(cfg.num, cfg.dmrs)),
+      d_const(cfg.mod),
+      d_demapper(cfg.mod),
+      d_codec(cfg),
+      d_window(cfg.freq_window),
+      d_cfg(cfg)
 {
-    if (freq_window < 1 || freq_window % 2 == 0)
-        throw_param("freq_window", freq_window, "must be odd and >= 1");
     const unsigned n = d_num.num_subcarriers;
     for (unsigned l = 0; l < d_num.symbols_per_slot; l++)
         if (!d_dmrs.is_dmrs_symbol(l))
@@ -181,7 +174,22 @@ pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, 
     res.evm_db = 10.0 * std::log10(std::max(evm / nre, 1e-30));
 
     d_demapper.demap(d_x.data(), d_nv.data(), d_data_res, d_llr.data());
-    res.tb = d_codec.decode(d_llr.data(), slot);
+    // The TB's transmissions: repetitions consecutive slots from a multiple of repetitions;
+    // each is combined with the ones before it until the TB decodes (HARQ).
+    const unsigned pos = static_cast<unsigned>(slot % d_cfg.repetitions);
+    if (pos == 0 || slot != d_last_slot + 1) {
+        d_done = false;
+        d_transmissions = 0;
+    }
+    d_last_slot = slot;
+    res.tb_index = slot / d_cfg.repetitions;
+    if (!d_done) {
+        res.tb = d_codec.decode(d_llr.data(), d_cfg.rv_of(pos), slot, d_transmissions > 0);
+        d_transmissions++;
+        res.transmissions = d_transmissions;
+        d_done = res.tb.header_ok;
+        res.tb_final = d_done || pos + 1 == d_cfg.repetitions;
+    }
     if (eq)
         std::copy(d_x.begin(), d_x.end(), eq);
     return res;

@@ -14,9 +14,8 @@ import pmt
 
 #: Metadata keys of a pusch_receiver PDU.
 META_KEYS = ("slot", "seq", "crc_ok", "filler", "payload_len", "pdu_start", "pdu_end",
+             "sn", "so", "transmissions", "ldpc_iterations", "code_blocks", "cb_crc_ok",
              "snr_db", "evm_db")
-
-DEFAULT_ALIST = "/usr/share/gnuradio/fec/ldpc/n_1800_k_0902_gap_28.alist"
 
 
 def qfunc(x):
@@ -96,13 +95,16 @@ def reassemble(messages):
     return out
 
 
-def transmit_grid(num, mod, dmrs, alist, pdus, nslots, scrambling_id=5):
-    """Runs pusch_encoder -> nr_isac_tx(dmrs) for nslots slots with the PDUs (bytes) queued
-    first; returns (grid as a (symbols x N) complex64 array, the encoder block)."""
+def transmit_grid(cfg, pdus, nslots):
+    """Runs pusch_encoder(cfg) -> nr_isac_tx(cfg's dmrs) for nslots slots with the PDUs
+    (bytes) queued first; returns (grid as a (symbols x N) complex64 array, the encoder)."""
     from gnuradio import blocks, gr
     from gnuradio import nrsar
-    enc = nrsar.pusch_encoder(num, mod, dmrs, alist, scrambling_id, 1 << 30)
-    tx = nrsar.nr_isac_tx(num, mod, nrsar.make_tx_mode("data"), nrsar.srs_config(), 0, dmrs)
+    cfg.max_queued_bytes = 1 << 30
+    enc = nrsar.pusch_encoder(cfg)
+    num = cfg.num
+    tx = nrsar.nr_isac_tx(num, cfg.mod, nrsar.make_tx_mode("data"), nrsar.srs_config(), 0,
+                          cfg.dmrs)
     n = num.num_subcarriers
     head = blocks.head(gr.sizeof_gr_complex * n, num.symbols_per_slot * nslots)
     snk = blocks.vector_sink_c(n)

@@ -79,18 +79,18 @@ def common_noise_front(domain, noise_seed):
 
 
 def build_transmitter(tb, num, opts, payload):
-    """pusch_encoder (the payload queued as PDUs of one slot's capacity each, deterministic)
+    """pusch_encoder (the payload queued as PDUs of one TB's capacity each, deterministic)
     -> nr_isac_tx(dmrs). Returns (encoder, tx, dmrs, chunks)."""
     mod = params.make_modulation(opts.modulation)
     dmrs = params.make_dmrs(opts.dmrs, num)
-    enc = pusch_encoder(num, mod, dmrs, opts.ldpc_alist(), 0, max(1, len(payload) + 1))
+    enc = pusch_encoder(opts.pusch_config(num, max(1, len(payload) + 1)))
     tx = nr_isac_tx(num, mod, params.make_tx_mode("data"), srs_config(), opts.seed, dmrs)
     tb.connect(enc, tx)
-    per_slot = enc.payload_bits_per_slot() // 8
-    if per_slot <= 0:
-        raise ValueError(f"payload bytes per slot = {per_slot} must be > 0")
-    chunks = [payload[i:i + per_slot] for i in range(0, len(payload), per_slot)]
-    for chunk in chunks:  # queued before start: chunk s goes out in slot s
+    per_tb = enc.payload_bits_per_slot() // 8
+    if per_tb <= 0:
+        raise ValueError(f"payload bytes per TB = {per_tb} must be > 0")
+    chunks = [payload[i:i + per_tb] for i in range(0, len(payload), per_tb)]
+    for chunk in chunks:  # queued before start: chunk s goes out in TB s (one MAC SDU each)
         enc.to_basic_block()._post(pmt.intern("pdus"), backhaul.make_pdu(chunk))
     return enc, tx, dmrs, chunks
 
@@ -132,7 +132,6 @@ class chunk_invariant_channel(gr.hier_block2):
 def build_base_station(tb, num, opts, dmrs, source):
     """source (time-domain uplink) -> delay -> channel_model -> ofdm_sync -> ofdm_demod ->
     pusch_receiver -> message_debug (store). Returns the blocks by name."""
-    mod = params.make_modulation(opts.modulation)
     delay = blocks.delay(gr.sizeof_gr_complex, opts.delay_samples)
     noise_voltage = 10.0 ** (-opts.bs_snr_db / 20.0)  # per sample = per RE (unitary OFDM)
     chan = chunk_invariant_channel(noise_voltage, opts.cfo_hz / num.sample_rate_hz(),
@@ -141,7 +140,7 @@ def build_base_station(tb, num, opts, dmrs, source):
     demod = ofdm_demod(num)
     # ofdm_sync's backoff puts a phase slope across the subcarriers; pusch_receiver's
     # channel estimate removes it before its fit (docs/isac.md, "Backoff slope")
-    rx = pusch_receiver(num, mod, dmrs, opts.ldpc_alist(), 0)
+    rx = pusch_receiver(opts.pusch_config(num))
     store = blocks.message_debug()
     tb.connect(source, delay, chan, sync, demod, rx)
     tb.msg_connect((rx, "pdus"), (store, "store"))
@@ -149,19 +148,20 @@ def build_base_station(tb, num, opts, dmrs, source):
             "store": store}
 
 
-def backhaul_results(num, enc, bs, chunks, payload, out_path):
-    """Writes the decoded file (payload of every CRC-ok, non-filler TB in slot order) and
+def backhaul_results(num, enc, bs, chunks, payload, out_path, repetitions=1):
+    """Writes the decoded file (payload of every CRC-ok, non-filler TB in TB order) and
     returns the backhaul's JSON keys. A TB that failed its CRC delivers nothing: every
-    payload bit of its slot counts as an error in backhaul_ber."""
+    payload bit of its TB counts as an error in backhaul_ber."""
     store, rx = bs["store"], bs["receiver"]
     delivered = {}
     failed_slots = []
     for i in range(store.num_messages()):
         meta, data = backhaul.pdu_to_python(store.get_message(i))
+        tb_index = int(meta.get("slot", -1)) // repetitions
         if not meta.get("crc_ok"):
             failed_slots.append(int(meta.get("slot", -1)))
         elif not meta.get("filler"):
-            delivered[int(meta["slot"])] = data
+            delivered[tb_index] = data
     decoded = b"".join(delivered[s] for s in sorted(delivered))
     results.write_bytes(out_path, decoded)
     bit_errors = 0
@@ -186,12 +186,18 @@ def backhaul_results(num, enc, bs, chunks, payload, out_path):
         "blocks_ok": ok,
         "blocks_failed": bad,
         "failed_slots": failed_slots[:32],  # the first 32
-        "failed_payload_slots": [s for s in failed_slots if 0 <= s < len(chunks)],
-        "payload_slots": len(chunks),
+        "failed_payload_slots": [s for s in failed_slots
+                                 if 0 <= s < len(chunks) * repetitions],
+        "payload_slots": len(chunks) * repetitions,
         # delivered payload bits over the air time of the slots that carried the payload
-        "throughput_mbps": good_bits / (len(chunks) * slot_s) / 1e6 if chunks else 0.0,
+        "throughput_mbps": (good_bits / (len(chunks) * repetitions * slot_s) / 1e6
+                            if chunks else 0.0),
         "capacity_mbps": enc.throughput_bps() / 1e6,
         "code_rate": float(enc.code_rate()),
+        "tbs_bits": int(enc.tbs_bits()),
+        "code_blocks": int(enc.code_blocks()),
+        "ldpc_iterations_mean": float(rx.ldpc_iterations_mean()),
+        "harq_combined_ok": int(rx.harq_combined_ok()),
         "sync_locked": bool(sync.locked()),
         "sync_cfo_hz": float(sync.cfo_hz()),
         "sync_timing_samples": int(sync.timing_samples()),
@@ -227,10 +233,10 @@ def run(opts):
     # whether the base station sees all of it depends on how many samples the channel's
     # stock blocks leave unconsumed at the end of the stream.
     slots = symbols // num.symbols_per_slot - 1
-    if len(chunks) > slots:
+    if len(chunks) * opts.repetitions > slots:
         raise OptionError(f"--payload = {opts.payload!r}: {len(payload)} bytes need "
-                          f"{len(chunks)} slots, the aperture has {slots} (all but its last): "
-                          f"shorten the file or lengthen --aperture-s")
+                          f"{len(chunks) * opts.repetitions} slots, the aperture has {slots} "
+                          f"(all but its last): shorten the file or lengthen --aperture-s")
     mod = ofdm_mod(num)
     if opts.radar_domain == "time":
         front = time_domain_front(mod)
@@ -247,7 +253,7 @@ def run(opts):
     runtime_s = time.perf_counter() - start
     result = results.image_results(opts, graph, sc, runtime_s)
     result.update(backhaul_results(num, enc, bs, chunks, payload,
-                                   os.path.join(opts.out, "decoded.bin")))
+                                   os.path.join(opts.out, "decoded.bin"), opts.repetitions))
     bs_times = {name: bs[name].pc_work_time_total() / 1e9
                 for name in ("sync", "demod", "receiver")}
     # CPU time in work() of every block we hold (channel_model is a hier block: not counted)
@@ -260,7 +266,14 @@ def run(opts):
     result.update({
         "radar_domain": opts.radar_domain,
         "dmrs": opts.dmrs,
-        "ldpc": opts.ldpc_alist() or "none",
+        "ldpc": "38.212" if opts.coding == "nr-ldpc" else "none",
+        "coding": opts.coding,
+        "mcs_table": opts.mcs_table,
+        "mcs": int(opts.pusch_config(num).mcs) if opts.coding == "nr-ldpc" else None,
+        "n_rnti": opts.n_rnti,
+        "n_id": opts.n_id,
+        "scrambling": opts.scrambling,
+        "repetitions": opts.repetitions,
         "bs_snr_db": opts.bs_snr_db,
         "cfo_hz": opts.cfo_hz,
         "delay_samples": opts.delay_samples,

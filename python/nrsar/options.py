@@ -378,8 +378,24 @@ class IsacOptions(SimOptions):
     """nrsar-isac: the imaging chain's options plus the backhaul's."""
     payload: str = option("/usr/share/common-licenses/GPL-3", "file sent over the backhaul")
     dmrs: str = option("pusch2", "PUSCH DMRS layout: pusch1, pusch2, pusch4 or 'l0,l1,..'")
-    ldpc: str = option("none", "alist of a gr-fec LDPC code, or 'none' = uncoded (LDPC costs "
-                       "~43 ms CPU per paper slot), 'default' = the module's n = 1800 code")
+    coding: str = option("nr-ldpc", "channel coding of the uplink: the UL-SCH of TS 38.212 "
+                         "(CRC, LDPC, rate matching) or none (CRC24A, hard decisions)",
+                         choices=["nr-ldpc", "none"])
+    mcs_table: str = option("qam256", "MCS table of TS 38.214 (Table 5.1.3.1-1 qam64, -2 "
+                            "qam256)", choices=["qam64", "qam256"])
+    mcs: typing.Optional[int] = option(None, "MCS index of --mcs-table; its Qm must be "
+                                       "--modulation's (default: the highest such MCS, "
+                                       "qam256 -> 27, R 0.93)", at_least=0, at_most=28)
+    n_rnti: int = option(0x4601, "C-RNTI of the UAV: c_init = n_RNTI 2^15 + n_ID "
+                         "(38.211 6.3.1.1)", at_least=0, at_most=65535)
+    n_id: int = option(0, "data scrambling identity n_ID", at_least=0, at_most=1023)
+    scrambling: str = option("standard", "data scrambling: standard (38.211, the same every "
+                             "slot) or per-slot (the module's: a fresh sequence every slot, "
+                             "no slot-periodic radar reference)",
+                             choices=["standard", "per-slot"])
+    repetitions: int = option(1, "slots per TB (pusch-AggregationFactor: rv 0, 2, 3, 1, "
+                              "combined at the base station): 1, 2, 4 or 8", at_least=1,
+                              at_most=8)
     bs_snr_db: float = option(50.0, "per-RE SNR at the base station [dB] (taps normalised to "
                               "unit energy)", at_least=-50.0, at_most=200.0)
     cfo_hz: float = option(9000.0, "carrier frequency offset UAV -> base station [Hz]; "
@@ -403,18 +419,45 @@ class IsacOptions(SimOptions):
             raise OptionError(f"--mode = {self.mode!r} must be data (the grid is the PUSCH)")
         if not os.path.isfile(self.payload):
             raise OptionError(f"--payload = {self.payload!r} is not a readable file")
-        if self.ldpc not in ("none", "default", "") and not os.path.isfile(self.ldpc):
-            raise OptionError(f"--ldpc = {self.ldpc!r} must be none, default or an alist file "
-                              f"that exists")
         parse_taps(self.taps)
         params.make_dmrs(self.dmrs)
+        self.check_coding()
 
-    def ldpc_alist(self):
-        """The alist path of --ldpc ('' = uncoded)."""
-        from . import backhaul
-        if self.ldpc in ("none", ""):
-            return ""
-        return backhaul.DEFAULT_ALIST if self.ldpc == "default" else self.ldpc
+    def check_coding(self):
+        """The MCS against its table and --modulation; --repetitions needs the LDPC."""
+        if self.repetitions not in (1, 2, 4, 8):
+            raise OptionError(f"--repetitions = {self.repetitions} must be 1, 2, 4 or 8 "
+                              f"(pusch-AggregationFactor of 38.214 6.1.2.1)")
+        if self.coding == "none":
+            if self.mcs is not None:
+                raise OptionError(f"--mcs = {self.mcs} needs --coding nr-ldpc")
+            if self.repetitions != 1:
+                raise OptionError(f"--repetitions = {self.repetitions} needs --coding nr-ldpc "
+                                  f"(the base station combines soft bits)")
+            return
+        if self.modulation not in params.QAM_BITS:
+            raise OptionError(f"--modulation = {self.modulation!r} must be qpsk, qam16, qam64 "
+                              f"or qam256 with --coding nr-ldpc")
+        if self.mcs is None:
+            return
+        rows = 28 if self.mcs_table == "qam256" else 29
+        if self.mcs >= rows:
+            raise OptionError(f"--mcs = {self.mcs} must be at most {rows - 1} in --mcs-table "
+                              f"{self.mcs_table} (38.214 Table 5.1.3.1-{1 if rows == 29 else 2}; "
+                              f"the rows above are reserved)")
+        qm = params.nr_mcs(self.mcs_table, self.mcs)[0]
+        if qm != params.QAM_BITS[self.modulation]:
+            raise OptionError(f"--mcs = {self.mcs} of --mcs-table {self.mcs_table} has Qm = {qm}, "
+                              f"--modulation {self.modulation} has "
+                              f"{params.QAM_BITS[self.modulation]} bits per symbol")
+
+    def pusch_config(self, num, max_queued_bytes=1 << 20):
+        """The pusch_config of the backhaul (pusch_encoder and pusch_receiver)."""
+        return params.make_pusch_config(
+            num, self.modulation, params.make_dmrs(self.dmrs, num), self.coding,
+            self.mcs_table, self.mcs, n_rnti=self.n_rnti, n_id=self.n_id,
+            scrambling=self.scrambling, repetitions=self.repetitions,
+            max_queued_bytes=max_queued_bytes)
 
 
 def parse_taps(text):

@@ -14,7 +14,7 @@ from .nrsar_python import (numerology, geometry, scene, point_target, srs_config
                            modulation, tx_mode, filter_type, presum_method, presum_domain,
                            doppler_band, beam_mode, image_colormap, check_scenario,
                            compute_extent, trajectory, motion_model, nav_error_model,
-                           moco_order)
+                           moco_order, pusch_coding, pusch_scrambling, pusch_config, mcs as nr_mcs)
 
 
 def _names(enum):
@@ -35,6 +35,12 @@ COLORMAPS = _names(image_colormap)
 MOTIONS = _names(motion_model)
 NAV_ERRORS = _names(nav_error_model)
 MOCO_ORDERS = _names(moco_order)
+
+PUSCH_CODINGS = _names(pusch_coding)
+PUSCH_SCRAMBLINGS = _names(pusch_scrambling)
+MCS_TABLES = ("qam64", "qam256")
+# bits per symbol of the square QAMs pusch_receiver demaps
+QAM_BITS = {"qpsk": 2, "qam16": 4, "qam64": 6, "qam256": 8}
 
 
 def _lookup(table, kind, name):
@@ -64,6 +70,43 @@ make_presum_domain = _builder(PRESUM_DOMAINS, "presum domain")
 make_doppler_band = _builder(DOPPLER_BANDS, "doppler band")
 make_colormap = _builder(COLORMAPS, "colormap")
 make_moco_order = _builder(MOCO_ORDERS, "moco order")
+_coding = _builder(PUSCH_CODINGS, "coding")
+_scrambling = _builder(PUSCH_SCRAMBLINGS, "scrambling")
+
+
+def make_pusch_coding(name):
+    """'nr_ldpc' or 'nr-ldpc' (the command line's spelling), 'none' -> pusch_coding."""
+    return _coding(name.replace("-", "_") if isinstance(name, str) else name)
+
+
+def make_pusch_scrambling(name):
+    """'standard', 'per_slot' or 'per-slot' -> pusch_scrambling."""
+    return _scrambling(name.replace("-", "_") if isinstance(name, str) else name)
+
+
+def highest_mcs(mcs_table, modulation):
+    """The highest MCS of a 38.214 table (qam64: rows 0-28, qam256: 0-27) whose Qm is the
+    modulation's: qam256 -> 27 (R 948/1024), qam64 in the qam64 table -> 28."""
+    qm = QAM_BITS[str(modulation).lower()]
+    rows = range(28 if mcs_table == "qam256" else 29)
+    return max(m for m in rows if nr_mcs(mcs_table, m)[0] == qm)
+
+
+def make_pusch_config(num, modulation="qam256", dmrs="pusch2", coding="nr-ldpc",
+                      mcs_table="qam256", mcs=None, **fields):
+    """A pusch_config (pusch_encoder / pusch_receiver) from names, validated; mcs None =
+    highest_mcs(mcs_table, modulation). fields: rv, repetitions, n_rnti, n_id, scrambling
+    ('standard' / 'per-slot'), freq_window, max_iterations, max_queued_bytes."""
+    if mcs is None and make_pusch_coding(coding) == pusch_coding.NR_LDPC:
+        mcs = highest_mcs(mcs_table, modulation)
+    cfg = pusch_config(num=num, mod=make_modulation(modulation), dmrs=make_dmrs(dmrs, num),
+                       coding=make_pusch_coding(coding), mcs_table=mcs_table,
+                       mcs=0 if mcs is None else mcs)
+    if "scrambling" in fields:
+        fields["scrambling"] = make_pusch_scrambling(fields["scrambling"])
+    _with_overrides(cfg, fields, "pusch_config")
+    cfg.validate()
+    return cfg
 
 
 def _with_overrides(obj, overrides, kind):

@@ -32,25 +32,72 @@ void bind_pusch_encoder(py::module& m)
     using pusch_encoder = gr::nrsar::pusch_encoder;
     namespace k = gr::nrsar::kernel;
 
+    using gr::nrsar::pusch_coding;
+    using gr::nrsar::pusch_config;
+    using gr::nrsar::pusch_scrambling;
+
+    // The PUSCH both blocks share (bound here: pusch_encoder is bound before pusch_receiver).
+    py::enum_<pusch_coding>(m, "pusch_coding", "Channel coding of the PUSCH data bits")
+        .value("NONE", pusch_coding::NONE)
+        .value("NR_LDPC", pusch_coding::NR_LDPC);
+    py::enum_<pusch_scrambling>(m, "pusch_scrambling", "c_init of the data scrambling")
+        .value("STANDARD", pusch_scrambling::STANDARD)
+        .value("PER_SLOT", pusch_scrambling::PER_SLOT);
+    const pusch_config d; // the defaults
+    py::class_<pusch_config>(m, "pusch_config", "The PUSCH of the backhaul (pusch_config.h)")
+        .def(py::init([](const gr::nrsar::numerology& num, gr::nrsar::modulation mod,
+                         const gr::nrsar::dmrs_config& dmrs, pusch_coding coding,
+                         const std::string& mcs_table, unsigned mcs, unsigned rv,
+                         unsigned repetitions, unsigned n_rnti, unsigned n_id,
+                         pusch_scrambling scrambling, unsigned freq_window,
+                         unsigned max_iterations, std::uint64_t max_queued_bytes) {
+                 return pusch_config{ num, mod, dmrs, coding, mcs_table, mcs, rv, repetitions,
+                                      n_rnti, n_id, scrambling, freq_window, max_iterations,
+                                      max_queued_bytes };
+             }),
+             py::arg("num") = d.num, py::arg("mod") = d.mod, py::arg("dmrs") = d.dmrs,
+             py::arg("coding") = d.coding, py::arg("mcs_table") = d.mcs_table,
+             py::arg("mcs") = d.mcs, py::arg("rv") = d.rv,
+             py::arg("repetitions") = d.repetitions, py::arg("n_rnti") = d.n_rnti,
+             py::arg("n_id") = d.n_id, py::arg("scrambling") = d.scrambling,
+             py::arg("freq_window") = d.freq_window,
+             py::arg("max_iterations") = d.max_iterations,
+             py::arg("max_queued_bytes") = d.max_queued_bytes)
+        .def_readwrite("num", &pusch_config::num)
+        .def_readwrite("mod", &pusch_config::mod)
+        .def_readwrite("dmrs", &pusch_config::dmrs)
+        .def_readwrite("coding", &pusch_config::coding)
+        .def_readwrite("mcs_table", &pusch_config::mcs_table)
+        .def_readwrite("mcs", &pusch_config::mcs)
+        .def_readwrite("rv", &pusch_config::rv)
+        .def_readwrite("repetitions", &pusch_config::repetitions)
+        .def_readwrite("n_rnti", &pusch_config::n_rnti)
+        .def_readwrite("n_id", &pusch_config::n_id)
+        .def_readwrite("scrambling", &pusch_config::scrambling)
+        .def_readwrite("freq_window", &pusch_config::freq_window)
+        .def_readwrite("max_iterations", &pusch_config::max_iterations)
+        .def_readwrite("max_queued_bytes", &pusch_config::max_queued_bytes)
+        .def("validate", &pusch_config::validate)
+        .def("rv_of", &pusch_config::rv_of, py::arg("pos"),
+             "rv of the transmission at position pos of a TB's repetitions");
+    m.def("pusch_tbs_bits",
+          [](const pusch_config& cfg) { return k::transport_block_codec(cfg).tbs_bits(); },
+          py::arg("cfg"), "A: the TBS of the PUSCH (38.214 5.1.3.2 on the grid, or the uncoded TB)");
+
     py::class_<pusch_encoder, gr::block, gr::basic_block, std::shared_ptr<pusch_encoder>>(
         m, "pusch_encoder", D(pusch_encoder))
-        .def(py::init(&pusch_encoder::make),
-             py::arg("num") = gr::nrsar::numerology(),
-             py::arg("mod") = gr::nrsar::modulation::QAM256,
-             py::arg("dmrs") = gr::nrsar::dmrs_config::preset("pusch2"),
-             py::arg("ldpc_alist") = "",
-             py::arg("scrambling_id") = 0,
-             py::arg("max_queued_bytes") = 1u << 20,
-             D(pusch_encoder, make))
+        .def(py::init(&pusch_encoder::make), py::arg("cfg") = pusch_config(), D(pusch_encoder, make))
         .def("tbs_sent", &pusch_encoder::tbs_sent, "TBs (slots) encoded, filler included")
         .def("filler_tbs_sent", &pusch_encoder::filler_tbs_sent, "Filler TBs encoded")
         .def("payload_bytes_sent", &pusch_encoder::payload_bytes_sent, "PDU bytes encoded")
         .def("pdus_dropped", &pusch_encoder::pdus_dropped, "PDUs refused (queue full, malformed)")
         .def("queued_bytes", &pusch_encoder::queued_bytes, "PDU bytes waiting")
-        .def("code_rate", &pusch_encoder::code_rate, "LDPC k/n (1 when uncoded)")
+        .def("code_rate", &pusch_encoder::code_rate, "(A + TB CRC) / G")
+        .def("tbs_bits", &pusch_encoder::tbs_bits, "A, the TBS")
+        .def("code_blocks", &pusch_encoder::code_blocks, "C (0 uncoded)")
         .def("payload_bits_per_slot",
              &pusch_encoder::payload_bits_per_slot,
-             "Payload bits of one TB")
+             "8 x the largest PDU bytes one TB carries whole, per slot")
         .def("slot_bits", &pusch_encoder::slot_bits, "G, data bits of one slot")
         .def("throughput_bps",
              &pusch_encoder::throughput_bps,
@@ -67,7 +114,7 @@ void bind_pusch_encoder(py::module& m)
           py::arg("symbol"), "c_init of the PUSCH DMRS (TS 38.211 6.4.1.1.1.1)");
     m.def("pusch_slot_bits", &k::pusch_slot_bits, py::arg("num"), py::arg("mod"),
           py::arg("dmrs"), "G: data bits of one PUSCH slot");
-    m.def("tb_scrambling_c_init", &k::transport_block_codec::scrambling_c_init,
-          py::arg("scrambling_id"), py::arg("slot"),
-          "c_init of the TB scrambling: 2^15 scrambling_id + (slot mod 2^15)");
+    m.def("per_slot_scrambling_c_init", &k::transport_block_codec::per_slot_c_init,
+          py::arg("n_id"), py::arg("slot"),
+          "c_init of the module's non-standard per-slot scrambling (pusch_scrambling.PER_SLOT)");
 }

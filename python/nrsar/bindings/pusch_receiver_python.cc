@@ -35,13 +35,7 @@ void bind_pusch_receiver(py::module& m)
     py::class_<pusch_receiver, gr::block, gr::basic_block, std::shared_ptr<pusch_receiver>>(
         m, "pusch_receiver", D(pusch_receiver))
         .def(py::init(&pusch_receiver::make),
-             py::arg("num") = gr::nrsar::numerology(),
-             py::arg("mod") = gr::nrsar::modulation::QAM256,
-             py::arg("dmrs") = gr::nrsar::dmrs_config::preset("pusch2"),
-             py::arg("ldpc_alist") = "",
-             py::arg("scrambling_id") = 0,
-             py::arg("freq_window") = 3,
-             py::arg("max_iterations") = 25,
+             py::arg("cfg") = gr::nrsar::pusch_config(),
              D(pusch_receiver, make))
         .def("blocks_ok", &pusch_receiver::blocks_ok, "TBs with CRC ok (filler included)")
         .def("blocks_failed", &pusch_receiver::blocks_failed, "TBs with CRC/header failure")
@@ -51,8 +45,14 @@ void bind_pusch_receiver(py::module& m)
         .def("last_evm_db", &pusch_receiver::last_evm_db, "EVM of the last slot [dB]")
         .def("partial_slots", &pusch_receiver::partial_slots, "Slots cut short by a slot tag")
         .def("nonfinite_samples", &pusch_receiver::nonfinite_samples, "Non-finite inputs zeroed")
-        .def("code_rate", &pusch_receiver::code_rate, "LDPC k/n (1 when uncoded)")
-        .def("payload_bits_per_slot", &pusch_receiver::payload_bits_per_slot, "Payload bits of a TB");
+        .def("code_rate", &pusch_receiver::code_rate, "(A + TB CRC) / G")
+        .def("payload_bits_per_slot", &pusch_receiver::payload_bits_per_slot, "as pusch_encoder")
+        .def("tbs_bits", &pusch_receiver::tbs_bits, "A, the TBS")
+        .def("code_blocks", &pusch_receiver::code_blocks, "C (0 uncoded)")
+        .def("ldpc_iterations_mean", &pusch_receiver::ldpc_iterations_mean,
+             "LDPC iterations per code block, mean over every decoding so far")
+        .def("harq_combined_ok", &pusch_receiver::harq_combined_ok,
+             "TBs that decoded only after combining two or more transmissions");
 
     py::class_<soft_demapper>(m, "soft_demapper", "Max-log LLRs of the 38.211 QAM constellations")
         .def(py::init<gr::nrsar::modulation>(), py::arg("mod") = gr::nrsar::modulation::QAM256)

@@ -25,7 +25,9 @@ MODS = {2: nrsar.modulation.QPSK, 4: nrsar.modulation.QAM16, 6: nrsar.modulation
         8: nrsar.modulation.QAM256}
 
 
-def bler_curve(table, mcs, n_prb, snrs_db, blocks, max_iter, seed=1):
+def bler_curve(table, mcs, n_prb, snrs_db, blocks, max_iter, seed=1, rvs=(0,)):
+    """BLER per SNR; rvs: the redundancy versions of the TB's transmissions, each through its
+    own noise and combined in the soft buffers before the last decoding (HARQ)."""
     qm, rate = nrsar.mcs(table, mcs)
     a = nrsar.tbs(table, mcs, n_prb, 14, 12)
     g = 156 * n_prb * qm
@@ -41,11 +43,13 @@ def bler_curve(table, mcs, n_prb, snrs_db, blocks, max_iter, seed=1):
         errors = 0
         for _ in range(blocks):
             bits = rng.integers(0, 2, a)
-            x = ul.encode(bits, 0, 1000).reshape(-1, qm)
-            s = points[x @ weights]
-            y = s + np.sqrt(nv / 2) * (rng.normal(size=s.size) + 1j * rng.normal(size=s.size))
-            llr = np.array(demap.demap(y.astype(np.complex64).tolist(), [nv]), np.float32)
-            back, r = ul.decode(llr, 0, 1000)
+            for n, rv in enumerate(rvs):
+                x = ul.encode(bits, rv, 1000).reshape(-1, qm)
+                s = points[x @ weights]
+                y = s + np.sqrt(nv / 2) * (rng.normal(size=s.size)
+                                           + 1j * rng.normal(size=s.size))
+                llr = np.array(demap.demap(y.astype(np.complex64).tolist(), [nv]), np.float32)
+                back, r = ul.decode(llr, rv, 1000, combine=n > 0)
             errors += not (r["tb_crc_ok"] and np.array_equal(back, bits))
         out.append(errors / blocks)
     info_rate = a / (g / qm)  # information bits per symbol
@@ -68,7 +72,21 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--blocks", type=int, default=100, help="transport blocks per SNR")
     parser.add_argument("--max-iter", type=int, default=20, help="LDPC iterations at most")
+    parser.add_argument("--harq", action="store_true",
+                        help="HARQ gain instead: qam64 MCS 13 sent once (rv 0) and twice "
+                             "(rv 0 + rv 2, combined)")
     args = parser.parse_args(argv)
+    if args.harq:
+        print("| transmissions | SNR (dB): BLER | BLER 10 % at |")
+        print("|---|---|---|")
+        for rvs in ((0,), (0, 2)):
+            c = bler_curve("qam64", 13, 20, np.arange(1.0, 7.01, 0.5), args.blocks,
+                           args.max_iter, rvs=rvs)
+            pts = ", ".join(f"{s:g}: {b:.2f}" for s, b in zip(c["snr_db"], c["bler"]))
+            at = snr_at(c)
+            print(f"| rv {' + '.join(map(str, rvs))} | {pts} | "
+                  f"{'n/a' if at is None else f'{at:.2f} dB'} |")
+        return
     print("| MCS | Qm | R | TBS | G | SNR (dB): BLER | BLER 10 % at | Shannon limit | gap |")
     print("|---|---|---|---|---|---|---|---|---|")
     for table, mcs, n_prb in CASES:

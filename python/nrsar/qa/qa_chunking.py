@@ -93,13 +93,14 @@ def run_radar(extra, chunk=(), time_domain=False):
     return out
 
 
-def run_base_station(chunk=(), ldpc="none", slots=4, snr_db=50.0):
+def run_base_station(chunk=(), coding="none", slots=4, snr_db=50.0):
     """nrsar-isac's transmitter and base station (sdr20, CFO, delay, multipath, 25 dB):
     pusch_encoder -> nr_isac_tx -> ofdm_mod -> delay -> channel_model -> ofdm_sync ->
     ofdm_demod -> pusch_receiver; the blocks named in chunk get small max_noutput_items."""
     payload = np.random.default_rng(5).integers(0, 256, 4000, dtype=np.uint8).tobytes()
     args = options.IsacOptions.parse(
-        ["--preset", "sdr20", "--ldpc", ldpc, "--bs-snr-db", str(snr_db), "--seed", "4"])
+        ["--preset", "sdr20", "--coding", coding, "--bs-snr-db", str(snr_db), "--seed", "4"]
+        + (["--mcs", "20"] if coding == "nr-ldpc" else []))
     num = params.make_numerology("sdr20")
     tb = gr.top_block()
     enc, tx, dmrs, _ = isac_chain.build_transmitter(tb, num, args, payload)
@@ -187,10 +188,10 @@ class qa_chunking(gr_unittest.TestCase):
         self.assert_same(run_base_station(("delay", "sync", "demod", "receiver")), ref, "all")
 
     def test_006_base_station_ldpc(self):
-        # rate-1/2 LDPC at 25 dB (qa_isac test_006, which failed under CPU load)
-        ref = run_base_station(ldpc="default", slots=3, snr_db=25.0)
+        # the UL-SCH at qam256 MCS 20 and 25 dB (qa_isac test_006)
+        ref = run_base_station(coding="nr-ldpc", slots=3, snr_db=25.0)
         self.assertGreater(ref["blocks_ok"], 0)
-        self.assert_same(run_base_station(("delay", "sync", "demod", "receiver"), "default", 3,
+        self.assert_same(run_base_station(("delay", "sync", "demod", "receiver"), "nr-ldpc", 3,
                                           25.0), ref, "ldpc")
 
     def test_007_channel_with_simd_volk(self):

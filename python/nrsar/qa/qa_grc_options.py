@@ -62,6 +62,8 @@ ACCEPTED = {
     "make_beam": members(nrsar.beam_mode),
     "make_navigation": members(nrsar.nav_error_model),
     "make_moco_order": members(nrsar.moco_order),
+    "make_pusch_coding": members(nrsar.pusch_coding),
+    "make_pusch_scrambling": members(nrsar.pusch_scrambling),
 }
 
 # A builder's name argument passed by keyword: keyword -> builder
@@ -72,11 +74,11 @@ KEYWORD_BUILDERS = {"error": "make_navigation"}
 # from the DMRS, so a layout without DMRS cannot be decoded.
 NARROWED = {
     ("nrsar_pusch_encoder", "modulation"):
-        lambda name: nrsar.pusch_encoder(mod=nrsar.make_modulation(name)),
+        lambda name: nrsar.pusch_encoder(nrsar.pusch_config(mod=nrsar.make_modulation(name))),
     ("nrsar_pusch_receiver", "modulation"):
-        lambda name: nrsar.pusch_receiver(mod=nrsar.make_modulation(name)),
+        lambda name: nrsar.pusch_receiver(nrsar.pusch_config(mod=nrsar.make_modulation(name))),
     ("nrsar_pusch_receiver", "dmrs"):
-        lambda name: nrsar.pusch_receiver(dmrs=nrsar.make_dmrs(name)),
+        lambda name: nrsar.pusch_receiver(nrsar.pusch_config(dmrs=nrsar.make_dmrs(name))),
 }
 
 # Parameters GRC gives every block besides those of its .block.yml.

@@ -53,7 +53,10 @@ class qa_isac(gr_unittest.TestCase):
         cls.symbol_len = num.cp_samples + num.fft_size
         cls.fs = num.fft_size * DELTA_F
         g = nrsar.pusch_slot_bits(num, nrsar.make_modulation("qam256"), nrsar.make_dmrs("pusch2"))
-        cls.per_slot = (g - 24) // 8 - 5  # uncoded TB payload, pusch_encoder.md
+        # uncoded TB of (G - 24) / 8 bytes, less the MAC subheader and the RLC header
+        # (pusch_encoder.md)
+        cls.per_slot = (g - 24) // 8 - 4
+        cls.g = g
 
     def run_isac(self, extra, name):
         out = os.path.join(self.dir, name)
@@ -67,8 +70,9 @@ class qa_isac(gr_unittest.TestCase):
         cfo = 0.3 * DELTA_F
         # 50 dB: the taps' notch (|H| down to 0.36) leaves ~41 dB on its subcarriers, enough
         # for uncoded 256-QAM TBs of 58,000 bits (at 40 dB about 1 TB in 8 failed there)
-        r = self.run_isac(["--bs-snr-db", "50", "--cfo-hz", str(cfo), "--delay-samples",
-                           str(delay), "--taps", "1,0,0.4-0.2j,0,0,0.15j"], "loop")
+        r = self.run_isac(["--coding", "none", "--bs-snr-db", "50", "--cfo-hz", str(cfo),
+                           "--delay-samples", str(delay), "--taps", "1,0,0.4-0.2j,0,0,0.15j"],
+                          "loop")
         self.assertTrue(r["payload_identical"])
         with open(r["decoded_file"], "rb") as f:
             self.assertEqual(f.read(), self.data)
@@ -89,7 +93,7 @@ class qa_isac(gr_unittest.TestCase):
 
     def test_002_crc_failures_reported_never_written(self):
         # 256-QAM uncoded at 14 dB: the sync still locks (DMRS), every TB fails its CRC
-        r = self.run_isac(["--bs-snr-db", "14"], "low")
+        r = self.run_isac(["--coding", "none", "--bs-snr-db", "14"], "low")
         self.assertFalse(r["payload_identical"])
         self.assertGreater(r["blocks_failed"], 0)
         self.assertEqual(r["blocks_ok"], 0)
@@ -98,7 +102,7 @@ class qa_isac(gr_unittest.TestCase):
         self.assertEqual(os.path.getsize(r["decoded_file"]), 0)
         self.assertEqual(r["backhaul_ber"], 1.0)
         # in between: what is written is exactly the payload pieces of the slots that passed
-        r = self.run_isac(["--bs-snr-db", "33", "--taps", "1"], "mid")
+        r = self.run_isac(["--coding", "none", "--bs-snr-db", "33", "--taps", "1"], "mid")
         self.assertGreater(r["blocks_ok"], 0)  # a mix (seeded: 44 ok, 41 failed)
         self.assertGreater(r["blocks_failed"], 0)
         failed = set(r["failed_payload_slots"])
@@ -178,16 +182,29 @@ class qa_isac(gr_unittest.TestCase):
                     "throughput_mbps", "code_rate", "sync_cfo_hz", "sync_timing_samples"):
             self.assertIn(key, result)
         self.assertTrue(result["payload_identical"])
-        self.assertEqual(result["code_rate"], 1.0)
+        for key in ("coding", "mcs", "tbs_bits", "code_blocks", "ldpc_iterations_mean"):
+            self.assertIn(key, result)
+        self.assertEqual((result["coding"], result["mcs"]), ("nr-ldpc", 27))
         self.assertTrue(os.path.isfile(os.path.join(out, "decoded.bin")))
         self.assertTrue(os.path.isfile(result["image_png"]))
 
     def test_006_ldpc_loopback(self):
-        # rate-1/2 gr-fec LDPC (n 1800, k 902): 256-QAM at 25 dB, where uncoded TBs fail
-        r = self.run_isac(["--ldpc", "default", "--bs-snr-db", "25"], "ldpc")
-        self.assertAlmostEqual(r["code_rate"], 902 / 1800, 9)
+        # 256-QAM at 25 dB: uncoded TBs fail, the UL-SCH at qam256 MCS 20 (R 682.5/1024)
+        # delivers the file
+        r = self.run_isac(["--coding", "none", "--bs-snr-db", "25"], "uncoded25")
+        self.assertGreater(r["blocks_failed"], 0)
+        r = self.run_isac(["--mcs", "20", "--bs-snr-db", "25"], "ldpc")
         self.assertTrue(r["payload_identical"])
         self.assertEqual(r["blocks_failed"], 0)
+        g = self.g
+        # 38.214 5.1.3.2 on 51 PRB x 144 REs: N_info = 7344 x 682.5/1024 x 8 = 39159,
+        # n = 10, N'_info = 1024 round(39135 / 1024) = 38912, C = ceil(38936 / 8424) = 5,
+        # TBS = 40 ceil(38936 / 40) - 24 = 38936
+        self.assertEqual(r["tbs_bits"], 38936)
+        self.assertEqual(r["code_blocks"], 5)
+        self.assertAlmostEqual(r["code_rate"], (38936 + 24) / g, 12)
+        self.assertEqual(r["mcs"], 20)
+        self.assertGreaterEqual(r["ldpc_iterations_mean"], 1.0)
 
     def test_005_invalid_arguments(self):
         big = os.path.join(self.dir, "big.bin")

@@ -35,6 +35,13 @@ def num(**kw):
     return n
 
 
+def pusch(**kw):
+    """A valid pusch_config (tiny, 16-QAM, qam256 MCS 10) with fields replaced."""
+    args = dict(num=num(), mod=make_modulation("qam16"), dmrs=make_dmrs("pusch2"), mcs=10)
+    args.update(kw)
+    return nrsar.pusch_config(**args)
+
+
 def geo(**kw):
     g = nrsar.geometry.preset("short")
     for key, value in kw.items():
@@ -404,48 +411,45 @@ RULES = [
      lambda: nrsar.ofdm_sync(num(), make_dmrs([2, 14])), "dmrs symbols = 14"),
     # pusch_encoder
     ("pusch_encoder", "queue size 0",
-     lambda: nrsar.pusch_encoder(num(), make_modulation("qam16"), make_dmrs("pusch2"), "", 0, 0),
-     "max_queued_bytes = 0"),
+     lambda: nrsar.pusch_encoder(pusch(max_queued_bytes=0)), "max_queued_bytes = 0"),
     ("pusch_encoder", "modulation without soft demapper",
-     lambda: nrsar.pusch_encoder(num(), make_modulation("psk8"), make_dmrs("pusch2")),
+     lambda: nrsar.pusch_encoder(pusch(mod=make_modulation("psk8"))),
      "is not decodable by pusch_receiver"),
-    ("pusch_encoder", "alist path that does not exist",
-     lambda: nrsar.pusch_encoder(num(), make_modulation("qam16"), make_dmrs("pusch2"),
-                                 "/nonexistent.alist"),
-     "ldpc_alist = /nonexistent.alist is not a readable alist file"),
-    ("pusch_encoder", "scrambling id beyond 16 bits",
-     lambda: nrsar.pusch_encoder(num(), make_modulation("qam16"), make_dmrs("pusch2"), "", 65536),
-     "scrambling_id = 65536"),
-    ("pusch_encoder", "LDPC codeword longer than the slot",
-     lambda: nrsar.pusch_encoder(num(num_subcarriers=8), make_modulation("qpsk"),
-                                 make_dmrs("pusch4"),
-                                 "/usr/share/gnuradio/fec/ldpc/n_1800_k_0902_gap_28.alist"),
-     "must hold one LDPC codeword of n = 1800 bits"),
+    ("pusch_encoder", "MCS beyond the qam256 table",
+     lambda: nrsar.pusch_encoder(pusch(mcs=28)), "mcs = 28 must be in [0, 27]"),
+    ("pusch_encoder", "MCS of another modulation",
+     lambda: nrsar.pusch_encoder(pusch(mcs=27)),
+     "mcs = 27 of mcs_table qam256 has Qm = 8 but mod has 4 bits per symbol"),
+    ("pusch_encoder", "unknown MCS table",
+     lambda: nrsar.pusch_encoder(pusch(mcs_table="qam1024")), "mcs_table = 'qam1024'"),
+    ("pusch_encoder", "redundancy version 4",
+     lambda: nrsar.pusch_encoder(pusch(rv=4)), "rv = 4 must be in [0, 3]"),
+    ("pusch_encoder", "3 repetitions",
+     lambda: nrsar.pusch_encoder(pusch(repetitions=3)), "repetitions = 3 must be 1, 2, 4 or 8"),
+    ("pusch_encoder", "n_RNTI beyond 16 bits",
+     lambda: nrsar.pusch_encoder(pusch(n_rnti=65536)), "n_rnti = 65536 must be in [0, 65535]"),
+    ("pusch_encoder", "n_ID beyond 1023",
+     lambda: nrsar.pusch_encoder(pusch(n_id=1024)), "n_id = 1024 must be in [0, 1023]"),
+    ("pusch_encoder", "grid without one PRB",
+     lambda: nrsar.pusch_encoder(pusch(num=num(num_subcarriers=8))),
+     "num_subcarriers = 8 must hold one PRB (12) for NR_LDPC"),
     ("nr_isac_tx", "SRS symbol on a DMRS symbol",
      lambda: nr_isac_tx(num(), make_modulation("qpsk"), make_tx_mode("data_srs"),
                         srs(symbol_in_slot=2), 0, make_dmrs("pusch2")),
      "srs symbol_in_slot = 2 must not be a DMRS symbol"),
     # pusch_receiver
     ("pusch_receiver", "dmrs none",
-     lambda: nrsar.pusch_receiver(num(), make_modulation("qam16"), make_dmrs("none")),
+     lambda: nrsar.pusch_receiver(pusch(dmrs=make_dmrs("none"))),
      "dmrs symbols = 0 must list at least one DMRS symbol"),
     ("pusch_receiver", "modulation without soft demapper",
-     lambda: nrsar.pusch_receiver(num(), make_modulation("psk16"), make_dmrs("pusch2")),
-     "has no soft demapper"),
-    ("pusch_receiver", "alist path that does not exist",
-     lambda: nrsar.pusch_receiver(num(), make_modulation("qam16"), make_dmrs("pusch2"),
-                                  "/nonexistent.alist"),
-     "ldpc_alist = /nonexistent.alist"),
+     lambda: nrsar.pusch_receiver(pusch(mod=make_modulation("psk16"))), "has no soft demapper"),
     ("pusch_receiver", "even frequency window",
-     lambda: nrsar.pusch_receiver(num(), make_modulation("qam16"), make_dmrs("pusch2"), "", 0, 4),
-     "freq_window = 4 must be odd and >= 1"),
+     lambda: nrsar.pusch_receiver(pusch(freq_window=4)), "freq_window = 4 must be odd and >= 1"),
     ("pusch_receiver", "zero LDPC iterations",
-     lambda: nrsar.pusch_receiver(num(), make_modulation("qam16"), make_dmrs("pusch2"), "", 0, 3,
-                                  0),
-     "max_iterations = 0"),
+     lambda: nrsar.pusch_receiver(pusch(max_iterations=0)), "max_iterations = 0"),
     ("pusch_receiver", "fewer than 6 subcarriers",
-     lambda: nrsar.pusch_receiver(num(num_subcarriers=4, fft_size=64), make_modulation("qpsk"),
-                                  make_dmrs("pusch2")),
+     lambda: nrsar.pusch_receiver(pusch(num=num(num_subcarriers=4, fft_size=64),
+                                        mod=make_modulation("qpsk"), mcs=4)),
      "num_subcarriers = 4"),
     # image_sink
     ("image_sink", "empty file prefix", lambda: nrsar.image_sink(8, ""), "prefix = ''"),

@@ -18,7 +18,12 @@ from gnuradio import blocks, gr, gr_unittest
 from gnuradio import nrsar
 from gnuradio.nrsar import backhaul
 
-ALIST_SMALL = "/usr/share/gnuradio/fec/ldpc/n_0300_k_0152_gap_03.alist"
+
+
+def cfg_of(modulation, coding="nr-ldpc", dmrs="pusch2", num="tiny", **kw):
+    """The PUSCH of the tests: the qam256 table's highest MCS of the modulation."""
+    return nrsar.make_pusch_config(nrsar.make_numerology(num), modulation, dmrs, coding,
+                                   n_id=5, **kw)
 
 
 def qam_points(order):
@@ -67,8 +72,8 @@ def ber_min_distance(order, esn0_db, kappa=0.0):
     return total / (order * k)
 
 
-def transmit(num, mod, dmrs, alist, pdus, nslots, scrambling_id=5):
-    return backhaul.transmit_grid(num, mod, dmrs, alist, pdus, nslots, scrambling_id)
+def transmit(cfg, pdus, nslots):
+    return backhaul.transmit_grid(cfg, pdus, nslots)
 
 
 def channel(grid, num, esn0_db, seed, selective=True, drift=0.0):
@@ -87,8 +92,9 @@ def channel(grid, num, esn0_db, seed, selective=True, drift=0.0):
     return (grid * h[None, :] * phase + noise).astype(np.complex64)
 
 
-def receive(num, mod, dmrs, alist, grid, freq_window=3, scrambling_id=5, eq=False):
-    rx = nrsar.pusch_receiver(num, mod, dmrs, alist, scrambling_id, freq_window, 25)
+def receive(cfg, grid, eq=False):
+    rx = nrsar.pusch_receiver(cfg)
+    num = cfg.num
     n = num.num_subcarriers
     src = blocks.vector_source_c(grid.reshape(-1).tolist(), False, n)
     dbg = blocks.message_debug()
@@ -100,7 +106,7 @@ def receive(num, mod, dmrs, alist, grid, freq_window=3, scrambling_id=5, eq=Fals
         tb.connect(rx, snk)
     tb.msg_connect(rx, "pdus", dbg, "store")
     tb.run()
-    expected = grid.shape[0] // num.symbols_per_slot
+    expected = grid.shape[0] // num.symbols_per_slot // cfg.repetitions
     for _ in range(200):  # message delivery is asynchronous
         if dbg.num_messages() >= expected:
             break
@@ -109,29 +115,42 @@ def receive(num, mod, dmrs, alist, grid, freq_window=3, scrambling_id=5, eq=Fals
     return rx, msgs, (np.array(snk.data(), np.complex64) if eq else None)
 
 
+# Es/N0 of the HARQ test (flat channel, pusch2, the receiver's own channel estimate): one
+# transmission of QPSK at R 0.59 failed 10 of 10 TBs at 1-2 dB and 8 of 10 at 3 dB; rv 0 + rv 2
+# combined (twice the energy, rate 0.29) decoded 10 of 10 from 1 dB, 1 of 10 at -0.5 dB
+HARQ_ESN0_DB = 1.5
+
+
 class qa_pusch_receiver(gr_unittest.TestCase):
 
     def test_loopback_bit_exact_odd_pdus(self):
         num = nrsar.make_numerology("tiny")
-        for modname, alist in (("qam256", ""), ("qam16", ALIST_SMALL), ("qpsk", "")):
-            mod, dmrs = nrsar.make_modulation(modname), nrsar.make_dmrs("pusch2")
+        for modname, coding in (("qam256", "none"), ("qam16", "nr-ldpc"), ("qpsk", "nr-ldpc"),
+                                ("qam256", "nr-ldpc")):
+            cfg = cfg_of(modname, coding)
             rng = np.random.default_rng(3)
             pdus = [bytes(rng.integers(0, 256, n, dtype=np.uint8)) for n in (1, 37, 501, 3, 129)]
-            grid, enc = transmit(num, mod, dmrs, alist, pdus, 40)
-            rx, msgs, _ = receive(num, mod, dmrs, alist, channel(grid, num, 45.0, 1, drift=0.01))
+            grid, enc = transmit(cfg, pdus, 40)
+            rx, msgs, _ = receive(cfg, channel(grid, num, 45.0, 1, drift=0.01))
+            what = f"{modname} {coding}"
             self.assertEqual(len(msgs), 40)
-            self.assertTrue(all(m["crc_ok"] for m, _ in msgs), modname)
+            self.assertTrue(all(m["crc_ok"] for m, _ in msgs), what)
             self.assertEqual([m["slot"] for m, _ in msgs], list(range(40)))
             got = backhaul.reassemble(msgs)
-            self.assertEqual([p for p, _ in got], pdus, modname)
+            self.assertEqual([p for p, _ in got], pdus, what)
             self.assertTrue(all(ok for _, ok in got))
             self.assertEqual(rx.payload_bytes_ok(), sum(len(p) for p in pdus))
             self.assertEqual(rx.blocks_ok(), 40)
             self.assertEqual(rx.filler_blocks(), 40 - enc.tbs_sent() + enc.filler_tbs_sent())
+            self.assertEqual(rx.tbs_bits(), enc.tbs_bits())
             for meta, _ in msgs:
                 self.assertEqual(set(meta), set(backhaul.META_KEYS))
                 self.assertGreater(meta["snr_db"], 35.0)
                 self.assertLess(meta["evm_db"], -35.0)
+                self.assertEqual(meta["transmissions"], 1)
+                self.assertEqual(meta["code_blocks"], rx.code_blocks())
+                if coding == "nr-ldpc":  # a clean word passes every parity check at once
+                    self.assertEqual(meta["ldpc_iterations"], 1.0)
 
     def test_uncoded_256qam_ber_matches_theory(self):
         # Flat channel (unknown phase), pusch4 + a wide frequency window: against the exact
@@ -139,9 +158,10 @@ class qa_pusch_receiver(gr_unittest.TestCase):
         num, mod, dmrs = (nrsar.make_numerology("tiny"), nrsar.make_modulation("qam256"),
                           nrsar.make_dmrs("pusch4"))
         nslots, esn0_db = 60, 26.0
-        grid, _ = transmit(num, mod, dmrs, "", [], nslots)
+        cfg = cfg_of("qam256", "none", "pusch4", freq_window=31)
+        grid, _ = transmit(cfg, [], nslots)
         rxgrid = channel(grid, num, esn0_db, 7, selective=False)
-        _, _, eq = receive(num, mod, dmrs, "", rxgrid, freq_window=31, eq=True)
+        _, _, eq = receive(cfg, rxgrid, eq=True)
         data_sym = [l for l in range(14) if l not in (2, 5, 8, 11)]
         sent = grid.reshape(nslots, 14, -1)[:, data_sym, :].reshape(-1)
         self.assertEqual(eq.size, sent.size)
@@ -169,53 +189,81 @@ class qa_pusch_receiver(gr_unittest.TestCase):
                         f"{ber_min_distance(256, esn0_db):.4e})")
 
     def test_ldpc_bler_below_uncoded(self):
-        num, mod, dmrs = (nrsar.make_numerology("tiny"), nrsar.make_modulation("qpsk"),
-                          nrsar.make_dmrs("pusch2"))
+        num = nrsar.make_numerology("tiny")
         nslots, esn0_db = 20, 8.0
         bler = {}
-        for alist in ("", ALIST_SMALL):
-            grid, _ = transmit(num, mod, dmrs, alist, [], nslots)
-            rx, msgs, _ = receive(num, mod, dmrs, alist, channel(grid, num, esn0_db, 11))
-            bler[alist] = rx.blocks_failed() / nslots
+        for coding in ("none", "nr-ldpc"):
+            cfg = cfg_of("qpsk", coding)
+            grid, _ = transmit(cfg, [], nslots)
+            rx, msgs, _ = receive(cfg, channel(grid, num, esn0_db, 11))
+            bler[coding] = rx.blocks_failed() / nslots
             self.assertEqual(rx.blocks_failed() + rx.blocks_ok(), nslots)
-        self.assertGreater(bler[""], 0.5)
-        self.assertLess(bler[ALIST_SMALL], bler[""])
-        self.assertLess(bler[ALIST_SMALL], 0.2)
+        self.assertGreater(bler["none"], 0.5)
+        self.assertLess(bler["nr-ldpc"], 0.2)
+
+    def test_harq_combines_repetitions(self):
+        # QPSK, qam256 MCS 4 (R 602/1024), each TB in 2 slots (rv 0 then rv 2) at an Es/N0
+        # where one transmission alone fails: the receiver decodes after combining both
+        # (HARQ_ESN0_DB: 1.5 dB below where single TBs start to pass, 2 dB above where the
+        # combination fails).
+        num = nrsar.make_numerology("tiny")
+        ntb, esn0_db = 10, HARQ_ESN0_DB
+        pdus = [bytes([i]) * 100 for i in range(ntb)]
+        single = cfg_of("qpsk")
+        grid1, _ = transmit(single, pdus, ntb)
+        rx1, _, _ = receive(single, channel(grid1, num, esn0_db, 21, selective=False))
+        self.assertGreaterEqual(rx1.blocks_failed(), 8)  # one transmission: mostly lost
+        cfg = cfg_of("qpsk", repetitions=2)
+        grid, enc = transmit(cfg, pdus, 2 * ntb)
+        rx, msgs, _ = receive(cfg, channel(grid, num, esn0_db, 21, selective=False))
+        self.assertEqual(len(msgs), ntb)  # one report per TB
+        self.assertEqual([m["slot"] for m, _ in msgs], list(range(0, 2 * ntb, 2)))
+        self.assertGreaterEqual(rx.blocks_ok(), 9)
+        self.assertGreaterEqual(rx.harq_combined_ok(), 8)
+        for meta, data in msgs:
+            if meta["crc_ok"]:
+                self.assertEqual(data, pdus[meta["slot"] // 2])
+                self.assertIn(meta["transmissions"], (1, 2))
 
     def test_crc_failures_reported_not_delivered(self):
-        num, mod, dmrs = (nrsar.make_numerology("tiny"), nrsar.make_modulation("qam256"),
-                          nrsar.make_dmrs("pusch2"))
-        pdus = [bytes(range(200))] * 4
-        grid, _ = transmit(num, mod, dmrs, "", pdus, 8)
-        rx, msgs, _ = receive(num, mod, dmrs, "", channel(grid, num, 3.0, 2))
-        self.assertEqual(len(msgs), 8)
-        self.assertEqual(rx.blocks_failed(), 8)
-        self.assertEqual(rx.payload_bytes_ok(), 0)
-        for meta, data in msgs:
-            self.assertFalse(meta["crc_ok"])
-            self.assertEqual(data, b"")
-            self.assertEqual(meta["payload_len"], 0)
-        self.assertEqual(backhaul.reassemble(msgs), [])
+        num = nrsar.make_numerology("tiny")
+        for coding in ("none", "nr-ldpc"):
+            cfg = cfg_of("qam256", coding)
+            pdus = [bytes(range(200))] * 4
+            grid, _ = transmit(cfg, pdus, 8)
+            rx, msgs, _ = receive(cfg, channel(grid, num, 3.0, 2))
+            self.assertEqual(len(msgs), 8)
+            self.assertEqual(rx.blocks_failed(), 8)
+            self.assertEqual(rx.payload_bytes_ok(), 0)
+            for meta, data in msgs:
+                self.assertFalse(meta["crc_ok"])
+                self.assertEqual(data, b"")
+                self.assertEqual(meta["payload_len"], 0)
+                self.assertEqual(meta["seq"], -1)
+            self.assertEqual(backhaul.reassemble(msgs), [])
+        # another UE's scrambling (n_RNTI) at a clean SNR: every TB fails its CRC
+        grid, _ = transmit(cfg_of("qam16", n_rnti=1), [b"x" * 50], 3)
+        rx, msgs, _ = receive(cfg_of("qam16", n_rnti=2), channel(grid, num, 45.0, 3))
+        self.assertEqual(rx.blocks_failed(), 3)
 
     def test_snr_estimate(self):
-        num, mod, dmrs = (nrsar.make_numerology("tiny"), nrsar.make_modulation("qam16"),
-                          nrsar.make_dmrs("pusch2"))
-        grid, _ = transmit(num, mod, dmrs, "", [], 4)
-        rx, msgs, _ = receive(num, mod, dmrs, "", channel(grid, num, 20.0, 4, selective=False))
+        num = nrsar.make_numerology("tiny")
+        cfg = cfg_of("qam16")
+        grid, _ = transmit(cfg, [], 4)
+        rx, msgs, _ = receive(cfg, channel(grid, num, 20.0, 4, selective=False))
         # |h| = 1, sigma^2 = 0.01: 20 dB within the spread of 4 x 64 noise samples per slot
         for meta, _ in msgs:
             self.assertAlmostEqual(meta["snr_db"], 20.0, delta=1.0)
 
     def test_slot_tag_realigns(self):
-        num, mod, dmrs = (nrsar.make_numerology("tiny"), nrsar.make_modulation("qpsk"),
-                          nrsar.make_dmrs("pusch2"))
-        grid, _ = transmit(num, mod, dmrs, "", [b"hello"], 3)
+        cfg = cfg_of("qpsk")
+        grid, _ = transmit(cfg, [b"hello"], 3)
         # 5 junk symbols first, then slot 0 tagged
         junk = np.zeros((5, grid.shape[1]), np.complex64)
         full = np.concatenate([junk, grid])
         tag = gr.tag_t()
         tag.offset, tag.key, tag.value = 5, pmt.intern(nrsar.tag_keys.slot), pmt.from_uint64(0)
-        rx = nrsar.pusch_receiver(num, mod, dmrs, "", 5)
+        rx = nrsar.pusch_receiver(cfg)
         src = blocks.vector_source_c(full.reshape(-1).tolist(), False, grid.shape[1], [tag])
         dbg = blocks.message_debug()
         tb = gr.top_block()
@@ -229,13 +277,12 @@ class qa_pusch_receiver(gr_unittest.TestCase):
         self.assertEqual(msgs[0][1], b"hello")
 
     def test_nonfinite_input_counted(self):
-        num, mod, dmrs = (nrsar.make_numerology("tiny"), nrsar.make_modulation("qpsk"),
-                          nrsar.make_dmrs("pusch2"))
-        grid, _ = transmit(num, mod, dmrs, "", [], 1)
+        cfg = cfg_of("qpsk")
+        grid, _ = transmit(cfg, [], 1)
         grid[4, 7] = np.nan
-        rx, msgs, _ = receive(num, mod, dmrs, "", grid)
+        rx, msgs, _ = receive(cfg, grid)
         self.assertEqual(rx.nonfinite_samples(), 1)
-        self.assertTrue(msgs[0][0]["crc_ok"])  # one erased RE of QPSK: still decodes
+        self.assertTrue(msgs[0][0]["crc_ok"])  # one erased RE: the LDPC code fills it in
 
     def test_soft_demapper_binding(self):
         d = nrsar.soft_demapper(nrsar.make_modulation("qpsk"))
@@ -250,17 +297,17 @@ class qa_pusch_receiver(gr_unittest.TestCase):
         cases = [
             (dict(dmrs=nrsar.make_dmrs("none")), "dmrs symbols"),
             (dict(mod=nrsar.make_modulation("psk8")), "mod"),
-            (dict(ldpc_alist="/nonexistent.alist"), "ldpc_alist"),
             (dict(freq_window=4), "freq_window = 4"),
-            (dict(scrambling_id=70000), "scrambling_id = 70000"),
+            (dict(n_id=70000), "n_id = 70000"),
             (dict(max_iterations=0), "max_iterations = 0"),
+            (dict(mcs=11), "mcs = 11 of mcs_table qam256 has Qm = 6 but mod has 4"),
         ]
         for kw, text in cases:
             args = dict(num=num, mod=nrsar.make_modulation("qam16"),
-                        dmrs=nrsar.make_dmrs("pusch2"))
+                        dmrs=nrsar.make_dmrs("pusch2"), mcs=10)
             args.update(kw)
             with self.assertRaises(ValueError) as ctx:
-                nrsar.pusch_receiver(**args)
+                nrsar.pusch_receiver(nrsar.pusch_config(**args))
             self.assertIn(text, str(ctx.exception))
 
 

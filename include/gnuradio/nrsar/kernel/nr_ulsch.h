@@ -93,6 +93,10 @@ private:
     nr_ldpc_decoder d_dec;
     std::vector<std::uint8_t> d_tb, d_cb, d_d, d_c, d_scr;
     std::vector<float> d_soft, d_llr; // C x N soft buffers, one descrambled block's E LLRs
+    std::uint32_t d_scr_c_init = 0;   // c_init of d_scr, the G scrambling bits
+    bool d_scr_valid = false;
+
+    void scrambling(std::uint32_t c_init); // d_scr for c_init
 };
 
 } // namespace kernel

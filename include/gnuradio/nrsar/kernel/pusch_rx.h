@@ -14,6 +14,7 @@
 #include <gnuradio/nrsar/kernel/soft_demapper.h>
 #include <gnuradio/nrsar/kernel/transport_block.h>
 #include <gnuradio/nrsar/params.h>
+#include <gnuradio/nrsar/pusch_config.h>
 #include <volk/volk_alloc.hh>
 #include <cstdint>
 #include <string>
@@ -25,7 +26,12 @@ namespace kernel {
 
 //! What the receiver found in one slot.
 struct NRSAR_API pusch_slot_result {
-    tb_result tb;
+    tb_result tb;           //!< the decoding of this slot (empty when the TB decoded before)
+    std::uint64_t tb_index = 0;  //!< slot / repetitions: which TB the slot carries
+    unsigned transmissions = 0;  //!< transmissions of the TB combined in tb (0: not decoded)
+    //! True when the TB is settled with this slot: it decoded now, or this was its last
+    //! transmission. The receiver reports the TB then.
+    bool tb_final = false;
     double noise_var = 0.0; //!< sigma^2 per RE, from the empty odd DMRS subcarriers
     double snr_db = 0.0;    //!< mean |h|^2 over the data REs / sigma^2
     double evm_db = 0.0;    //!< mean |x - nearest point|^2 of the equalised data REs
@@ -43,26 +49,18 @@ struct NRSAR_API pusch_slot_result {
  * extrapolation outside them (tracks a residual CFO / common phase drift); one DMRS symbol
  * = constant. Noise: sigma^2 = mean |Y|^2 over the odd subcarriers of the DMRS symbols, which
  * the transmitter leaves empty. Equalisation x = y / h, per-RE noise variance sigma^2 / |h|^2
- * into kernel::soft_demapper, then transport_block_codec::decode.
+ * into kernel::soft_demapper, then transport_block_codec::decode, combining the
+ * repetitions of a TB (pusch_config::repetitions, rv sequence of 38.214 Table 6.1.2.1-2)
+ * until it decodes.
  */
 class NRSAR_API pusch_rx
 {
 public:
     /*!
-     * \param num, mod, dmrs  as the transmitter (dmrs must have at least one symbol; mod
-     *                        QPSK..QAM256; N >= 6)
-     * \param ldpc_alist      as pusch_encoder ("" = uncoded)
-     * \param scrambling_id   as pusch_encoder
-     * \param freq_window     DMRS REs averaged per channel estimate (odd, >= 1)
-     * \param max_iterations  LDPC iterations
+     * cfg as the transmitter's (dmrs must have at least one symbol; N >= 6); its
+     * freq_window and max_iterations are the receiver's.
      */
-    pusch_rx(const numerology& num,
-             modulation mod,
-             const dmrs_config& dmrs,
-             const std::string& ldpc_alist = "",
-             unsigned scrambling_id = 0,
-             unsigned freq_window = 3,
-             unsigned max_iterations = 25);
+    explicit pusch_rx(const pusch_config& cfg);
     pusch_rx(pusch_rx&&) = default;
     pusch_rx& operator=(pusch_rx&&) = default;
     pusch_rx(const pusch_rx&) = delete;
@@ -74,7 +72,7 @@ public:
 
     /*!
      * Processes one slot: grid holds symbols_per_slot * N values (symbol-major), slot is the
-     * absolute slot index (DMRS use slot % slots_per_frame, scrambling slot mod 2^15). When eq
+     * absolute slot index (DMRS use slot % slots_per_frame, the TB slot / repetitions). When eq
      * is not null it receives data_res() equalised data symbols (subcarrier order, symbol by
      * symbol).
      */
@@ -89,6 +87,10 @@ private:
     unsigned d_window;
     std::size_t d_data_res;
     std::vector<unsigned> d_data_symbols;
+    pusch_config d_cfg;
+    bool d_done = false;               // the current TB decoded at an earlier repetition
+    unsigned d_transmissions = 0;      // of the current TB, combined so far
+    std::uint64_t d_last_slot = ~std::uint64_t{ 0 };
     // per slot in frame, per DMRS symbol: DMRS values on subcarriers 0, 2, ...
     std::vector<std::vector<gr_complex>> d_dmrs_values;
     std::vector<std::vector<gr_complex>> d_h_dmrs; // channel per DMRS symbol, all N subcarriers

@@ -9,21 +9,16 @@
 #define INCLUDED_NRSAR_KERNEL_TRANSPORT_BLOCK_H
 
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/nr_crc.h>
+#include <gnuradio/nrsar/kernel/nr_ulsch.h>
 #include <gnuradio/nrsar/params.h>
+#include <gnuradio/nrsar/pusch_config.h>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <string>
 #include <vector>
 
 namespace gr {
-namespace fec {
-class generic_encoder;
-class generic_decoder;
-} // namespace fec
-namespace digital {
-class crc;
-} // namespace digital
 namespace nrsar {
 namespace kernel {
 
@@ -34,69 +29,77 @@ namespace kernel {
 NRSAR_API std::size_t
 pusch_slot_bits(const numerology& num, modulation mod, const dmrs_config& dmrs);
 
-//! Header of a transport block (5 bytes, big endian on the air).
-struct NRSAR_API tb_header {
-    static constexpr unsigned bytes = 5;
-    static constexpr std::uint8_t filler = 1;    //!< no payload: keeps the radar grid full
-    static constexpr std::uint8_t pdu_start = 2; //!< payload starts a PDU
-    static constexpr std::uint8_t pdu_end = 4;   //!< payload ends a PDU
-    static constexpr std::uint8_t known_flags = 7;
+/*!
+ * \brief The framing of a TB's bytes: one MAC PDU of TS 38.321 6.1.2 carrying at most one
+ * RLC UMD PDU of TS 38.322 6.2.2.3 (6-bit SN), then padding.
+ *
+ *   MAC subheader   R(1) F(1)=1 LCID(6) | L(16)       3 bytes, L = RLC header + data bytes
+ *   RLC UMD header  SI(2) R(6)                        complete SDU (SI 00), 1 byte
+ *                   SI(2) SN(6)                       first segment (SI 01), 1 byte
+ *                   SI(2) SN(6) | SO(16)              last (10) / middle (11) segment, 3 bytes
+ *   data
+ *   padding         R(1) F(1)=0 LCID(6)=63, then zero bytes to the end of the TB
+ *
+ * A TB with no SDU (filler) is the padding subheader and zeros. The SDUs are the PDUs given
+ * to pusch_encoder (at most 65535 bytes: SO has 16 bits); PDCP, MAC CEs and the BSR are left
+ * out (docs/nr_coding.md, "PDU framing").
+ */
+struct NRSAR_API mac_sdu {
+    //! RLC segmentation information SI of 38.322 6.2.3.4.
+    enum segment_info : std::uint8_t { complete = 0, first = 1, last = 2, middle = 3 };
+    static constexpr std::uint8_t lcid = 4;          //!< logical channel of the data (a DRB)
+    static constexpr std::uint8_t lcid_padding = 63; //!< 38.321 Table 6.2.1-2
+    static constexpr std::size_t mac_header_bytes = 3;
 
-    std::uint16_t payload_len = 0; //!< payload bytes in this TB
-    std::uint16_t seq = 0;         //!< TB sequence number (mod 2^16)
-    std::uint8_t flags = 0;
+    bool filler = true;  //!< no SDU, padding only
+    segment_info si = complete;
+    std::uint8_t sn = 0; //!< RLC sequence number of the SDU, mod 64 (not sent when complete)
+    std::uint16_t so = 0; //!< byte offset of the segment in its SDU (sent for last / middle)
+    std::vector<std::uint8_t> data;
 
-    void write(std::uint8_t* out) const;
+    //! RLC header bytes of a segment of kind si.
+    static std::size_t rlc_header_bytes(segment_info si) { return si >= last ? 3 : 1; }
+    //! Largest data bytes of segment kind si in a TB of tb_bytes bytes (0 if none fit).
+    static std::size_t capacity(std::size_t tb_bytes, segment_info si);
+
     /*!
-     * Parses 5 bytes; returns false (and leaves *this unspecified) when the header is
-     * inconsistent: payload_len > capacity, unknown flag bits, filler with payload.
+     * Writes the MAC PDU of this SDU (data, si, sn, so; or padding only when filler) into
+     * tb[0 .. tb_bytes). data must fit (capacity()).
      */
-    bool read(const std::uint8_t* in, std::size_t capacity);
+    void write(std::uint8_t* tb, std::size_t tb_bytes) const;
+    /*!
+     * Parses a MAC PDU; false when it is not one this framing writes (unknown LCID, L beyond
+     * the TB, non-zero reserved bits, SO on a first / complete segment).
+     */
+    bool read(const std::uint8_t* tb, std::size_t tb_bytes);
 };
 
 //! What decode() found.
 struct NRSAR_API tb_result {
-    bool crc_ok = false;    //!< CRC24A matched
-    bool header_ok = false; //!< CRC matched and the header is consistent
-    tb_header header;
-    std::vector<std::uint8_t> payload; //!< header.payload_len bytes when header_ok, else empty
+    bool crc_ok = false;    //!< TB CRC (CRC24A, or CRC16 when A <= 3824) matched
+    bool parity_ok = false; //!< every code block's LDPC parity checks held (= crc_ok uncoded)
+    bool header_ok = false; //!< CRC ok, LDPC converged and the MAC PDU parsed
+    mac_sdu sdu;            //!< when header_ok
+    unsigned code_blocks = 0;    //!< C (0 uncoded)
+    unsigned cb_crc_ok = 0;      //!< code blocks whose CRC checked
+    double mean_iterations = 0;  //!< LDPC iterations per code block
 };
 
 /*!
- * \brief One transport block per slot, filling the slot's G data bits.
+ * \brief One transport block per PUSCH transmission, filling its G data bits.
  *
- * TB = header (5 bytes) | payload (payload_bytes(), zero padded) | CRC24A (TS 38.212 5.1,
- * g(D) = D^24 + D^23 + D^18 + D^17 + D^14 + D^11 + D^10 + D^7 + D^6 + D^5 + D^4 + D^3 + D + 1,
- * over header and payload). Uncoded: the TB bits, then zeros up to G. LDPC (an alist code of
- * gr-fec, n code bits per k info bits): the TB, zero padded to C k, split into C = floor(G / n)
- * codewords, then zeros up to G. All G bits are scrambled (TS 38.211 6.3.1.1):
- *   b~(i) = b(i) xor c(i),
- *   c_init = ((2^15 scrambling_id + (slot mod 2^15)) 0x9E3779B1 + 0x2545F491) mod 2^31
- * Deviation from 38.211 (c_init = n_RNTI 2^15 + n_ID): the slot counter takes n_ID's place, so
- * an all-zero payload still gives a fresh grid every slot, and the affine bijection spreads
- * low-weight values, whose c(n) stays biased long after Nc = 1600 (c_init = 0: 39 % ones over
- * the first 3072 bits).
- * payload_bytes() = floor((info bits - 24) / 8) - 5 with info bits = G (uncoded) or C k.
- *
- * decode(): LLRs (positive = bit 0) in -> descramble -> LDPC belief propagation (gr-fec
- * ldpc_decoder) or hard decision -> CRC -> header parse. Never reads beyond G LLRs; any
- * input is safe.
+ * NR_LDPC: the UL-SCH of TS 38.212 6.2 (kernel::nr_ulsch: CRC, segmentation, LDPC,
+ * rate matching of rv, concatenation) for the TBS of 38.214 5.1.3.2 (pusch_config), then
+ * 38.211 6.3.1.1 scrambling. NONE: A = 8 floor((G - 24) / 8) bits, CRC24A, zeros up to G,
+ * scrambled; hard decisions at the receiver.
+ * Scrambling: c_init() of pusch_config::scrambling (standard n_RNTI 2^15 + n_ID, or the
+ * module's per-slot sequence).
  */
 class NRSAR_API transport_block_codec
 {
 public:
-    /*!
-     * \param slot_bits      G, data bits of one slot (> 0)
-     * \param ldpc_alist     path of an alist parity-check matrix; empty = uncoded
-     * \param scrambling_id  0 .. 65535
-     * \param max_iterations LDPC belief-propagation iterations (>= 1)
-     * Throws std::invalid_argument when the file does not exist or the slot is too small for
-     * one codeword / a one-byte payload.
-     */
-    transport_block_codec(std::size_t slot_bits,
-                          const std::string& ldpc_alist = "",
-                          unsigned scrambling_id = 0,
-                          unsigned max_iterations = 25);
+    //! Validates cfg (std::invalid_argument naming the field).
+    explicit transport_block_codec(const pusch_config& cfg);
     ~transport_block_codec();
     transport_block_codec(transport_block_codec&&) noexcept;
     transport_block_codec& operator=(transport_block_codec&&) noexcept;
@@ -104,51 +107,41 @@ public:
     transport_block_codec& operator=(const transport_block_codec&) = delete;
 
     std::size_t slot_bits() const { return d_G; }
-    std::size_t payload_bytes() const { return d_payload; }
-    //! TB bits incl. header and CRC: 8 (5 + payload_bytes() + 3).
-    std::size_t tb_bits() const { return 8 * (tb_header::bytes + d_payload + 3); }
-    bool coded() const { return d_k > 0; }
-    unsigned codewords() const { return d_C; }
-    unsigned code_n() const { return d_n; }
-    unsigned code_k() const { return d_k; }
-    //! LDPC rate k / n (1 uncoded).
+    //! A, the transport block size in bits (a multiple of 8).
+    std::size_t tbs_bits() const { return d_A; }
+    std::size_t tb_bytes() const { return d_A / 8; }
+    //! Largest PDU bytes one TB carries whole (complete SDU).
+    std::size_t payload_bytes() const { return mac_sdu::capacity(tb_bytes(), mac_sdu::complete); }
+    bool coded() const { return d_ulsch != nullptr; }
+    unsigned code_blocks() const { return coded() ? d_ulsch->segmentation().C : 0; }
+    int base_graph() const { return coded() ? d_ulsch->base_graph() : 0; }
+    //! (A + TB CRC) / G: what the LDPC code and rate matching carry per coded bit.
     double code_rate() const;
     //! Payload bits over slot bits: 8 payload_bytes() / G.
     double efficiency() const;
 
-    static std::uint32_t scrambling_c_init(unsigned scrambling_id, std::uint64_t slot);
+    //! c_init of the scrambling of a transmission in slot (38.211 6.3.1.1 or per slot).
+    std::uint32_t c_init(std::uint64_t slot) const;
+    //! The module's non-standard per-slot c_init (pusch_scrambling::PER_SLOT).
+    static std::uint32_t per_slot_c_init(unsigned n_id, std::uint64_t slot);
+
+    //! tb: tb_bytes() bytes (a_0 = MSB of tb[0]) -> out: G scrambled bits (0/1), rv.
+    void encode(const std::uint8_t* tb, unsigned rv, std::uint64_t slot, std::uint8_t* out);
 
     /*!
-     * Encodes one TB: header (payload_len = len is set here) and len <= payload_bytes()
-     * payload bytes. out gets G bits, one per byte (0/1), scrambled for slot.
+     * G LLRs (positive = bit 0, before descrambling; non-finite count as 0) of a transmission
+     * with rv in slot. combine adds them to the previous transmissions of the same TB (HARQ
+     * soft combining; NR_LDPC only), otherwise the TB starts afresh.
      */
-    void encode(tb_header header,
-                const std::uint8_t* payload,
-                std::size_t len,
-                std::uint64_t slot,
-                std::uint8_t* out) const;
-
-    //! Decodes G LLRs (positive = bit 0) of slot. Non-finite LLRs count as 0.
-    tb_result decode(const float* llr, std::uint64_t slot);
-
-    /*!
-     * CRC check and header parse of TB bytes (tb_bits() / 8 of them): what decode() does after
-     * the bits are known.
-     */
-    tb_result parse(const std::uint8_t* tb) const;
+    tb_result decode(const float* llr, unsigned rv, std::uint64_t slot, bool combine);
 
 private:
-    std::size_t d_G;
-    unsigned d_scrambling_id;
-    unsigned d_n = 0, d_k = 0, d_C = 0;
-    std::size_t d_payload = 0;
-    std::unique_ptr<gr::digital::crc> d_crc;
-    std::shared_ptr<gr::fec::generic_encoder> d_enc;
-    std::shared_ptr<gr::fec::generic_decoder> d_dec;
-    // work buffers
-    std::vector<float> d_soft;
-    std::vector<std::uint8_t> d_bits;
-    std::vector<std::uint8_t> d_bytes;
+    pusch_config d_cfg;
+    std::size_t d_G, d_A;
+    std::unique_ptr<nr_ulsch> d_ulsch;
+    nr_crc d_crc;
+    std::vector<std::uint8_t> d_bits;  // A (+ CRC) unpacked bits
+    std::vector<float> d_llr;          // G cleaned LLRs
 };
 
 } // namespace kernel
