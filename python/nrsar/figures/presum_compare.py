@@ -30,6 +30,7 @@ import os
 
 import numpy as np
 
+from gnuradio import nrsar
 from gnuradio.nrsar import params, results, runtime
 from gnuradio.nrsar.figures import presum_study
 
@@ -101,14 +102,15 @@ def fig6_rows(preset, seconds, d, seed=1):
     rho = 10.0 ** (rows[0]["pulse_snr_db"] / 10.0)
     for r in rows:
         name = r["method"]
+        r["lms_step"] = configs.get(name, {}).get("lms_step", math.nan)
         if name == "none":
             theory = 0.0
         elif name == "drop":
             theory = 0.0
         elif name.startswith("lms"):
-            mu = configs[name].get("lms_step", 0.2)
-            r["lms_step"] = mu
-            theory = lms_floor_gain_db(mu, 4 * d, rho)
+            if math.isnan(r["lms_step"]):
+                r["lms_step"] = nrsar.presum_config().lms_step
+            theory = lms_floor_gain_db(r["lms_step"], 4 * d, rho)
         else:
             theory = 10.0 * math.log10(d * d / r["noise_gain_sum_h2"])
         r["theory_gain_db"] = theory
@@ -137,10 +139,7 @@ def chain_rows(preset, d, methods=METHODS, seed=1):
                    "chain_wall_s": elapsed,
                    "paper_presum_s": PAPER_TIME_S.get(name, (math.nan,))[0],
                    "paper_total_s": PAPER_TIME_S.get(name, (math.nan, math.nan))[1]})
-        mi, ki = np.unravel_index(np.argmax(np.abs(img)), img.shape)
-        half = int(round(4.0 / line_m))
-        idx = np.arange(mi - half, mi + half + 1) % img.shape[0]
-        cuts[name] = (np.arange(-half, half + 1) * line_m, img[idx, ki])
+        cuts[name] = presum_study.azimuth_cut(img, line_m)
     return t5, t7, cuts
 
 
@@ -234,7 +233,7 @@ def main(argv=None):
         a1.set_ylabel("|pulse| / DC gain [dB]")
         a1.set_title("one output pulse per method (fig. 6 analogue)", fontsize=9)
         a1.legend(fontsize=7)
-        lms = [r for r in rows if "lms_step" in r and r["method"] != "lms"]
+        lms = [r for r in rows if r["method"].startswith("lms ")]
         mus = [r["lms_step"] for r in lms]
         a2.semilogx(mus, [r["gain_db"] for r in lms], "o", label="LMS measured")
         fine = np.geomspace(min(mus), max(mus), 100)
@@ -259,18 +258,8 @@ def main(argv=None):
         presum_study.write_csv(out("presum_compare_table5.csv"), t5)
         presum_study.write_csv(out("presum_compare_table7.csv"), t7)
         summary["table5"], summary["table7"] = t5, t7
-        fig, ax = plt.subplots(figsize=(6.5, 4))
-        for name, (x, c) in cuts.items():
-            ax.plot(x, 20 * np.log10(np.abs(c) / np.abs(c).max() + 1e-12), lw=1,
-                    marker="." if name != "none" else None, ms=3, label=name)
-        ax.set_xlabel("along track re peak [m]")
-        ax.set_ylabel("dB re peak")
-        ax.set_ylim(-60, 3)
-        ax.set_title(f"azimuth cut through T1 per method, D = {d} (table 5)", fontsize=9)
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        results.save_figure(fig, out("presum_compare_table5.png"), dpi=90)
-        plt.close(fig)
+        presum_study.plot_azimuth_cuts(plt, cuts, f"azimuth cut through T1 per method, D = "
+                                       f"{d} (table 5)", out("presum_compare_table5.png"))
         fig, ax = plt.subplots(figsize=(6.5, 3.6))
         names = [r["method"] for r in t7]
         ax.bar(names, [r["presum_cpu_s"] for r in t7], label="presum (CPU in work)")

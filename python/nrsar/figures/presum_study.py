@@ -143,6 +143,30 @@ def image_run(presum, d, preset, seconds, seed=1, counters=False, **overrides):
     return m, elapsed, img, line_m, runtime.rx_block_times(graph)
 
 
+def azimuth_cut(img, line_m, half_m=4.0):
+    """(along track re the peak [m], samples) of the image's brightest bin, +- half_m."""
+    mi, ki = np.unravel_index(np.argmax(np.abs(img)), img.shape)
+    half = int(round(half_m / line_m))
+    idx = np.arange(mi - half, mi + half + 1) % img.shape[0]
+    return np.arange(-half, half + 1) * line_m, img[idx, ki]
+
+
+def plot_azimuth_cuts(plt, cuts, title, path):
+    """{method: azimuth_cut} in dB re each cut's peak, one PNG."""
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    for name, (x, c) in cuts.items():
+        ax.plot(x, 20 * np.log10(np.abs(c) / np.abs(c).max() + 1e-12), lw=1,
+                marker="." if name != "none" else None, ms=3, label=name)
+    ax.set_xlabel("along track re peak [m]")
+    ax.set_ylabel("dB re peak")
+    ax.set_ylim(-60, 3)
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    results.save_figure(fig, path, dpi=90)
+    plt.close(fig)
+
+
 def qpe_check(preset, d_list):
     """Coherence |sum| / (sum of |taps|) of the window of D pulses that starts at the
     closest approach of a target (eq. P-33 with m = 0), K = 1 bin on its range."""
@@ -224,24 +248,11 @@ def main(argv=None):
                          "pslr_range_db": m.get("pslr_range_db"),
                          "islr_range_db": m.get("islr_range_db"),
                          "peak_error_m": m.get("peak_error_m")})
-        mi, ki = np.unravel_index(np.argmax(np.abs(img)), img.shape)
-        half = int(round(4.0 / line_m))
-        idx = np.arange(mi - half, mi + half + 1) % img.shape[0]
-        cuts[name] = ((np.arange(-half, half + 1)) * line_m, img[idx, ki])
+        cuts[name] = azimuth_cut(img, line_m)
     write_csv(os.path.join(a.out, "presum_image.csv"), img_rows)
     summary["image"] = img_rows
-    fig, ax = plt.subplots(figsize=(6.5, 4))
-    for name, (x, c) in cuts.items():
-        ax.plot(x, 20 * np.log10(np.abs(c) / np.abs(c).max() + 1e-12), lw=1,
-                marker="." if name != "none" else None, ms=3, label=name)
-    ax.set_xlabel("along track re peak [m]")
-    ax.set_ylabel("dB re peak")
-    ax.set_ylim(-60, 3)
-    ax.set_title(f"azimuth cut through the strongest target, D = {d}", fontsize=9)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    results.save_figure(fig, os.path.join(a.out, "presum_azimuth_cuts.png"), dpi=90)
-    plt.close(fig)
+    plot_azimuth_cuts(plt, cuts, f"azimuth cut through the strongest target, D = {d}",
+                      os.path.join(a.out, "presum_azimuth_cuts.png"))
 
     d_list = [2, 4, 8, 12, 24] if a.quick else [2, 4, 8, 12, 24, 48, 96]
     rt_rows = []
