@@ -375,7 +375,8 @@ def presum(out, quick, workdir):
 
 def presum_compare_figure(out, quick, workdir):
     """The second paper's comparisons write their own PNGs and CSVs (presum_compare_*)."""
-    summary = presum_compare.main(["--out", out, "--workdir", workdir] +
+    summary = presum_compare.main(["--out", out, "--workdir", workdir,
+                                   "--scene", ship_and_sea_file(workdir)] +
                                   (["--quick"] if quick else []))
     return {f"fig6_gain_{r['method']}_db": r["gain_db"] for r in summary["fig6"]
             if r["method"] in ("lms", "cheby")}

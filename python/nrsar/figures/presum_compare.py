@@ -11,7 +11,7 @@
 Methods: drop (direct downsampling), boxcar, filter_drop (filtering then downsampling),
 lms (the paper's LMS baseline, kernel/lms_presum.h) and cheby (the proposed method).
 
-1. fig. 6: single-pulse SNR gain per method (presum_study.single_pulse: scene `single`,
+1. fig. 6: single-pulse SNR gain per method (single_pulse: scene `single`,
    QPSK, MF, SNR_in chosen so a range-compressed pulse has 0 dB SNR as in the paper's
    -40 dB + 40 dB), plus LMS over its step mu against the misadjustment theory
    (2 - mu) / mu (Lrho / (1 + L rho))^2 -> presum_compare_fig6.csv / .png.
@@ -31,8 +31,10 @@ import os
 import numpy as np
 
 from gnuradio import nrsar
-from gnuradio.nrsar import params, results, runtime
-from gnuradio.nrsar.figures import presum_study
+from gnuradio.nrsar import chain, params, results, runtime, scenes
+from .presum_study import (azimuth_cut, image_run, plot_azimuth_cuts, plt_module, single_pulse,
+                           write_csv)
+from gnuradio.nrsar.options import SimOptions
 
 D_PAPER = 12
 # the paper's fig. 6 / text [P-3.1]: single-pulse gain at D = 12 [dB]
@@ -88,7 +90,7 @@ def nesz_db(power_noise, power_scene, sigma0_scene):
 # ---------------------------------------------------------------- runs
 
 def fig6_rows(preset, seconds, d, seed=1):
-    """Single-pulse gains per method and LMS steps: presum_study.single_pulse rows plus the
+    """Single-pulse gains per method and LMS steps: single_pulse rows plus the
     theory of each (boxcar 10 log10 D, FIR D^2 / sum h^2, LMS lms_floor_gain_db)."""
     num = params.make_numerology(preset)
     # SNR_in per RE for a 0 dB pulse: MF range compression over N subcarriers gains N
@@ -97,8 +99,7 @@ def fig6_rows(preset, seconds, d, seed=1):
     configs = {name: {"method": params.PRESUM_METHODS[name]} for name in METHODS}
     for mu in LMS_STEPS:
         configs[f"lms mu={mu:.3g}"] = {"method": lms, "lms_step": mu}
-    rows, profiles, axis, _ = presum_study.single_pulse(d, preset, seconds, snr_in, seed,
-                                                        configs)
+    rows, profiles, axis, _ = single_pulse(d, preset, seconds, snr_in, seed, configs)
     rho = 10.0 ** (rows[0]["pulse_snr_db"] / 10.0)
     for r in rows:
         name = r["method"]
@@ -124,8 +125,7 @@ def chain_rows(preset, d, methods=METHODS, seed=1):
     the focuser."""
     t5, t7, cuts = [], [], {}
     for name in ("none",) + tuple(methods):
-        m, elapsed, img, line_m, rx = presum_study.image_run(name, d, preset, None, seed,
-                                                             counters=True)
+        m, elapsed, img, line_m, rx = image_run(name, d, preset, None, seed, counters=True)
         t5.append({"method": name, "D": 1 if name == "none" else d,
                    "pslr_azimuth_db": m.get("pslr_azimuth_db"),
                    "islr_azimuth_db": m.get("islr_azimuth_db"),
@@ -139,11 +139,11 @@ def chain_rows(preset, d, methods=METHODS, seed=1):
                    "chain_wall_s": elapsed,
                    "paper_presum_s": PAPER_TIME_S.get(name, (math.nan,))[0],
                    "paper_total_s": PAPER_TIME_S.get(name, (math.nan, math.nan))[1]})
-        cuts[name] = presum_study.azimuth_cut(img, line_m)
+        cuts[name] = azimuth_cut(img, line_m)
     return t5, t7, cuts
 
 
-def table6_rows(workdir, preset, d, snr_db, motion="none", methods=METHODS, seed=1):
+def table6_rows(scene_path, workdir, preset, d, snr_db, motion="none", methods=METHODS, seed=1):
     """Entropy, NESZ and EPI of the extended scene per method. The full-rate image ("none",
     the image before enhancement) is read at the presummed lines' along-track positions so
     every method is measured on the same pixel grid. NESZ: noise from the range bins beyond
@@ -151,10 +151,7 @@ def table6_rows(workdir, preset, d, snr_db, motion="none", methods=METHODS, seed
     the map's footprint, whose mean sigma0 is the map's mean RCS per m^2 (with coarse bins,
     `small`'s 9.8 m, the bins are only partly covered: the offset is common to all methods).
     EPI and entropy over that footprint (+- 2 bins in range)."""
-    from gnuradio.nrsar import scenes
-    from gnuradio.nrsar.figures import run_sim, ship_and_sea_file
-    path = ship_and_sea_file(workdir)
-    mp = scenes.load_scene_file(path).maps[0]
+    mp = scenes.load_scene_file(scene_path).maps[0]
     geo = params.make_geometry("paper")
     rcs = np.abs(np.asarray(mp.values)) ** 2
     sigma0 = float(rcs.mean() / (mp.dx * mp.dy))
@@ -163,9 +160,11 @@ def table6_rows(workdir, preset, d, snr_db, motion="none", methods=METHODS, seed
     extra = {} if motion == "none" else {"motion": motion}
     images = {}
     for name in ("none",) + tuple(methods):
-        res = run_sim(os.path.join(workdir, f"table6_{name}"), preset=preset, scene=path,
-                      snr_db=snr_db, seed=seed, presum=name,
-                      decim=None if name == "none" else d, **extra)
+        out = os.path.join(workdir, f"table6_{name}")
+        os.makedirs(out, exist_ok=True)
+        res = chain.simulate(SimOptions(
+            out=out, json=True, preset=preset, scene=scene_path, snr_db=snr_db, seed=seed,
+            presum=name, decim=None if name == "none" else d, **extra).validate())
         img = np.load(res["image_npy"])
         r_ax = res["range_axis_m"][0] + res["range_axis_m"][1] * np.arange(img.shape[1])
         y_ax = res["azimuth_axis_m"][0] + res["azimuth_axis_m"][1] * np.arange(img.shape[0])
@@ -210,10 +209,12 @@ def main(argv=None):
                     help="fig. 6 over 0.5 s; tables 5-7 for drop, lms and cheby only")
     ap.add_argument("--only", default="fig6,table5,table6,table7")
     ap.add_argument("--workdir", default=None)
+    ap.add_argument("--scene", default=os.path.join("examples", "scenes", "ship_and_sea.yaml"),
+                    help="extended scene of table 6")
     a = ap.parse_args(argv)
     runtime.quiet_gnuradio_logs()
     os.makedirs(a.out, exist_ok=True)
-    plt = presum_study.plt_module()
+    plt = plt_module()
     only = set(a.only.split(","))
     seconds = 0.5 if a.quick else 2.0
     d = a.decim
@@ -223,7 +224,7 @@ def main(argv=None):
 
     if "fig6" in only:
         rows, profiles, axis = fig6_rows(a.preset, seconds, d)
-        presum_study.write_csv(out("presum_compare_fig6.csv"), rows)
+        write_csv(out("presum_compare_fig6.csv"), rows)
         summary["fig6"] = rows
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
         for name in ("none",) + METHODS:
@@ -255,11 +256,11 @@ def main(argv=None):
 
     if only & {"table5", "table7"}:
         t5, t7, cuts = chain_rows(a.preset, d, methods)
-        presum_study.write_csv(out("presum_compare_table5.csv"), t5)
-        presum_study.write_csv(out("presum_compare_table7.csv"), t7)
+        write_csv(out("presum_compare_table5.csv"), t5)
+        write_csv(out("presum_compare_table7.csv"), t7)
         summary["table5"], summary["table7"] = t5, t7
-        presum_study.plot_azimuth_cuts(plt, cuts, f"azimuth cut through T1 per method, D = "
-                                       f"{d} (table 5)", out("presum_compare_table5.png"))
+        plot_azimuth_cuts(plt, cuts, f"azimuth cut through T1 per method, D = {d} (table 5)",
+                          out("presum_compare_table5.png"))
         fig, ax = plt.subplots(figsize=(6.5, 3.6))
         names = [r["method"] for r in t7]
         ax.bar(names, [r["presum_cpu_s"] for r in t7], label="presum (CPU in work)")
@@ -276,8 +277,9 @@ def main(argv=None):
     if "table6" in only:
         import tempfile
         with tempfile.TemporaryDirectory(prefix="presum-compare-") as tmp:
-            rows = table6_rows(a.workdir or tmp, a.preset, d, a.snr_db, a.motion, methods)
-        presum_study.write_csv(out("presum_compare_table6.csv"), rows)
+            rows = table6_rows(a.scene, a.workdir or tmp, a.preset, d, a.snr_db, a.motion,
+                               methods)
+        write_csv(out("presum_compare_table6.csv"), rows)
         summary["table6"] = rows
         fig, axs = plt.subplots(1, 3, figsize=(12, 3.5))
         for ax, key, label in zip(axs, ("entropy", "nesz_db", "epi"),
