@@ -51,6 +51,7 @@ BENCHMARK(BM_cheby_presum)
     ->Args({ 1, 10 })
     ->Args({ 2, 10 })
     ->Args({ 3, 10 })
+    ->Args({ 4, 10 }) // LMS: 2 K L multiply-adds on every input pulse
     ->Args({ 0, 4 })
     ->Args({ 0, 12 })
     ->Args({ 0, 40 });

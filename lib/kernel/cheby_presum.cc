@@ -74,8 +74,8 @@ cheby_presum::cheby_presum(const numerology& num,
     check_at_least("decim", cfg.decim, 1u);
     check_at_least("num_bins", num_bins, 1u);
     check_at_least("symbols_per_pulse", cfg.symbols_per_pulse, 1u);
-    if (static_cast<int>(cfg.method) < 0 || static_cast<int>(cfg.method) > 3)
-        throw_param("method", static_cast<int>(cfg.method), "must be CHEBY, DROP, BOXCAR or FILTER_DROP");
+    if (static_cast<int>(cfg.method) < 0 || static_cast<int>(cfg.method) > 4)
+        throw_param("method", static_cast<int>(cfg.method), "must be CHEBY, DROP, BOXCAR, FILTER_DROP or LMS");
     if (cfg.domain == presum_domain::RANGE) {
         check_finite("first_range_m", first_range_m);
         check_at_least("first_range_m", first_range_m, 0.0);
@@ -101,7 +101,9 @@ cheby_presum::cheby_presum(const numerology& num,
     d_t_in = num.symbol_s() * cfg.symbols_per_pulse;
     const double prf = 1.0 / d_t_in;
     const unsigned dmax = max_decim(num, geo, scn, cfg.symbols_per_pulse);
-    if (cfg.enforce_qpe_bound && cfg.method != presum_method::DROP && cfg.decim > dmax) {
+    // the bound of a coherent sum; DROP sums nothing and LMS adapts to the phase
+    const bool sums = cfg.method != presum_method::DROP && cfg.method != presum_method::LMS;
+    if (cfg.enforce_qpe_bound && sums && cfg.decim > dmax) {
         std::ostringstream lim;
         lim << "exceeds the quadratic-phase-error bound of eq. (P-36), D_max = " << dmax
             << " (PRF " << prf << " Hz, v " << geo.velocity_mps << " m/s, lambda "
@@ -129,6 +131,12 @@ cheby_presum::cheby_presum(const numerology& num,
         d_l = 1;
         d_a = d_b = 0;
         d_taps.assign(1, gr_complex(1.0f, 0.0f));
+        break;
+    case presum_method::LMS:
+        // [P-3.1] baseline: its own kernel; output g estimates pulse g D from the L before it
+        d_l = cfg.num_taps ? cfg.num_taps : 4 * cfg.decim;
+        d_a = d_b = 0;
+        d_lms = std::make_unique<lms_presum>(num_bins, cfg.decim, d_l, cfg.lms_step);
         break;
     case presum_method::BOXCAR:
         d_l = cfg.decim;
@@ -199,7 +207,7 @@ cheby_presum::cheby_presum(const numerology& num,
     }
     }
     d_centre = 0.5 * (d_a + d_b) - d_a;
-    d_ring.assign(static_cast<std::size_t>(d_l) * d_k, gr_complex(0.0f, 0.0f));
+    d_ring.assign(d_lms ? 0 : static_cast<std::size_t>(d_l) * d_k, gr_complex(0.0f, 0.0f));
     d_ring_t.assign(d_l, 0.0);
     for (unsigned s = 0; s < d_l; ++s) // slots of the pulses before the stream start
         d_ring_t[s] = (static_cast<double>(s) - d_l) * d_t_in;
@@ -482,6 +490,13 @@ std::uint64_t cheby_presum::pulses_needed(std::uint64_t n) const
 
 bool cheby_presum::push(const gr_complex* in, gr_complex* out)
 {
+    if (d_lms) {
+        const bool done = d_lms->push(in, out);
+        ++d_pushed;
+        d_t_next += d_t_in;
+        d_out += done;
+        return done;
+    }
     const bool completes = next_push_completes();
     const std::size_t slot = d_pushed % d_l;
     gr_complex* dst = d_ring.data() + slot * d_k;

@@ -43,13 +43,13 @@ public:
      * \param num_bins K, complex samples per pulse
      * \param first_range_m slant range of bin 0 [m] (RANGE; a range_axis tag wins)
      * \param range_bin_m bin spacing [m] (RANGE; a range_axis tag wins)
-     * \param cfg method (CHEBY, DROP, BOXCAR, FILTER_DROP), decimation D (refused above
-     *        eq. (P-36) unless enforce_qpe_bound is false; not for DROP), domain (RANGE after
+     * \param cfg method (CHEBY, DROP, BOXCAR, FILTER_DROP, LMS), decimation D (refused above
+     *        eq. (P-36) unless enforce_qpe_bound is false; not for DROP, LMS), domain (RANGE after
      *        range_ifft, TF before it with num_bins = N), FIR length (0 = 4 D), passband
      *        half-width (<= 0: from the scene, CHEBY: the Doppler spread left after
      *        compensation; FILTER_DROP: half the scene band; plus 10 % of the band + 2 / Ta),
      *        stopband edge (<= 0: PRF / (2 D)), Parks-McClellan stopband weight, input pulse
-     *        interval in OFDM symbols: see kernel::presum_config
+     *        interval in OFDM symbols, LMS normalised step: see kernel::presum_config
      * \param nav navigation path (CHEBY): the compensation follows the line of sight from
      *        it to the reference scatterers, pulse by pulse; empty (the default) or geo's
      *        ideal line: the ideal line, with its phase tables
@@ -78,7 +78,7 @@ public:
     virtual unsigned lookahead() const = 0;
     //! Output g is centred on input pulse g D + centre_offset().
     virtual double centre_offset() const = 0;
-    //! Applied taps, oldest pulse first (complex for FILTER_DROP).
+    //! Applied taps, oldest pulse first (complex for FILTER_DROP; empty for LMS, adaptive).
     virtual std::vector<gr_complex> taps() const = 0;
     //! Real low-pass prototype (DC gain D).
     virtual std::vector<double> prototype() const = 0;

@@ -34,6 +34,7 @@ void bind_cheby_presum(py::module& m)
         .value("DROP", presum_method::DROP)
         .value("BOXCAR", presum_method::BOXCAR)
         .value("FILTER_DROP", presum_method::FILTER_DROP)
+        .value("LMS", presum_method::LMS)
         .export_values();
     py::enum_<presum_domain>(m, "presum_domain", "What one input vector element is")
         .value("RANGE", presum_domain::RANGE)
@@ -49,7 +50,8 @@ void bind_cheby_presum(py::module& m)
                          double stopband_hz,
                          double stopband_weight,
                          unsigned symbols_per_pulse,
-                         bool enforce_qpe_bound) {
+                         bool enforce_qpe_bound,
+                         double lms_step) {
                  presum_config c;
                  c.method = method;
                  c.domain = domain;
@@ -60,6 +62,7 @@ void bind_cheby_presum(py::module& m)
                  c.stopband_weight = stopband_weight;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.enforce_qpe_bound = enforce_qpe_bound;
+                 c.lms_step = lms_step;
                  return c;
              }),
              py::arg("method") = presum_method::CHEBY,
@@ -71,6 +74,7 @@ void bind_cheby_presum(py::module& m)
              py::arg("stopband_weight") = 10.0,
              py::arg("symbols_per_pulse") = 1u,
              py::arg("enforce_qpe_bound") = true,
+             py::arg("lms_step") = 0.2,
              "presum_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("method", &presum_config::method)
         .def_readwrite("domain", &presum_config::domain)
@@ -80,7 +84,8 @@ void bind_cheby_presum(py::module& m)
         .def_readwrite("stopband_hz", &presum_config::stopband_hz)
         .def_readwrite("stopband_weight", &presum_config::stopband_weight)
         .def_readwrite("symbols_per_pulse", &presum_config::symbols_per_pulse)
-        .def_readwrite("enforce_qpe_bound", &presum_config::enforce_qpe_bound);
+        .def_readwrite("enforce_qpe_bound", &presum_config::enforce_qpe_bound)
+        .def_readwrite("lms_step", &presum_config::lms_step);
 
     py::class_<cheby_presum, gr::block, gr::basic_block, std::shared_ptr<cheby_presum>>(
         m, "cheby_presum", D(cheby_presum))

@@ -24,6 +24,10 @@
   presum  the second paper's figure 6 and 8 analogues (range profiles and azimuth cuts per
         presumming method), the quadratic-phase bound of eq. (P-36) checked past it, and
         the chain's run time against D (presum_study.py).
+  presum_compare  the second paper's method comparisons at D = 12 (presum_compare.py):
+        single-pulse gain per method incl. the LMS baseline (its fig. 6), azimuth-cut metrics
+        (table 5), entropy / NESZ / EPI on an extended scene (table 6), presum and focus
+        CPU time (table 7).
 
 Each figure is one PNG and one CSV in --out; progress goes to stderr.
 """
@@ -41,13 +45,13 @@ import numpy as np
 
 from .. import chain, params, progress, results, runtime, scenario, theory
 from ..options import SimOptions
-from . import presum_study
+from . import presum_compare, presum_study
 
 LIGHT_SPEED = 299792458.0
 TARGET1 = "300,100"
 PAPER_SNRS = (-20.0, 5.0, 20.0)
 FILTERS = tuple(params.FILTERS)
-FIGURES = ("fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "presum")
+FIGURES = ("fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "presum", "presum_compare")
 
 
 def log(text):
@@ -367,6 +371,15 @@ def presum(out, quick, workdir):
     """The presummer study writes its own PNGs and CSVs (presum_*) into out."""
     presum_study.main(["--out", out] + (["--quick"] if quick else []))
     return {}
+
+
+def presum_compare_figure(out, quick, workdir):
+    """The second paper's comparisons write their own PNGs and CSVs (presum_compare_*)."""
+    summary = presum_compare.main(["--out", out, "--workdir", workdir,
+                                   "--scene", ship_and_sea_file(workdir)] +
+                                  (["--quick"] if quick else []))
+    return {f"fig6_gain_{r['method']}_db": r["gain_db"] for r in summary["fig6"]
+            if r["method"] in ("lms", "cheby")}
 
 
 # ---------------------------------------------------------------- fig6-8: pilot-only vs data-aided
@@ -882,7 +895,7 @@ def main(argv=None):
         for name in only:
             progress.step(only.index(name) + 1, len(only), "figure " + name)
             func = {"fig3": fig3, "fig4": fig4, "fig5": fig5, "fig6": fig6, "fig7": fig7,
-                    "fig8": fig8, "presum": presum}[name]
+                    "fig8": fig8, "presum": presum, "presum_compare": presum_compare_figure}[name]
             extra = (args.seeds,) if name == "fig5" else ()
             try:
                 summary.update(func(args.out, args.quick, work, *extra))

@@ -56,7 +56,10 @@ def plt_module():
     return plt
 
 
-def single_pulse(d, preset, seconds, snr_db, seed=1):
+def single_pulse(d, preset, seconds, snr_db, seed=1, configs=None):
+    """configs: {name: presum_config keywords} (default: METHODS at decimation d)."""
+    if configs is None:
+        configs = {name: {"method": m} for name, m in METHODS.items()}
     num = params.make_numerology(preset)
     geo = params.make_geometry("paper", aperture_s=seconds)
     scn = params.make_scene("single")
@@ -81,11 +84,10 @@ def single_pulse(d, preset, seconds, snr_db, seed=1):
     sinks = {"none": blocks.vector_sink_c(k)}
     tb.connect(rif, sinks["none"])
     blks = {}
-    for name, m in METHODS.items():
+    for name, kw in configs.items():
         blks[name] = nrsar.cheby_presum(num, geo, scn, k, rif.range_axis_first_m(),
                                         rif.range_bin_m(), nrsar.presum_config(
-                                            method=m, decim=d,
-                                            domain=nrsar.presum_domain.RANGE))
+                                            decim=d, domain=nrsar.presum_domain.RANGE, **kw))
         sinks[name] = blocks.vector_sink_c(k)
         tb.connect(rif, blks[name], sinks[name])
     tb.run()
@@ -107,32 +109,62 @@ def single_pulse(d, preset, seconds, snr_db, seed=1):
                      "pulse_snr_db": 10 * math.log10(snr),
                      "gain_db": 10 * math.log10(snr / ref_snr),
                      "theory_boxcar_db": 0.0 if name == "none" else 10 * math.log10(d),
+                     # an adaptive filter (LMS) has no fixed taps
                      "noise_gain_sum_h2": 1.0 if name == "none" else
-                     float(np.sum(np.abs(np.array(blks[name].taps())) ** 2))})
+                     float(np.sum(np.abs(np.array(blks[name].taps())) ** 2))
+                     if blks[name].taps() else math.nan})
         # divided by the DC gain (D; 1 for none and drop): equal signal, lower floor
         gain = 1.0 if name in ("none", "drop") else float(d)
         profiles[name] = x[len(x) // 2] / gain
     axis = rif.range_axis_first_m() + rif.range_bin_m() * np.arange(k)
+    if "cheby" not in blks:
+        return rows, profiles, axis, {}
     info = {"passband_hz": blks["cheby"].passband_hz(), "stopband_hz": blks["cheby"].stopband_hz(),
             "ripple_db": blks["cheby"].passband_ripple_db(),
             "atten_db": blks["cheby"].stopband_atten_db(), "taps": blks["cheby"].num_taps()}
     return rows, profiles, axis, info
 
 
-def image_run(presum, d, preset, seconds, seed=1):
+def image_run(presum, d, preset, seconds, seed=1, counters=False, **overrides):
+    """One nrsar-sim chain: (probe metrics, run time, image, line spacing [m], CPU time of
+    the receive blocks in work(), runtime.rx_block_times: zeros unless counters)."""
     opts = SimOptions(preset=preset, presum=presum, decim=None if presum == "none" else d,
-                      aperture_s=seconds, seed=seed).validate()
+                      aperture_s=seconds, seed=seed, **overrides).validate()
     sc = scenario.of(opts)
     tb = gr.top_block()
     graph = chain.build(tb, opts, sc)
     start = time.perf_counter()
-    runtime.run(tb, counters=False)
+    runtime.run(tb, counters=counters)
     elapsed = time.perf_counter() - start
     k = graph["focuser"].num_output_bins()  # the image drops the guard bins
     img = np.array(graph["image_sink"].data(), complex).reshape(-1, k)
     m = {key: float(v) for key, v in graph["probe"].metrics().items()}
     line_m = sc.geo.velocity_mps * sc.num.symbol_s() * opts.presum_factor()
-    return m, elapsed, img, line_m
+    return m, elapsed, img, line_m, runtime.rx_block_times(graph)
+
+
+def azimuth_cut(img, line_m, half_m=4.0):
+    """(along track re the peak [m], samples) of the image's brightest bin, +- half_m."""
+    mi, ki = np.unravel_index(np.argmax(np.abs(img)), img.shape)
+    half = int(round(half_m / line_m))
+    idx = np.arange(mi - half, mi + half + 1) % img.shape[0]
+    return np.arange(-half, half + 1) * line_m, img[idx, ki]
+
+
+def plot_azimuth_cuts(plt, cuts, title, path):
+    """{method: azimuth_cut} in dB re each cut's peak, one PNG."""
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    for name, (x, c) in cuts.items():
+        ax.plot(x, 20 * np.log10(np.abs(c) / np.abs(c).max() + 1e-12), lw=1,
+                marker="." if name != "none" else None, ms=3, label=name)
+    ax.set_xlabel("along track re peak [m]")
+    ax.set_ylabel("dB re peak")
+    ax.set_ylim(-60, 3)
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    results.save_figure(fig, path, dpi=90)
+    plt.close(fig)
 
 
 def qpe_check(preset, d_list):
@@ -207,7 +239,7 @@ def main(argv=None):
 
     img_rows, cuts = [], {}
     for name in ["none"] + list(METHODS):
-        m, elapsed, img, line_m = image_run(name, d, a.preset, seconds)
+        m, elapsed, img, line_m, _ = image_run(name, d, a.preset, seconds)
         img_rows.append({"method": name, "D": 1 if name == "none" else d, "runtime_s": elapsed,
                          "snr_out_db": m.get("snr_out_db"), "nmse_db": m.get("nmse_db"),
                          "pslr_azimuth_db": m.get("pslr_azimuth_db"),
@@ -216,32 +248,19 @@ def main(argv=None):
                          "pslr_range_db": m.get("pslr_range_db"),
                          "islr_range_db": m.get("islr_range_db"),
                          "peak_error_m": m.get("peak_error_m")})
-        mi, ki = np.unravel_index(np.argmax(np.abs(img)), img.shape)
-        half = int(round(4.0 / line_m))
-        idx = np.arange(mi - half, mi + half + 1) % img.shape[0]
-        cuts[name] = ((np.arange(-half, half + 1)) * line_m, img[idx, ki])
+        cuts[name] = azimuth_cut(img, line_m)
     write_csv(os.path.join(a.out, "presum_image.csv"), img_rows)
     summary["image"] = img_rows
-    fig, ax = plt.subplots(figsize=(6.5, 4))
-    for name, (x, c) in cuts.items():
-        ax.plot(x, 20 * np.log10(np.abs(c) / np.abs(c).max() + 1e-12), lw=1,
-                marker="." if name != "none" else None, ms=3, label=name)
-    ax.set_xlabel("along track re peak [m]")
-    ax.set_ylabel("dB re peak")
-    ax.set_ylim(-60, 3)
-    ax.set_title(f"azimuth cut through the strongest target, D = {d}", fontsize=9)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    results.save_figure(fig, os.path.join(a.out, "presum_azimuth_cuts.png"), dpi=90)
-    plt.close(fig)
+    plot_azimuth_cuts(plt, cuts, f"azimuth cut through the strongest target, D = {d}",
+                      os.path.join(a.out, "presum_azimuth_cuts.png"))
 
     d_list = [2, 4, 8, 12, 24] if a.quick else [2, 4, 8, 12, 24, 48, 96]
     rt_rows = []
-    m, elapsed, _, _ = image_run("none", 1, a.preset, seconds)
+    m, elapsed, _, _, _ = image_run("none", 1, a.preset, seconds)
     rt_rows.append({"method": "none", "D": 1, "runtime_s": elapsed, "snr_out_db": m["snr_out_db"]})
     for name in ("cheby", "drop"):
         for dd in d_list:
-            m, elapsed, _, _ = image_run(name, dd, a.preset, seconds)
+            m, elapsed, _, _, _ = image_run(name, dd, a.preset, seconds)
             rt_rows.append({"method": name, "D": dd, "runtime_s": elapsed,
                             "snr_out_db": m["snr_out_db"]})
     write_csv(os.path.join(a.out, "presum_runtime.csv"), rt_rows)

@@ -11,10 +11,12 @@
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/kernel/motion_compensation.h>
+#include <gnuradio/nrsar/kernel/lms_presum.h>
 #include <gnuradio/nrsar/params.h>
 #include <gnuradio/nrsar/trajectory.h>
 #include <volk/volk_alloc.hh>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -26,7 +28,8 @@ enum class presum_method {
     CHEBY,      //!< phase compensation (eqs. P-25..27) + equiripple low-pass + coherent sum (P-29)
     DROP,       //!< keep 1 of D pulses (the first paper's shortcut)
     BOXCAR,     //!< plain sum of D consecutive pulses, no compensation
-    FILTER_DROP //!< complex band-pass at the scene's Doppler centroid, keep 1 of D
+    FILTER_DROP, //!< complex band-pass at the scene's Doppler centroid, keep 1 of D
+    LMS          //!< adaptive line enhancer per element (normalised LMS), keep 1 of D (lms_presum.h)
 };
 
 //! What one element of the input vector is.
@@ -44,12 +47,13 @@ struct NRSAR_API presum_config {
     presum_method method = presum_method::CHEBY;
     presum_domain domain = presum_domain::RANGE;
     unsigned decim = 10;           //!< D >= 1
-    unsigned num_taps = 0;         //!< FIR length L for CHEBY / FILTER_DROP; 0: 4 D
+    unsigned num_taps = 0;         //!< FIR length L for CHEBY / FILTER_DROP / LMS; 0: 4 D
     double passband_hz = -1.0;     //!< passband half-width [Hz]; < 0: from the scene
     double stopband_hz = -1.0;     //!< stopband edge [Hz]; < 0: PRF_in / (2 D)
     double stopband_weight = 10.0; //!< Parks-McClellan weight of the stopband (passband 1)
     unsigned symbols_per_pulse = 1; //!< input pulse interval in OFDM symbols
     bool enforce_qpe_bound = true;  //!< refuse D above the eq. (P-36) bound
+    double lms_step = 0.2;          //!< LMS: normalised step mu in (0, 2), misadjustment mu / (2 - mu)
 };
 
 /*!
@@ -190,6 +194,7 @@ private:
     mutable std::vector<double> d_rrow;   // path ranges of a phase row
     std::uint64_t d_pushed = 0, d_out = 0;
     double d_t_next = 0.0;
+    std::unique_ptr<lms_presum> d_lms; // LMS: the adaptive line enhancer
 };
 
 } // namespace kernel
