@@ -40,7 +40,8 @@ def time_domain_front(ofdm_source):
     second output, as in nrsar-sim (its noisy output goes to a null sink)."""
     def front(tb, opts, sc, grid):
         num, geo, scn = sc.num, sc.geo, sc.scene
-        echo = td_echo(num, geo, scn, opts.snr_db, opts.seed + 1, opts.echo_taps)
+        echo = td_echo(num, geo, scn, opts.snr_db, opts.seed + 1, opts.echo_taps,
+                       path=sc.trajectory)
         demod = ofdm_demod(num)
         tb.connect(ofdm_source, echo, demod)
         ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1)
@@ -62,8 +63,8 @@ def common_noise_front(domain, noise_seed):
         ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1)
         tb.connect(grid, ref)
         if domain == "time":
-            echo, demod = td_echo(num, geo, scn, math.inf, opts.seed + 1, opts.echo_taps), \
-                ofdm_demod(num)
+            echo, demod = td_echo(num, geo, scn, math.inf, opts.seed + 1, opts.echo_taps,
+                                  path=sc.trajectory), ofdm_demod(num)
             tb.connect(grid, ofdm_mod(num), echo, demod)
             clean = demod
             tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * n))

@@ -71,6 +71,7 @@ PYBIND11_MODULE(nrsar_python, m)
     // BINDING_FUNCTION_CALLS(
     bind_params(m);
     bind_tags(m);
+    bind_trajectory(m); // before the blocks whose make() takes a trajectory
     bind_nr_isac_tx(m);
     bind_scene_echo(m);
     bind_tf_filter(m);
@@ -87,7 +88,6 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_ofdm_sync(m);
     bind_td_echo(m);
     bind_image_sink(m);
-    bind_trajectory(m);
     bind_bp_focuser(m);
     // ) END BINDING_FUNCTION_CALLS
 }
