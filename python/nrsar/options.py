@@ -484,9 +484,10 @@ class SoakOptions(SimOptions):
                               f"without end, and kept images would grow with it")
         if self.record is not None:
             raise OptionError("--record is nrsar-sim's: a soak streams without end")
-        if self.trajectory is not None or self.motion != "none":
-            raise OptionError("--trajectory / --motion: a soak streams without end, a flight "
-                              "path covers one aperture")
+        for path, model in (("trajectory", "motion"), ("nav", "nav_error")):
+            if getattr(self, path) is not None or getattr(self, model) != "none":
+                raise OptionError(f"{flag_of(path)} / {flag_of(model)}: a soak streams "
+                                  f"without end, a flight path covers one aperture")
 
 
 # The fields of SimOptions a recording supplies (docs/recording.md): nrsar-process takes the

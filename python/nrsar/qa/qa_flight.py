@@ -1,0 +1,150 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""QA of the flight contracts of the programs (issue #14): --trajectory / --motion /
+--motion-seed / --nav / --nav-error checked before any work (OptionError naming the flag, the
+value and the limit; the app exits 2 with one line), Scenario.trajectory (the truth, flown by
+the echo) and Scenario.navigation (what the processing uses), the JSON keys
+trajectory_rms_dev_m and nav_rms_err_m, and the end-to-end check of docs/flight.md: a gusty
+flight imaged by back-projection along the (perfect) navigation focuses, rd_focuser without
+motion compensation defocuses."""
+
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+from gnuradio import gr_unittest
+
+from gnuradio import nrsar
+from gnuradio.nrsar import chain, scenario
+from gnuradio.nrsar.options import OptionError, SimOptions
+
+APPS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "apps")
+
+
+def parse(argv):
+    return SimOptions.parse(argv)
+
+
+def write_path_csv(path, x_offset=0.0, span_s=0.3, height=1000.0):
+    """A straight 50 m/s line at 20 Hz over [0, span_s], x_offset across track."""
+    with open(path, "w") as f:
+        f.write("t_s,x_m,y_m,z_m\n")
+        for i in range(int(round(span_s * 20)) + 1):
+            t = i / 20.0
+            f.write(f"{t!r},{x_offset!r},{50.0 * t!r},{height!r}\n")
+
+
+class qa_flight(gr_unittest.TestCase):
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.out = self.tmp.name
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def csv(self, name, **kwargs):
+        path = os.path.join(self.out, name)
+        write_path_csv(path, **kwargs)
+        return path
+
+    def test_flags_are_checked_before_work(self):
+        cases = [
+            (dict(motion="wild"), "--motion = 'wild' must be one of none, calm, gusty"),
+            (dict(nav_error="dgps"), "--nav-error = 'dgps' must be one of none, rtk, gnss"),
+            (dict(motion_seed=-1), "--motion-seed = -1 must be at least 0"),
+            (dict(trajectory=os.path.join(self.out, "missing.csv")), "is not a readable file"),
+            (dict(trajectory=self.csv("a.csv"), motion="gusty"), "both name the path"),
+            (dict(nav=self.csv("b.csv"), nav_error="rtk"), "both name the path"),
+        ]
+        for fields, text in cases:
+            with self.assertRaises(OptionError) as ctx:
+                SimOptions(**fields).validate()
+            self.assertIn(text, str(ctx.exception), fields)
+
+    def test_path_contents_are_checked_with_the_flag(self):
+        base = ["--preset", "tiny", "--aperture-s", "0.2", "--out", self.out]
+        # too short for the aperture (0.1 s of samples)
+        opts = parse(base + ["--trajectory", self.csv("ok.csv")])
+        self.assertFalse(scenario.of(opts).trajectory.is_ideal())
+        short = self.csv("short2.csv", span_s=0.1)
+        with self.assertRaisesRegex(OptionError, r"^--trajectory = .*short2.csv.*too short"):
+            scenario.of(opts.replace(trajectory=short))
+        # 260 m across track: T2 of paper3 (x = 250 m) is behind the antenna
+        side = self.csv("side.csv", x_offset=260.0)
+        with self.assertRaisesRegex(OptionError, r"^--trajectory = .*target 1 .*behind"):
+            scenario.of(opts.replace(trajectory=side))
+        with self.assertRaisesRegex(OptionError, r"^--nav = .*too short"):
+            scenario.of(opts.replace(trajectory=None, nav=short))
+        # the app: exit 2, one line, no traceback
+        proc = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-sim")] + base +
+                              ["--trajectory", side], capture_output=True, text=True,
+                              timeout=120)
+        self.assertEqual(proc.returncode, 2, proc.stderr)
+        self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+        self.assertIn("--trajectory", proc.stderr)
+        self.assertNotIn("Traceback", proc.stderr)
+
+    def test_scenario_names_the_truth_and_the_navigation(self):
+        base = ["--preset", "tiny", "--aperture-s", "0.2"]
+        sc = scenario.of(parse(base))
+        self.assertTrue(sc.trajectory.is_ideal() and sc.navigation.is_ideal())
+        sc = scenario.of(parse(base + ["--motion", "gusty", "--motion-seed", "5"]))
+        self.assertFalse(sc.trajectory.is_ideal())
+        p0 = np.array(sc.trajectory.position(0.1))
+        self.assertEqual(list(sc.navigation.position(0.1)), list(p0))  # perfect navigation
+        again = scenario.of(parse(base + ["--motion", "gusty", "--motion-seed", "5"]))
+        self.assertEqual(list(again.trajectory.position(0.1)), list(p0))  # seeded
+        other = scenario.of(parse(base + ["--motion", "gusty", "--motion-seed", "6"]))
+        self.assertNotEqual(list(other.trajectory.position(0.1)), list(p0))
+        sc = scenario.of(parse(base + ["--motion", "gusty", "--nav-error", "gnss"]))
+        d = np.array(sc.navigation.position(0.1)) - np.array(sc.trajectory.position(0.1))
+        self.assertGreater(np.linalg.norm(d), 1e-3)
+        # a CSV file is the truth, a second one the navigation
+        sc = scenario.of(parse(base + ["--trajectory", self.csv("t.csv", x_offset=0.2),
+                                       "--nav", self.csv("n.csv", x_offset=0.1)]))
+        self.assertAlmostEqual(sc.trajectory.position(0.05)[0], 0.2, places=12)
+        self.assertAlmostEqual(sc.navigation.position(0.05)[0], 0.1, places=12)
+
+    def test_gusty_flight_bp_focuses_and_rd_defocuses(self):
+        # docs/flight.md: the paper's scene, presummed, a gusty flight; BP along the
+        # navigation (perfect: the truth) focuses the reference target within a quarter range
+        # bin; rd_focuser has no motion compensation yet and loses its peak energy. Both are
+        # measured against the ideal flight's reference image.
+        common = ["--preset", "small", "--aperture-s", "0.2", "--snr-db", "10",
+                  "--presum", "cheby", "--decim", "4", "--motion", "gusty"]
+        runs = {}
+        for f in ("bp", "rd"):
+            runs[f] = chain.simulate(parse(common + ["--focuser", f, "--out",
+                                                     os.path.join(self.out, f)]))
+        ideal = chain.simulate(parse(common[:-2] + ["--focuser", "bp", "--out",
+                                                    os.path.join(self.out, "ideal")]))
+        bp, rd = runs["bp"], runs["rd"]
+        sc = scenario.of(parse(common))
+        for r in runs.values():
+            self.assertAlmostEqual(r["trajectory_rms_dev_m"],
+                                   sc.trajectory.rms_deviation_m(0.0, 0.2), places=12)
+            self.assertEqual(r["nav_rms_err_m"], 0.0)
+        self.assertEqual(ideal["trajectory_rms_dev_m"], 0.0)
+        self.assertEqual(ideal["nav_rms_err_m"], 0.0)
+        print(f"gusty: rms deviation {bp['trajectory_rms_dev_m'] * 100:.2f} cm; "
+              f"bp PEL {bp['pel_db']:.2f} dB NMSE {bp['nmse_db']:.2f} dB peak error "
+              f"{bp['peak_error_m']:.3f} m; rd PEL {rd['pel_db']:.2f} dB NMSE "
+              f"{rd['nmse_db']:.2f} dB peak error {rd['peak_error_m']:.3f} m; ideal flight bp "
+              f"PEL {ideal['pel_db']:.2f} dB NMSE {ideal['nmse_db']:.2f} dB")
+        self.assertLess(bp["peak_error_m"], 0.25 * bp["range_axis_m"][1])
+        # BP keeps the ideal flight's peak energy (within 0.5 dB); rd_focuser loses more
+        self.assertLess(abs(bp["pel_db"] - ideal["pel_db"]), 0.5)
+        self.assertGreater(rd["pel_db"], ideal["pel_db"] + 1.0)
+        self.assertGreater(rd["nmse_db"], bp["nmse_db"] + 1.0)
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_flight)
