@@ -144,7 +144,7 @@ class imaging_chain(gr.hier_block2):
 
         def range_and_focus(nav):
             """(block taking the filtered TF pulses, range IFFT, focuser, presummer); nav: the
-            path the focuser flies (the navigation; the ideal line on the reference branch)"""
+            path the focuser images along"""
             rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
             if opts.focuser == "bp":
                 foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
@@ -168,14 +168,13 @@ class imaging_chain(gr.hier_block2):
                                    symbols_per_pulse=sc.pulse_symbols))
             return rif, rif, foc, pre, [(rif, pre, foc)]
 
-        # The data branch images along the navigation; the reference branch is the ideal
-        # flight (the ideal line's echo, imaged along the ideal line), so PEL and NMSE
-        # measure what the flown path costs (docs/flight.md).
+        # The data branch images along the navigation, the reference branch (the same
+        # flight's noise-free echo) along the truth: PEL and NMSE measure the data, the noise
+        # and what the navigation gets wrong (docs/flight.md).
         entry, rif, foc, pre, paths = range_and_focus(sc.navigation)
         branches = [(entry, paths)]
         if reference:
-            entry_ref, rif_ref, foc_ref, _, paths_ref = range_and_focus(
-                params.make_trajectory("ideal", geo))
+            entry_ref, rif_ref, foc_ref, _, paths_ref = range_and_focus(sc.trajectory)
             branches.append((entry_ref, paths_ref))
         k = foc.num_output_bins()  # the image's bins (the crop minus the guard bins)
         vec = gr.sizeof_gr_complex
@@ -269,38 +268,23 @@ def layout(opts):
                   range_bin_m=rif.range_bin_m())
 
 
-def make_echo(opts, sc, path=None, snr_db=None):
-    """scene_echo for point targets, extended_scene_echo for a YAML scene file, flying path
-    (default: the true path sc.trajectory) at snr_db (default --snr-db)."""
+def make_echo(opts, sc):
+    """scene_echo for point targets, extended_scene_echo for a YAML scene file, flying the
+    true path sc.trajectory."""
     sf = sc.scene_file
-    path = sc.trajectory if path is None else path
-    snr_db = opts.snr_db if snr_db is None else snr_db
     if sf is None:
-        return scene_echo(sc.num, sc.geo, sc.scene, snr_db, opts.seed + 1, path)
+        return scene_echo(sc.num, sc.geo, sc.scene, opts.snr_db, opts.seed + 1, sc.trajectory)
     from .nrsar_python import antenna_beam, extended_scene_echo
     return extended_scene_echo(sc.num, sc.geo, sf.points, sf.maps, sf.beam or antenna_beam(),
-                               snr_db, opts.seed + 1, path=path)
-
-
-def ideal_reference_echo(tb, opts, sc, grid):
-    """The reference echo (S = 1, Z = 0) of the ideal flight on a flown path: a second,
-    noise-free generator on the ideal line (its noisy output to a null sink)."""
-    ref = make_echo(opts, sc, params.make_trajectory("ideal", sc.geo), math.inf)
-    tb.connect(grid, ref)
-    tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * sc.num.num_subcarriers))
-    return (ref, 1)
+                               opts.snr_db, opts.seed + 1, path=sc.trajectory)
 
 
 def scene_echo_front(tb, opts, sc, grid):
     """The TF-domain radar channel (build's default): scene_echo on the grid, flying the
-    true path; the reference echo is its own second output on the ideal line, the ideal
-    flight's otherwise (ideal_reference_echo).
-    Returns (echo block, echo endpoint, reference-echo endpoint)."""
+    true path. Returns (echo block, echo endpoint, reference-echo endpoint)."""
     echo = make_echo(opts, sc)
     tb.connect(grid, echo)
-    if sc.trajectory.is_ideal():
-        return echo, (echo, 0), (echo, 1)
-    return echo, (echo, 0), ideal_reference_echo(tb, opts, sc, grid)
+    return echo, (echo, 0), (echo, 1)
 
 
 def make_transmitter(opts, sc):
