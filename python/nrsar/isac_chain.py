@@ -44,7 +44,7 @@ def time_domain_front(ofdm_source):
                        path=sc.trajectory)
         demod = ofdm_demod(num)
         tb.connect(ofdm_source, echo, demod)
-        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1)
+        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1, sc.trajectory)
         tb.connect(grid, ref)
         tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
         front.demod = demod
@@ -60,7 +60,7 @@ def common_noise_front(domain, noise_seed):
     def front(tb, opts, sc, grid):
         num, geo, scn = sc.num, sc.geo, sc.scene
         n = num.num_subcarriers
-        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1)
+        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1, sc.trajectory)
         tb.connect(grid, ref)
         if domain == "time":
             echo, demod = td_echo(num, geo, scn, math.inf, opts.seed + 1, opts.echo_taps,
