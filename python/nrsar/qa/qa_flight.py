@@ -22,8 +22,8 @@ import numpy as np
 from gnuradio import gr_unittest
 
 from gnuradio import nrsar
-from gnuradio.nrsar import chain, scenario
-from gnuradio.nrsar.options import OptionError, SimOptions
+from gnuradio.nrsar import chain, isac_chain, scenario
+from gnuradio.nrsar.options import IsacOptions, OptionError, SimOptions
 
 APPS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "apps")
 
@@ -154,6 +154,27 @@ class qa_flight(gr_unittest.TestCase):
         self.assertLess(abs(pel["gusty"] - pel["none"]), 0.5)
         ideal, gusty, pel = runs["rd"]
         self.assertGreater(pel["gusty"], pel["none"] + 3.0)  # defocused: the peak energy goes
+
+    def test_isac_flies_the_path_through_the_time_domain(self):
+        # nrsar-isac: td_echo flies the truth, the processing uses the navigation (rtk)
+        payload = os.path.join(self.out, "payload.bin")
+        with open(payload, "wb") as f:
+            f.write(bytes(range(200)))
+        r = isac_chain.run(IsacOptions.parse(
+            ["--preset", "sdr20", "--aperture-s", "0.05", "--target", "300,1", "--payload",
+             payload, "--motion", "gusty", "--nav-error", "rtk", "--focuser", "bp",
+             "--out", os.path.join(self.out, "isac")]))
+        sc = scenario.of(SimOptions.parse(["--preset", "sdr20", "--aperture-s", "0.05",
+                                           "--motion", "gusty", "--nav-error", "rtk"]))
+        t = np.linspace(0.0, 0.05, 1000)
+        d = np.array(sc.navigation.positions(list(t))) - np.array(sc.trajectory.positions(list(t)))
+        self.assertAlmostEqual(r["nav_rms_err_m"], float(np.sqrt(np.mean(np.sum(d * d, 1)))),
+                               places=12)
+        self.assertGreater(r["nav_rms_err_m"], 1e-3)  # centimetres (docs/flight.md)
+        self.assertLess(r["nav_rms_err_m"], 0.2)
+        self.assertGreater(r["trajectory_rms_dev_m"], 0.0)
+        self.assertTrue(r["payload_identical"])
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_flight)
