@@ -40,10 +40,11 @@ extended_scene_echo::sptr extended_scene_echo::make(const numerology& num,
                                                     double snr_db,
                                                     std::uint64_t seed,
                                                     unsigned taps,
-                                                    double oversampling)
+                                                    double oversampling,
+                                                    const trajectory& path)
 {
     return gnuradio::make_block_sptr<extended_scene_echo_impl>(
-        num, geo, points, maps, beam, snr_db, seed, taps, oversampling);
+        num, geo, points, maps, beam, snr_db, seed, taps, oversampling, path);
 }
 
 extended_scene_echo_impl::extended_scene_echo_impl(
@@ -55,19 +56,20 @@ extended_scene_echo_impl::extended_scene_echo_impl(
     double snr_db,
     std::uint64_t seed,
     unsigned taps,
-    double oversampling)
+    double oversampling,
+    const trajectory& path)
     : gr::sync_block(
           "extended_scene_echo",
           gr::io_signature::make(1, 1, sizeof(gr_complex) * num.num_subcarriers),
           gr::io_signature::make(1, 2, sizeof(gr_complex) * num.num_subcarriers)),
       d_num(num),
-      d_gen(num, geo, points, maps, beam, taps, oversampling), // validates everything
+      d_gen(num, geo, points, maps, beam, taps, oversampling, path), // validates everything
       d_noise(seed)
 {
     d_noise.set_snr_db(snr_db);
     const scene box = bounding_scene(points, maps);
     if (!box.targets.empty())
-        for (const auto& warning : check_scenario(num, geo, box))
+        for (const auto& warning : check_scenario(num, geo, box, path))
             d_logger->warn("{}", warning);
     d_noise.set_signal_power(d_gen.total_power());
 }

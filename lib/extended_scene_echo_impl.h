@@ -34,7 +34,8 @@ public:
                              double snr_db,
                              std::uint64_t seed,
                              unsigned taps,
-                             double oversampling);
+                             double oversampling,
+                             const trajectory& path);
 
     void set_snr_db(double snr_db) override;
     double snr_db() const override { return d_noise.snr_db(); }

@@ -18,24 +18,26 @@ scene_echo::sptr scene_echo::make(const numerology& num,
                                   const geometry& geo,
                                   const scene& scn,
                                   double snr_db,
-                                  std::uint64_t seed)
+                                  std::uint64_t seed,
+                                  const trajectory& path)
 {
-    return gnuradio::make_block_sptr<scene_echo_impl>(num, geo, scn, snr_db, seed);
+    return gnuradio::make_block_sptr<scene_echo_impl>(num, geo, scn, snr_db, seed, path);
 }
 
 scene_echo_impl::scene_echo_impl(const numerology& num,
                                  const geometry& geo,
                                  const scene& scn,
                                  double snr_db,
-                                 std::uint64_t seed)
+                                 std::uint64_t seed,
+                                 const trajectory& path)
     : gr::sync_block(
           "scene_echo",
           gr::io_signature::make(1, 1, sizeof(gr_complex) * num.num_subcarriers),
           gr::io_signature::make(1, 2, sizeof(gr_complex) * num.num_subcarriers)),
       d_num(num),
       d_geo(geo),
-      d_echo(num, geo, scn), // validates num, geo and scn
-      d_echo2(num, geo, scn),
+      d_echo(num, geo, scn, path), // validates num, geo, scn and path
+      d_echo2(num, geo, scn, path),
       d_noise(seed)
 {
     check_and_log(scn);
@@ -45,7 +47,7 @@ scene_echo_impl::scene_echo_impl(const numerology& num,
 
 void scene_echo_impl::check_and_log(const scene& scn) const
 {
-    for (const auto& warning : check_scenario(d_num, d_geo, scn))
+    for (const auto& warning : check_scenario(d_num, d_geo, scn, d_echo.path()))
         d_logger->warn("{}", warning);
 }
 

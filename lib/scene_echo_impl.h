@@ -49,13 +49,15 @@ public:
                     const geometry& geo,
                     const scene& scn,
                     double snr_db,
-                    std::uint64_t seed);
+                    std::uint64_t seed,
+                    const trajectory& path);
 
     void set_snr_db(double snr_db) override;
     double snr_db() const override;
     double noise_variance() const override;
     void set_scene(const scene& scn) override;
     scene get_scene() const override;
+    trajectory path() const override { return d_echo.path(); }
     std::uint64_t nonfinite_count() const override;
     void set_threads(unsigned threads) override;
     unsigned threads() const override;

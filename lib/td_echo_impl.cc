@@ -22,10 +22,11 @@ td_echo::sptr td_echo::make(const numerology& num,
                             std::uint64_t seed,
                             unsigned taps,
                             double kaiser_beta,
-                            const kernel::antenna_beam& beam)
+                            const kernel::antenna_beam& beam,
+                            const trajectory& path)
 {
     return gnuradio::make_block_sptr<td_echo_impl>(
-        num, geo, scn, snr_db, seed, taps, kaiser_beta, beam);
+        num, geo, scn, snr_db, seed, taps, kaiser_beta, beam, path);
 }
 
 td_echo_impl::td_echo_impl(const numerology& num,
@@ -35,13 +36,14 @@ td_echo_impl::td_echo_impl(const numerology& num,
                            std::uint64_t seed,
                            unsigned taps,
                            double kaiser_beta,
-                           const kernel::antenna_beam& beam)
+                           const kernel::antenna_beam& beam,
+                           const trajectory& path)
     : gr::sync_block("td_echo",
                      gr::io_signature::make(1, 1, sizeof(gr_complex)),
                      gr::io_signature::make(1, 1, sizeof(gr_complex))),
       d_num(num),
       d_geo(geo),
-      d_echo(num, geo, scn, taps, kaiser_beta, beam), // validates everything
+      d_echo(num, geo, scn, taps, kaiser_beta, beam, path), // validates everything
       d_noise(seed)
 {
     check_and_log(scn);
@@ -61,7 +63,7 @@ td_echo_impl::td_echo_impl(const numerology& num,
 
 void td_echo_impl::check_and_log(const scene& scn) const
 {
-    for (const auto& warning : check_scenario(d_num, d_geo, scn))
+    for (const auto& warning : check_scenario(d_num, d_geo, scn, d_echo.path()))
         d_logger->warn("{}", warning);
 }
 

@@ -41,7 +41,8 @@ public:
                  std::uint64_t seed,
                  unsigned taps,
                  double kaiser_beta,
-                 const kernel::antenna_beam& beam);
+                 const kernel::antenna_beam& beam,
+                 const trajectory& path);
 
     void set_snr_db(double snr_db) override;
     double snr_db() const override { return d_noise.snr_db(); }
@@ -50,6 +51,7 @@ public:
     scene get_scene() const override;
     unsigned taps() const override { return d_echo.fir().taps(); }
     kernel::antenna_beam beam() const override { return d_echo.beam(); }
+    trajectory path() const override { return d_echo.path(); }
     double kaiser_beta() const override { return d_echo.fir().beta(); }
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
     std::uint64_t dropped_paths() const override { return d_echo.dropped_paths(); }

@@ -68,15 +68,13 @@ std::vector<double> knot_slopes(const std::vector<double>& t, const std::vector<
     return d;
 }
 
-// rotation R = Rz(yaw) Ry(pitch) Rx(roll) applied to l
+// R l with R = attitude_matrix(att)
 vec3 rotate(const vec3& att, const vec3& l)
 {
-    const double cr = std::cos(att[0]), sr = std::sin(att[0]);
-    const double cp = std::cos(att[1]), sp = std::sin(att[1]);
-    const double cy = std::cos(att[2]), sy = std::sin(att[2]);
-    const double x1 = l[0], y1 = cr * l[1] - sr * l[2], z1 = sr * l[1] + cr * l[2];
-    const double x2 = cp * x1 + sp * z1, z2 = -sp * x1 + cp * z1;
-    return { cy * x2 - sy * y1, sy * x2 + cy * y1, z2 };
+    const mat3 r = attitude_matrix(att);
+    return { r[0] * l[0] + r[1] * l[1] + r[2] * l[2],
+             r[3] * l[0] + r[4] * l[1] + r[5] * l[2],
+             r[6] * l[0] + r[7] * l[1] + r[8] * l[2] };
 }
 
 // One band of a sum-of-tones process: power spectral density proportional to f^-exponent on
@@ -488,6 +486,19 @@ inline void hermite(double p0, double p1, double d0, double d1, double h, double
 }
 } // namespace
 
+mat3 attitude_matrix(const vec3& att)
+{
+    const double cr = std::cos(att[0]), sr = std::sin(att[0]);
+    const double cp = std::cos(att[1]), sp = std::sin(att[1]);
+    const double cy = std::cos(att[2]), sy = std::sin(att[2]);
+    // Ry(roll) = [cr 0 sr; 0 1 0; -sr 0 cr], Rx(pitch) = [1 0 0; 0 cp -sp; 0 sp cp],
+    // Rz(yaw) = [cy -sy 0; sy cy 0; 0 0 1]; R = Rz Rx Ry.
+    const mat3 xy = { cr, 0.0, sr, sp * sr, cp, -sp * cr, -cp * sr, sp, cp * cr };
+    return { cy * xy[0] - sy * xy[3], cy * xy[1] - sy * xy[4], cy * xy[2] - sy * xy[5],
+             sy * xy[0] + cy * xy[3], sy * xy[1] + cy * xy[4], sy * xy[2] + cy * xy[5],
+             xy[6],                   xy[7],                   xy[8] };
+}
+
 vec3 trajectory::position(double t) const
 {
     if (d_ideal)
@@ -559,6 +570,74 @@ double trajectory::rms_deviation_m(double t0, double t1, unsigned n) const
         }
     }
     return std::sqrt(ss / n);
+}
+
+bool flies_ideal_line(const trajectory& path, const geometry& geo)
+{
+    if (path.empty())
+        return true;
+    if (path.is_ideal()) {
+        // The generators' own line, so the bit-identical code path is the right one.
+        const vec3 p0 = path.position(0.0), v = path.velocity(0.0);
+        if (p0[1] != geo.track_start_m)
+            throw_param("path track start", p0[1], "must be the geometry's track_start_m");
+        if (p0[2] != geo.height_m)
+            throw_param("path height", p0[2], "must be the geometry's height_m");
+        if (v[1] != geo.velocity_mps)
+            throw_param("path velocity", v[1], "must be the geometry's velocity_mps");
+        return true;
+    }
+    path.check_covers(0.0, geo.aperture_s);
+    return false;
+}
+
+std::vector<std::string> check_scenario(const numerology& num,
+                                        const geometry& geo,
+                                        const scene& scn,
+                                        const trajectory& path,
+                                        unsigned symbols_per_pulse)
+{
+    std::vector<std::string> warnings = check_scenario(num, geo, scn, symbols_per_pulse);
+    if (flies_ideal_line(path, geo))
+        return warnings;
+    const double r_cp = num.cp_s() * speed_of_light / 2.0;
+    const double r_amb = num.max_unambiguous_range_m();
+    const std::size_t steps = static_cast<std::size_t>(std::ceil(geo.aperture_s / 1e-3));
+    for (std::size_t i = 0; i <= steps; ++i) {
+        const double t = std::min(geo.aperture_s, i * 1e-3);
+        const vec3 p = path.position(t);
+        for (std::size_t q = 0; q < scn.targets.size(); ++q) {
+            const point_target& tg = scn.targets[q];
+            auto where = [&] {
+                std::ostringstream s;
+                s.precision(10);
+                s << "target " << q << " (x " << tg.x_m << " m, y " << tg.y_m << " m) at t = "
+                  << t << " s, antenna at (" << p[0] << ", " << p[1] << ", " << p[2]
+                  << ") m on " << path.source();
+                return s.str();
+            };
+            if (!(tg.x_m > p[0]))
+                throw std::invalid_argument(where() + ": the target is behind the antenna "
+                                                      "across track (x must exceed the "
+                                                      "antenna's x)");
+            const double dx = tg.x_m - p[0], dy = p[1] - tg.y_m, dz = p[2];
+            const double r = std::sqrt(dx * dx + dz * dz + dy * dy);
+            if (r > r_cp) {
+                std::ostringstream s;
+                s << where() << ": slant range " << r << " m, round trip "
+                  << 2e6 * r / speed_of_light << " us is longer than Tcp = " << num.cp_s() * 1e6
+                  << " us (ranges up to " << r_cp << " m)";
+                throw std::invalid_argument(s.str());
+            }
+            if (r >= r_amb) {
+                std::ostringstream s;
+                s << where() << ": slant range " << r
+                  << " m is beyond the unambiguous range c / (2 Delta f) = " << r_amb << " m";
+                throw std::invalid_argument(s.str());
+            }
+        }
+    }
+    return warnings;
 }
 
 } // namespace nrsar

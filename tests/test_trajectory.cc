@@ -268,3 +268,70 @@ TEST(trajectory, outside_samples_refused)
     EXPECT_NE(error_of([&] { tr.check_covers(0.0, 3.0); }).find("too short"), std::string::npos);
     EXPECT_TRUE(trajectory().empty());
 }
+
+TEST(trajectory, attitude_matrix_turns_about_the_named_axes)
+{
+    // Roll about the flight direction y: the scene side (+x) goes down. Pitch about the
+    // cross-track axis x: the nose (+y) goes up. Yaw about z: the nose turns left (-x).
+    auto apply = [](const gr::nrsar::mat3& r, const vec3& v) {
+        return vec3{ r[0] * v[0] + r[1] * v[1] + r[2] * v[2],
+                     r[3] * v[0] + r[4] * v[1] + r[5] * v[2],
+                     r[6] * v[0] + r[7] * v[1] + r[8] * v[2] };
+    };
+    const double a = 0.1;
+    vec3 v = apply(gr::nrsar::attitude_matrix({ a, 0.0, 0.0 }), { 1.0, 0.0, 0.0 });
+    EXPECT_NEAR(v[0], std::cos(a), 1e-15);
+    EXPECT_NEAR(v[2], -std::sin(a), 1e-15);
+    v = apply(gr::nrsar::attitude_matrix({ 0.0, a, 0.0 }), { 0.0, 1.0, 0.0 });
+    EXPECT_NEAR(v[1], std::cos(a), 1e-15);
+    EXPECT_NEAR(v[2], std::sin(a), 1e-15);
+    v = apply(gr::nrsar::attitude_matrix({ 0.0, 0.0, a }), { 0.0, 1.0, 0.0 });
+    EXPECT_NEAR(v[0], -std::sin(a), 1e-15);
+    EXPECT_NEAR(v[1], std::cos(a), 1e-15);
+    // Any attitude: orthonormal, determinant +1 (R^T R = I).
+    const gr::nrsar::mat3 r = gr::nrsar::attitude_matrix({ 0.3, -0.2, 1.1 });
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            double d = 0.0;
+            for (int k = 0; k < 3; ++k)
+                d += r[3 * k + i] * r[3 * k + j];
+            EXPECT_NEAR(d, i == j ? 1.0 : 0.0, 1e-15);
+        }
+}
+
+TEST(trajectory, check_scenario_refuses_targets_behind_the_antenna_or_beyond_the_cp)
+{
+    using gr::nrsar::check_scenario;
+    const auto num = gr::nrsar::numerology::preset("tiny"); // Tcp 8.33 us: R up to 1249 m
+    geometry geo = geometry::preset("paper");
+    geo.aperture_s = 2.0;
+    const auto scn = gr::nrsar::scene::preset("paper3");
+    auto shifted = [&](double dx, double dz) {
+        std::vector<double> t;
+        std::vector<vec3> p;
+        for (int i = 0; i <= 30; ++i) {
+            t.push_back(0.1 * i);
+            const vec3 s = sway(0.1 * i);
+            p.push_back({ s[0] + dx, s[1], s[2] + dz });
+        }
+        return trajectory::from_samples(t, p, {}, { 0.0, 0.0, 0.0 }, "test path");
+    };
+    EXPECT_NO_THROW(check_scenario(num, geo, scn, shifted(0.0, 0.0)));
+    EXPECT_NO_THROW(check_scenario(num, geo, scn, trajectory()));
+    // x_p = 260 +- 0.3 m: T2 (x = 250) lies behind the antenna across track
+    std::string e = error_of([&] { check_scenario(num, geo, scn, shifted(260.0, 0.0)); });
+    EXPECT_NE(e.find("target 1"), std::string::npos) << e;
+    EXPECT_NE(e.find("behind the antenna"), std::string::npos) << e;
+    EXPECT_NE(e.find("test path"), std::string::npos) << e;
+    // z_p = 1300 m: T1 at sqrt(300^2 + 1300^2 + 100^2) = 1338 m > 1249 m of the CP
+    e = error_of([&] { check_scenario(num, geo, scn, shifted(0.0, 300.0)); });
+    EXPECT_NE(e.find("longer than Tcp"), std::string::npos) << e;
+    EXPECT_NE(e.find("target 0"), std::string::npos) << e;
+    // the ideal line of another geometry is refused, the geometry's own accepted
+    geometry other = geo;
+    other.height_m = 900.0;
+    EXPECT_THROW(gr::nrsar::flies_ideal_line(trajectory::ideal(other), geo),
+                 std::invalid_argument);
+    EXPECT_TRUE(gr::nrsar::flies_ideal_line(trajectory::ideal(geo), geo));
+    EXPECT_FALSE(gr::nrsar::flies_ideal_line(shifted(0.0, 0.0), geo));
+}

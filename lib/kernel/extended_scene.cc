@@ -96,16 +96,31 @@ double antenna_beam::elevation_coverage_m(const geometry& geo) const
     return geo.height_m * (std::tan(el_center_rad + half) - std::tan(el_center_rad - half));
 }
 
-double antenna_beam::elevation_gain(const geometry& geo, double x_m) const
+double antenna_beam::elevation_of_look(const geometry& geo, double look_rad) const
 {
     if (mode != beam_mode::AZIMUTH_ELEVATION)
         return 1.0;
-    const double look = std::atan2(x_m, geo.height_m);
-    const double u = el_aperture_m * std::sin(look - el_center_rad) / geo.wavelength_m();
+    const double u = el_aperture_m * std::sin(look_rad - el_center_rad) / geo.wavelength_m();
     if (std::abs(u) > cutoff)
         return 0.0;
     const double s = sinc(u);
     return s * s; // two-way amplitude = one-way power pattern
+}
+
+double antenna_beam::azimuth_of_sine(const geometry& geo, double sin_squint) const
+{
+    if (mode == beam_mode::WHOLE_BLOCK)
+        return 1.0;
+    const double u = az_aperture_m * sin_squint / geo.wavelength_m();
+    if (std::abs(u) > cutoff)
+        return 0.0;
+    const double s = sinc(u);
+    return s * s;
+}
+
+double antenna_beam::elevation_gain(const geometry& geo, double x_m) const
+{
+    return elevation_of_look(geo, std::atan2(x_m, geo.height_m));
 }
 
 double antenna_beam::azimuth_gain(const geometry& geo, double dy_m, double range_m) const
@@ -119,17 +134,52 @@ double antenna_beam::azimuth_gain(const geometry& geo, double dy_m, double range
     return s * s;
 }
 
+double antenna_beam::gain(const geometry& geo,
+                          const antenna_pose& pose,
+                          double x_q,
+                          double y_q,
+                          double range_m) const
+{
+    if (mode == beam_mode::WHOLE_BLOCK)
+        return 1.0;
+    const vec3& p = pose.position;
+    if (!pose.steered) {
+        const double g = azimuth_gain(geo, y_q - p[1], range_m);
+        return g == 0.0 ? 0.0 : g * elevation_of_look(geo, std::atan2(x_q - p[0], p[2]));
+    }
+    // Line of sight into the body: l = R^T (q - p) / |q - p|.
+    const mat3& r = pose.rotation;
+    const double d[3] = { (x_q - p[0]) / range_m, (y_q - p[1]) / range_m, -p[2] / range_m };
+    const double lx = r[0] * d[0] + r[3] * d[1] + r[6] * d[2];
+    const double ly = r[1] * d[0] + r[4] * d[1] + r[7] * d[2];
+    const double lz = r[2] * d[0] + r[5] * d[1] + r[8] * d[2];
+    const double g = azimuth_of_sine(geo, ly);
+    return g == 0.0 ? 0.0 : g * elevation_of_look(geo, std::atan2(lx, -lz));
+}
+
+antenna_pose antenna_pose::of(const trajectory& path, double t)
+{
+    antenna_pose pose;
+    pose.position = path.position(t);
+    pose.steered = path.has_attitude();
+    if (pose.steered)
+        pose.rotation = attitude_matrix(path.attitude(t));
+    return pose;
+}
+
 extended_scene::extended_scene(const numerology& num,
                                const geometry& geo,
                                const scene& points,
                                const std::vector<reflectivity_map>& maps,
                                const antenna_beam& beam,
                                unsigned taps,
-                               double oversampling)
-    : d_num(num), d_geo(geo), d_beam(beam), d_L(taps)
+                               double oversampling,
+                               const trajectory& path)
+    : d_num(num), d_geo(geo), d_beam(beam), d_path(path), d_line(true), d_L(taps)
 {
     num.validate();
     geo.validate();
+    d_line = flies_ideal_line(path, geo);
     if (!points.targets.empty()) // an extended scene may have maps only
         points.validate();
     beam.validate();
@@ -148,7 +198,8 @@ extended_scene::extended_scene(const numerology& num,
 
     // Scatterers: map pixels (speckle, zero cells skipped) then point targets.
     auto add = [this, &geo](double x, double y, std::complex<double> a) {
-        a *= d_beam.elevation_gain(geo, x); // constant over the aperture
+        if (d_line)
+            a *= d_beam.elevation_gain(geo, x); // constant over the ideal line's aperture
         if (a == std::complex<double>(0.0, 0.0))
             return;
         d_x.push_back(x);
@@ -215,7 +266,17 @@ double extended_scene::platform_y(std::uint64_t m) const
 
 void extended_scene::reference(std::uint64_t m, gr_complex* h)
 {
-    const double yp = platform_y(m);
+    double yp = platform_y(m);
+    antenna_pose pose;
+    if (!d_line) { // the true path: ranges from this symbol's phase centre
+        pose = antenna_pose::of(d_path, double(m) * d_num.symbol_s());
+        yp = pose.position[1];
+        const double xp = pose.position[0], zz = pose.position[2] * pose.position[2];
+        for (std::size_t k = 0; k < d_x.size(); k++) {
+            const double dx = d_x[k] - xp;
+            d_xh2[k] = dx * dx + zz;
+        }
+    }
     const double fc_n0 = d_geo.carrier_hz + d_n0 * d_num.subcarrier_spacing_hz;
     const double tau_scale = 2.0 * d_num.subcarrier_spacing_hz / speed_of_light;
     const double cyc_scale = 2.0 * fc_n0 / speed_of_light;
@@ -283,7 +344,9 @@ void extended_scene::reference(std::uint64_t m, gr_complex* h)
                 const std::size_t k = k0 + i;
                 float g = 1.0f;
                 if (beam) {
-                    g = static_cast<float>(d_beam.azimuth_gain(d_geo, y[i] - yp, Rb[i]));
+                    g = static_cast<float>(
+                        d_line ? d_beam.azimuth_gain(d_geo, y[i] - yp, Rb[i])
+                               : d_beam.gain(d_geo, pose, d_x[k], y[i], Rb[i]));
                     if (g == 0.0f)
                         continue; // outside the beam (beyond the cutoff)
                 }
@@ -349,11 +412,22 @@ void extended_scene::reference_exact(std::uint64_t m, gr_complex* h) const
 {
     const unsigned N = d_num.num_subcarriers;
     std::vector<std::complex<double>> acc(N);
-    const double yp = platform_y(m);
+    double yp = platform_y(m);
+    antenna_pose pose;
+    if (!d_line) {
+        pose = antenna_pose::of(d_path, double(m) * d_num.symbol_s());
+        yp = pose.position[1];
+    }
     for (std::size_t k = 0; k < d_amp.size(); k++) {
         const double dy = d_y[k] - yp;
-        const double R = std::sqrt(d_xh2[k] + dy * dy);
-        const double g = d_beam.azimuth_gain(d_geo, dy, R);
+        double xh2 = d_xh2[k];
+        if (!d_line) {
+            const double dx = d_x[k] - pose.position[0];
+            xh2 = dx * dx + pose.position[2] * pose.position[2];
+        }
+        const double R = std::sqrt(xh2 + dy * dy);
+        const double g = d_line ? d_beam.azimuth_gain(d_geo, dy, R)
+                                : d_beam.gain(d_geo, pose, d_x[k], d_y[k], R);
         if (g == 0.0)
             continue;
         double c0 = 2.0 * R * d_geo.carrier_hz / speed_of_light;

@@ -53,11 +53,15 @@ void generic_block(const target_lanes* t, unsigned nq, block_io& io, std::size_t
 
 } // namespace echo_detail
 
-scene_echo::scene_echo(const numerology& num, const geometry& geo, const scene& scn)
-    : d_num(num), d_geo(geo), d_simd(avx2_available())
+scene_echo::scene_echo(const numerology& num,
+                       const geometry& geo,
+                       const scene& scn,
+                       const trajectory& path)
+    : d_num(num), d_geo(geo), d_path(path), d_line(true), d_simd(avx2_available())
 {
     d_num.validate();
     d_geo.validate();
+    d_line = flies_ideal_line(path, d_geo);
     set_scene(scn);
     d_h.resize(d_num.num_subcarriers);
     d_clean.resize(d_num.num_subcarriers);
@@ -107,6 +111,7 @@ std::size_t scene_echo::echo(std::uint64_t m,
         }));
     }
     const double yp = platform_y(m);
+    const vec3 p = d_line ? vec3{} : d_path.position(double(m) * d_num.symbol_s());
     const double fc = d_geo.carrier_hz;
     const double df = d_num.subcarrier_spacing_hz;
     const double two_pi = 2.0 * M_PI;
@@ -116,7 +121,11 @@ std::size_t scene_echo::echo(std::uint64_t m,
     // (L subcarriers on) and the powers of the per-subcarrier step for the 8 lanes.
     for (std::size_t q = 0; q < nq; q++) {
         const auto& t = d_active[q];
-        const double R = t.slant_range_m(d_geo, yp);      // eq. (8)
+        double R = t.slant_range_m(d_geo, yp); // eq. (8)
+        if (!d_line) {                         // the true path: exact range from p(t_m)
+            const double dx = t.x_m - p[0], dy = p[1] - t.y_m;
+            R = std::sqrt(dx * dx + p[2] * p[2] + dy * dy);
+        }
         const double k = 4.0 * M_PI * R / speed_of_light; // eq. (7): phase = -k f
         d_anchor[q] = std::polar(std::sqrt(t.rcs), t.phase_rad - std::fmod(k * fc, two_pi));
         d_block_step[q] = std::polar(1.0, -std::fmod(k * df * L, two_pi));

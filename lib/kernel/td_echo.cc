@@ -136,10 +136,13 @@ td_echo::td_echo(const numerology& num,
                  const scene& scn,
                  unsigned taps,
                  double kaiser_beta,
-                 const antenna_beam& beam)
+                 const antenna_beam& beam,
+                 const trajectory& path)
     : d_num(num),
       d_geo(geo),
       d_beam(beam),
+      d_path(path),
+      d_line(flies_ideal_line(path, geo)),
       d_sym(num.cp_samples + num.fft_size),
       d_fir(taps,
             kaiser_beta < 0.0
@@ -177,6 +180,10 @@ std::vector<echo_path> td_echo::paths(std::uint64_t m) const
     // eq. (8): y_p = track_start + v t_m, t_m = m Tsym, all in double.
     const double yp = d_geo.track_start_m +
                       d_geo.velocity_mps * (static_cast<double>(m) * d_num.symbol_s());
+    antenna_pose pose;
+    if (!d_line)
+        pose = antenna_pose::of(d_path, static_cast<double>(m) * d_num.symbol_s());
+    const vec3& p = pose.position;
     const double fs = d_num.sample_rate_hz();
     const double f_rf = d_geo.carrier_hz + d_num.dc_subcarrier() * d_num.subcarrier_spacing_hz;
     std::vector<echo_path> out;
@@ -184,10 +191,15 @@ std::vector<echo_path> td_echo::paths(std::uint64_t m) const
     for (const auto& t : d_scene.targets) {
         if (!(t.rcs > 0.0))
             continue;
-        const double R = t.slant_range_m(d_geo, yp); // eq. (8)
+        double R = t.slant_range_m(d_geo, yp); // eq. (8)
+        if (!d_line) {                         // the true path: exact range from p(t_m)
+            const double dx = t.x_m - p[0], dy = p[1] - t.y_m;
+            R = std::sqrt(dx * dx + p[2] * p[2] + dy * dy);
+        }
         // two-way beam amplitude, eqs. (1)-(3) (1 for WHOLE_BLOCK)
-        const double g = d_beam.azimuth_gain(d_geo, t.y_m - yp, R) *
-                         d_beam.elevation_gain(d_geo, t.x_m);
+        const double g = d_line ? d_beam.azimuth_gain(d_geo, t.y_m - yp, R) *
+                                      d_beam.elevation_gain(d_geo, t.x_m)
+                                : d_beam.gain(d_geo, pose, t.x_m, t.y_m, R);
         if (g == 0.0)
             continue; // outside the beam
         const double tau = 2.0 * R / speed_of_light;

@@ -34,7 +34,7 @@ from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_co
                            nmse_probe, nr_isac_tx, presum_config, presum_domain, probe_config,
                            range_ifft,
                            rd_focuser, scene_echo, tf_filter, bp_config, bp_focuser,
-                           moco_order, trajectory)
+                           moco_order)
 from .options import check_out_dir
 from .scenario import fft_size_of
 
@@ -143,16 +143,16 @@ class imaging_chain(gr.hier_block2):
         crop, guard = range_crop(opts, sc, nfft)
         cfg = focuser_config_of(opts, sc, guard)
         decim = opts.presum_factor()
-        nav = getattr(sc, "navigation", None) or trajectory()  # empty: the ideal line
 
-        def range_and_focus():
-            """(block taking the filtered TF pulses, range IFFT, focuser, presummer)"""
+        def range_and_focus(nav):
+            """(block taking the filtered TF pulses, range IFFT, focuser, presummer); nav: the
+            path the focuser images along"""
             rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
             if opts.focuser == "bp":
                 foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                                  rif.range_bin_m(),
                                  bp_config(symbols_per_pulse=cfg.symbols_per_pulse,
-                                           lines_per_aperture=cfg.lines_per_aperture))
+                                           lines_per_aperture=cfg.lines_per_aperture), nav)
             else:
                 foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                                  rif.range_bin_m(), cfg, nav)
@@ -170,10 +170,13 @@ class imaging_chain(gr.hier_block2):
                                    symbols_per_pulse=sc.pulse_symbols), nav)
             return rif, rif, foc, pre, [(rif, pre, foc)]
 
-        entry, rif, foc, pre, paths = range_and_focus()
+        # The data branch images along the navigation, the reference branch (the same
+        # flight's noise-free echo) along the truth: PEL and NMSE measure the data, the noise
+        # and what the navigation gets wrong (docs/flight.md).
+        entry, rif, foc, pre, paths = range_and_focus(sc.navigation)
         branches = [(entry, paths)]
         if reference:
-            entry_ref, rif_ref, foc_ref, _, paths_ref = range_and_focus()
+            entry_ref, rif_ref, foc_ref, _, paths_ref = range_and_focus(sc.trajectory)
             branches.append((entry_ref, paths_ref))
         k = foc.num_output_bins()  # the image's bins (the crop minus the guard bins)
         vec = gr.sizeof_gr_complex
@@ -268,18 +271,19 @@ def layout(opts):
 
 
 def make_echo(opts, sc):
-    """scene_echo for point targets, extended_scene_echo for a YAML scene file."""
+    """scene_echo for point targets, extended_scene_echo for a YAML scene file, flying the
+    true path sc.trajectory."""
     sf = sc.scene_file
     if sf is None:
-        return scene_echo(sc.num, sc.geo, sc.scene, opts.snr_db, opts.seed + 1)
+        return scene_echo(sc.num, sc.geo, sc.scene, opts.snr_db, opts.seed + 1, sc.trajectory)
     from .nrsar_python import antenna_beam, extended_scene_echo
     return extended_scene_echo(sc.num, sc.geo, sf.points, sf.maps, sf.beam or antenna_beam(),
-                               opts.snr_db, opts.seed + 1)
+                               opts.snr_db, opts.seed + 1, path=sc.trajectory)
 
 
 def scene_echo_front(tb, opts, sc, grid):
-    """The TF-domain radar channel (build's default): scene_echo on the grid.
-    Returns (echo block, echo endpoint, reference-echo endpoint)."""
+    """The TF-domain radar channel (build's default): scene_echo on the grid, flying the
+    true path. Returns (echo block, echo endpoint, reference-echo endpoint)."""
     echo = make_echo(opts, sc)
     tb.connect(grid, echo)
     return echo, (echo, 0), (echo, 1)

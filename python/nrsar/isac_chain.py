@@ -40,10 +40,11 @@ def time_domain_front(ofdm_source):
     second output, as in nrsar-sim (its noisy output goes to a null sink)."""
     def front(tb, opts, sc, grid):
         num, geo, scn = sc.num, sc.geo, sc.scene
-        echo = td_echo(num, geo, scn, opts.snr_db, opts.seed + 1, opts.echo_taps)
+        echo = td_echo(num, geo, scn, opts.snr_db, opts.seed + 1, opts.echo_taps,
+                       path=sc.trajectory)
         demod = ofdm_demod(num)
         tb.connect(ofdm_source, echo, demod)
-        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1)
+        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1, sc.trajectory)
         tb.connect(grid, ref)
         tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
         front.demod = demod
@@ -59,11 +60,11 @@ def common_noise_front(domain, noise_seed):
     def front(tb, opts, sc, grid):
         num, geo, scn = sc.num, sc.geo, sc.scene
         n = num.num_subcarriers
-        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1)
+        ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1, sc.trajectory)
         tb.connect(grid, ref)
         if domain == "time":
-            echo, demod = td_echo(num, geo, scn, math.inf, opts.seed + 1, opts.echo_taps), \
-                ofdm_demod(num)
+            echo, demod = td_echo(num, geo, scn, math.inf, opts.seed + 1, opts.echo_taps,
+                                  path=sc.trajectory), ofdm_demod(num)
             tb.connect(grid, ofdm_mod(num), echo, demod)
             clean = demod
             tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * n))

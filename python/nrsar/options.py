@@ -248,6 +248,20 @@ def check_map_options(opts):
         raise OptionError("--record = '' must name a folder")
 
 
+def check_flight_options(opts):
+    """The rules of --trajectory / --motion and --nav / --nav-error (the files' contents are
+    checked when the scenario is built, still before any block)."""
+    for path_flag, model_flag in (("trajectory", "motion"), ("nav", "nav_error")):
+        path, model = getattr(opts, path_flag), getattr(opts, model_flag)
+        if path is None:
+            continue
+        if model != "none":
+            raise OptionError(f"{flag_of(path_flag)} = {path!r} and {flag_of(model_flag)} = "
+                              f"{model!r} both name the path: give one")
+        if not os.path.isfile(path):
+            raise OptionError(f"{flag_of(path_flag)} = {path!r} is not a readable file")
+
+
 # The pulse modes of the transmit grid: (tx mode, SRS period in slots)
 MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
 
@@ -321,6 +335,22 @@ class SimOptions(_Options):
                                  at_most=2)
     seed: int = option(1, "seed of the data PRBS (31-bit c_init) and the noise (seed + 1)",
                        at_least=0, at_most=SEED_MAX)
+    trajectory: typing.Optional[str] = option(
+        None, "the true flight path the echo flies: a CSV file t_s,x_m,y_m,z_m[,roll_rad,"
+        "pitch_rad,yaw_rad] (SPEC 3 frame, t = 0 at the first symbol, 10 Hz or more, covering "
+        "the aperture; attitude steers the beam of a scene file); replaces --motion",
+        metavar="FILE")
+    motion: str = option("none", "the true flight path: the ideal line (none) or a seeded "
+                         "motion model added to it (calm: cm, gusty: dm; docs/flight.md)",
+                         choices=list(params.MOTIONS))
+    motion_seed: int = option(0, "seed of --motion (and of --nav-error: motion seed + 1)",
+                              at_least=0, at_most=SEED_MAX)
+    nav: typing.Optional[str] = option(
+        None, "what the UAV believes (the processing's path): a CSV file like --trajectory; "
+        "replaces --nav-error", metavar="FILE")
+    nav_error: str = option("none", "navigation = the true path plus a seeded measurement "
+                            "error: none, rtk (cm) or gnss (dm; docs/flight.md)",
+                            choices=list(params.NAV_ERRORS))
     out: str = option("nrsar-out", "output folder (created; checked writable before the run)")
     json: bool = option(False, "print one JSON object on stdout")
     record: typing.Optional[str] = option(
@@ -341,6 +371,7 @@ class SimOptions(_Options):
 
     def check(self):
         check_map_options(self)
+        check_flight_options(self)
         if self.geotiff and self.origin is None:
             raise OptionError("--geotiff needs --origin LAT,LON,HEADING_DEG (where the frame "
                               "lies on the map)")
@@ -499,12 +530,17 @@ class SoakOptions(SimOptions):
                               f"without end, and kept images would grow with it")
         if self.record is not None:
             raise OptionError("--record is nrsar-sim's: a soak streams without end")
+        for path, model in (("trajectory", "motion"), ("nav", "nav_error")):
+            if getattr(self, path) is not None or getattr(self, model) != "none":
+                raise OptionError(f"{flag_of(path)} / {flag_of(model)}: a soak streams "
+                                  f"without end, a flight path covers one aperture")
 
 
 # The fields of SimOptions a recording supplies (docs/recording.md): nrsar-process takes the
 # numerology, geometry, scene, grid and seed from the meta, never from flags.
 RECORDED_FIELDS = ("preset", "geometry", "aperture_s", "scene", "target", "snr_db",
-                   "modulation", "mode", "seed", "record")
+                   "modulation", "mode", "seed", "record", "trajectory", "motion",
+                   "motion_seed", "nav", "nav_error")
 
 
 class _ProcessRules(_Options):

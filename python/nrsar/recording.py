@@ -105,7 +105,8 @@ def build_meta(opts, sc, data_path, *, recorder, hw, description, snr_db=None, e
         "nrsar:geometry": {k: getattr(geo, k) for k in GEOMETRY_FIELDS},
         "nrsar:symbols": sc.symbols,
         "nrsar:symbol_samples": sym_len,
-        "nrsar:navigation": None,
+        "nrsar:trajectory": flight_text(opts, "trajectory", "motion", 0),
+        "nrsar:navigation": flight_text(opts, "nav", "nav_error", 1),
         "nrsar:hardware_delay_s": hardware_delay_s,
         "nrsar:origin": origin_dict(opts.origin),
         "nrsar:snr_db": snr_db,
@@ -121,6 +122,18 @@ def build_meta(opts, sc, data_path, *, recorder, hw, description, snr_db=None, e
                             "core:label": "overflow", "nrsar:lost_samples": int(lost)})
     annotations.sort(key=lambda a: a["core:sample_start"])
     return {"global": glob, "captures": captures, "annotations": annotations}
+
+
+def flight_text(opts, file_field, model_field, seed_offset):
+    """The meta's nrsar:trajectory / nrsar:navigation: the CSV file, 'MODEL seed N', or None
+    (the ideal line, perfect navigation)."""
+    path = getattr(opts, file_field, None)
+    if path is not None:
+        return os.path.abspath(path)
+    model = getattr(opts, model_field, "none")
+    if model == "none":
+        return None
+    return f"{model} seed {opts.motion_seed + seed_offset}"
 
 
 def check_recordable(opts, sc):
@@ -174,7 +187,7 @@ def recorder(tb, opts, sc, grid, tf_echo, folder, name=DEFAULT_NAME):
     meta_path = os.path.join(folder, name + ".sigmf-meta")
     with results.atomic(data_path) as tmp:
         n = num.num_subcarriers
-        echo = td_echo(num, sc.geo, sc.scene, math.inf, opts.seed + 1)
+        echo = td_echo(num, sc.geo, sc.scene, math.inf, opts.seed + 1, path=sc.trajectory)
         clean = blocks.multiply_vcc(n)  # H S
         noise = blocks.sub_cc(n)        # Z = Y - H S
         received = blocks.add_cc()

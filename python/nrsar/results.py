@@ -119,6 +119,24 @@ METRIC_KEYS = ("nmse_db", "nmse_theory_db", "nmse_theory_band_db", "nmse_minus_t
                "peak_error_m")
 
 
+def flight_rms_deviation_m(sc, n=1000):
+    """The true path's rms distance from its least-squares straight line over the aperture
+    (0 on the ideal line)."""
+    if sc.trajectory.is_ideal():
+        return 0.0
+    return float(sc.trajectory.rms_deviation_m(0.0, sc.geo.aperture_s, n))
+
+
+def nav_rms_error_m(sc, n=1000):
+    """rms over the aperture (n instants) of |navigation - truth| [m]."""
+    if sc.navigation.is_ideal() and sc.trajectory.is_ideal():
+        return 0.0
+    import numpy as np
+    t = list(np.linspace(0.0, sc.geo.aperture_s, n))
+    d = np.array(sc.navigation.positions(t)) - np.array(sc.trajectory.positions(t))
+    return float(np.sqrt(np.mean(np.sum(d * d, axis=1))))
+
+
 def image_results(opts, chain, sc, runtime_s):
     """After the run: writes the .npy/.png files into opts.out and returns the JSON dict of
     SPEC 9 (the image metrics of the first target, the files and the axes)."""
@@ -200,6 +218,8 @@ def image_results(opts, chain, sc, runtime_s):
         "warnings": warnings,
         "presum": opts.presum,
         "decim": opts.presum_factor(),
+        "trajectory_rms_dev_m": flight_rms_deviation_m(sc),
+        "nav_rms_err_m": nav_rms_error_m(sc),
     }
     if chain["presum"] is not None:
         result["warnings"] += list(chain["presum"].warnings())

@@ -7,6 +7,10 @@
 
     scn = scenario.of(opts)     # Scenario(num, geo, scene, ...), checked (check_scenario)
 
+`Scenario.trajectory` is the true flight path (what the echo generators fly) and
+`Scenario.navigation` what the UAV believes (what every processing block uses); both are
+trajectory objects, the geometry's ideal line by default (docs/flight.md).
+
 Every failure is a ValueError that names the flag it came from (`--preset = 'huge': ...`),
 raised before any block is built.
 """
@@ -36,6 +40,15 @@ class Scenario:
     pulse_symbols: int   # symbols per slow-time sample (1 for data)
     symbols: int         # symbols per aperture M
     warnings: list
+    trajectory: typing.Any = None  # true path (echo generators); None: the ideal line
+    navigation: typing.Any = None  # believed path (processing blocks); None: the ideal line
+
+    def __post_init__(self):
+        ideal = None
+        for name in ("trajectory", "navigation"):
+            if getattr(self, name) is None:
+                ideal = ideal or params.make_trajectory("ideal", self.geo)
+                setattr(self, name, ideal)
 
 
 def grid_of_mode(mode_arg, num):
@@ -97,6 +110,23 @@ def load_scene(opts):
         raise OptionError(f"--scene = {opts.scene!r}: {err}") from None
 
 
+def flight_of(opts, geo):
+    """(trajectory, navigation) of --trajectory / --motion / --motion-seed and --nav /
+    --nav-error (navigation error seeded with motion seed + 1), over the aperture."""
+    if opts.trajectory is not None:
+        truth = _flagged("--trajectory", opts.trajectory, params.make_trajectory,
+                         opts.trajectory, geo)
+    else:
+        truth = _flagged("--motion", opts.motion, params.make_trajectory, opts.motion, geo,
+                         seed=opts.motion_seed)
+    if opts.nav is not None:
+        nav = _flagged("--nav", opts.nav, params.make_navigation, truth, opts.nav, geo=geo)
+    else:
+        nav = _flagged("--nav-error", opts.nav_error, params.make_navigation, truth,
+                       opts.nav_error, seed=opts.motion_seed + 1, geo=geo)
+    return truth, nav
+
+
 def of(opts):
     """The Scenario of validated options; check_scenario's warnings travel with it."""
     num = _flagged("--preset", opts.preset, params.make_numerology, opts.preset)
@@ -121,6 +151,12 @@ def of(opts):
     fft_size_of(opts, num.num_subcarriers)  # refused here, before any block is built
     mode, srs, pulse_symbols = grid_of_mode(opts.mode, num)
     warnings = list(params.check_scenario(num, geo, scn, pulse_symbols)) + warnings
+    truth, nav = flight_of(opts, geo)
+    if not truth.is_ideal():  # targets in front of the antenna, round trips in the CP
+        flag, value = (("--trajectory", opts.trajectory) if opts.trajectory is not None
+                       else ("--motion", opts.motion))
+        _flagged(flag, value, params.check_scenario, num, geo, scn, truth, pulse_symbols)
     symbols = int(geo.symbols_per_aperture(num))
     return Scenario(num=num, geo=geo, scene=scn, scene_file=sf, tx_mode=mode, srs=srs,
-                    pulse_symbols=pulse_symbols, symbols=symbols, warnings=warnings)
+                    pulse_symbols=pulse_symbols, symbols=symbols, warnings=warnings,
+                    trajectory=truth, navigation=nav)

@@ -414,10 +414,11 @@ def ship_and_sea(nx=96, ny=64, dx=0.75, dy=0.75, seed=4):
 
 
 def extended_echo(num, geo, scene_file="", points="", beam=None, snr_db=float("inf"), seed=0,
-                  taps=8, oversampling=2.0):
+                  taps=8, oversampling=2.0, path=None):
     """extended_scene_echo from a YAML scene file (its targets, maps and beam; its numerology
     and geometry are ignored here: the block's num and geo rule) and/or point targets
-    ('X,Y[,RCS[,PHASE_DEG]];...' or a preset). beam (an antenna_beam) replaces the file's. Used by GRC."""
+    ('X,Y[,RCS[,PHASE_DEG]];...' or a preset). beam (an antenna_beam) replaces the file's; path:
+    the true flight path (a trajectory; None: the ideal line). Used by GRC."""
     from .nrsar_python import extended_scene_echo
     pts, maps, fbeam = [], [], None
     if scene_file:
@@ -426,4 +427,5 @@ def extended_echo(num, geo, scene_file="", points="", beam=None, snr_db=float("i
     if points:
         pts += list(params.make_scene(points).targets)
     return extended_scene_echo(num, geo, scene(pts), maps, beam or fbeam or antenna_beam(),
-                               snr_db, seed, taps, oversampling)
+                               snr_db, seed, taps, oversampling,
+                               params.trajectory() if path is None else path)

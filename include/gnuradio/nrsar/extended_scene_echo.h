@@ -56,6 +56,10 @@ public:
      * \param seed noise seed (the noise of symbol m depends on (seed, m) only).
      * \param taps interpolation kernel length L (even, 2..32, default 8).
      * \param oversampling slant-range grid oversampling O (1.25..8, default 2).
+     * \param path the true flight path (exact range per symbol and scatterer from
+     *        path.position(m Tsym) in double, the beam's gain from the pose per symbol,
+     *        attitude steering it); empty (default) or trajectory::ideal(geo): the ideal
+     *        line, bit-identical to a block without a path.
      * The bounding box of the scatterers must pass check_scenario (CP, eta, range).
      */
     static sptr make(const numerology& num,
@@ -66,7 +70,8 @@ public:
                      double snr_db = std::numeric_limits<double>::infinity(),
                      std::uint64_t seed = 0,
                      unsigned taps = 8,
-                     double oversampling = 2.0);
+                     double oversampling = 2.0,
+                     const trajectory& path = trajectory());
 
     virtual void set_snr_db(double snr_db) = 0;
     virtual double snr_db() const = 0;

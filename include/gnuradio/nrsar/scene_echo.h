@@ -10,6 +10,7 @@
 
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/params.h>
+#include <gnuradio/nrsar/trajectory.h>
 #include <gnuradio/sync_block.h>
 #include <cstdint>
 #include <limits>
@@ -57,12 +58,18 @@ public:
      * \param snr_db input SNR per resource element [dB], total RCS over sigma^2;
      *        +inf (default) turns the noise off; NaN and -inf are refused.
      * \param seed seed of the noise (a given seed gives the same noise on every run).
+     * \param path the true flight path the echo is computed from (exact range per symbol
+     *        from path.position(m Tsym), double); empty (default) or trajectory::ideal(geo):
+     *        the ideal line, every output bit-identical to a block without a path. A
+     *        sampled path must cover [0, geo.aperture_s] and pass check_scenario(num, geo,
+     *        scn, path) (targets in front of the antenna, round trips within the CP).
      */
     static sptr make(const numerology& num,
                      const geometry& geo,
                      const scene& scn,
                      double snr_db = std::numeric_limits<double>::infinity(),
-                     std::uint64_t seed = 0);
+                     std::uint64_t seed = 0,
+                     const trajectory& path = trajectory());
 
     //! New SNR per RE [dB] (+inf: no noise); takes effect at the next work() call.
     virtual void set_snr_db(double snr_db) = 0;
@@ -73,6 +80,8 @@ public:
     //! New scene (validated with check_scenario against the block's num and geo).
     virtual void set_scene(const scene& scn) = 0;
     virtual scene get_scene() const = 0;
+    //! The true flight path (empty: the ideal line).
+    virtual trajectory path() const = 0;
 
     //! Non-finite input samples zeroed so far.
     virtual std::uint64_t nonfinite_count() const = 0;

@@ -11,6 +11,7 @@
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/kernel/extended_scene.h>
 #include <gnuradio/nrsar/params.h>
+#include <gnuradio/nrsar/trajectory.h>
 #include <gnuradio/sync_block.h>
 #include <cstdint>
 #include <limits>
@@ -69,6 +70,11 @@ public:
      * \param beam antenna illumination (default WHOLE_BLOCK, the paper's assumption;
      *        AZIMUTH / AZIMUTH_ELEVATION: sinc^2 two-way patterns of eqs. 1-3; Python
      *        nrsar.make_beam).
+     * \param path the true flight path (exact range per symbol from path.position(m Tsym)
+     *        in double; with attitude the beam turns with the body, antenna_beam::gain);
+     *        empty (default) or trajectory::ideal(geo): the ideal line, bit-identical to a
+     *        block without a path. A sampled path must cover [0, geo.aperture_s] and pass
+     *        check_scenario(num, geo, scn, path).
      */
     static sptr make(const numerology& num,
                      const geometry& geo,
@@ -77,7 +83,8 @@ public:
                      std::uint64_t seed = 0,
                      unsigned taps = 32,
                      double kaiser_beta = -1.0,
-                     const kernel::antenna_beam& beam = kernel::antenna_beam());
+                     const kernel::antenna_beam& beam = kernel::antenna_beam(),
+                     const trajectory& path = trajectory());
 
     //! New SNR per RE [dB] (+inf: no noise); takes effect at the next work() call.
     virtual void set_snr_db(double snr_db) = 0;
@@ -91,6 +98,8 @@ public:
 
     virtual unsigned taps() const = 0;
     virtual kernel::antenna_beam beam() const = 0;
+    //! The true flight path (empty: the ideal line).
+    virtual trajectory path() const = 0;
     //! The Kaiser beta in use (the default one when make() got a negative value).
     virtual double kaiser_beta() const = 0;
 

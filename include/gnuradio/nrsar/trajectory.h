@@ -38,6 +38,18 @@ enum class nav_error_model {
 };
 
 using vec3 = std::array<double, 3>;
+using mat3 = std::array<double, 9>; //!< row-major 3 x 3
+
+/*!
+ * Body-to-frame rotation of an attitude (roll, pitch, yaw) [rad] in SPEC 3's frame (x
+ * cross-track towards the scene, y along track = the flight direction, z up):
+ * R = Rz(yaw) Rx(pitch) Ry(roll), each a right-handed rotation about the frame's axis, so
+ * roll turns about the flight direction (positive: the scene side goes down, the beam
+ * looks closer to nadir), pitch about the cross-track axis (positive: nose up, a
+ * down-looking beam moves forward), yaw about z (positive: nose left, the beam swings
+ * forward). A vector v of the body (the frame at zero attitude) is R v in the frame.
+ */
+NRSAR_API mat3 attitude_matrix(const vec3& roll_pitch_yaw_rad);
 
 /*!
  * \brief The antenna phase centre's path: position and velocity as functions of slow time.
@@ -75,7 +87,7 @@ public:
      * From samples; attitude (roll, pitch, yaw [rad], one triple per sample) optional (empty
      * or t.size() triples). lever_arm_m: the phase centre's offset from the navigated point in
      * the body frame (x, y, z of the frame at zero attitude); the samples are moved by
-     * R lever, R = Rz(yaw) Ry(pitch) Rx(roll), before interpolation. source names the data in
+     * R lever, R = attitude_matrix(roll, pitch, yaw), before interpolation. source names the data in
      * error messages; row_numbers (optional, one per sample) the rows it reports.
      */
     static trajectory from_samples(const std::vector<double>& t,
@@ -142,6 +154,30 @@ private:
 
     std::size_t segment(double t) const; // i with t_i <= t <= t_{i+1}
 };
+
+/*!
+ * Whether the echo generators fly geo's ideal line with path: true for an empty path and
+ * for trajectory::ideal(geo) (their outputs are then bit-identical to a block without a
+ * path), false for a sampled path, which must cover [0, geo.aperture_s]. Throws
+ * std::invalid_argument for the ideal line of another geometry (naming the field) and for
+ * a sampled path that is too short.
+ */
+NRSAR_API bool flies_ideal_line(const trajectory& path, const geometry& geo);
+
+/*!
+ * check_scenario(num, geo, scn, symbols_per_pulse) plus what a sampled path (not the ideal
+ * line) adds, over t in [0, geo.aperture_s] on a 1 ms grid (between grid points the range
+ * departs from the sampled values by at most (a_max + v^2 / R) dt^2 / 8 < 1e-5 m):
+ * every target in front of the antenna across track (x_q > the antenna's x at every
+ * instant, SPEC 3: the scene lies at x > 0 of the track), and every round trip 2 R / c
+ * within the CP and every range within c / (2 Delta f). Errors name the target, its x, the
+ * time, the antenna's position, the path's source and the limit.
+ */
+NRSAR_API std::vector<std::string> check_scenario(const numerology& num,
+                                                  const geometry& geo,
+                                                  const scene& scn,
+                                                  const trajectory& path,
+                                                  unsigned symbols_per_pulse = 1);
 
 } // namespace nrsar
 } // namespace gr

@@ -102,9 +102,10 @@ void bind_extended_scene_echo(py::module& m)
                          const std::vector<k::reflectivity_map>& maps,
                          const k::antenna_beam& beam,
                          unsigned taps,
-                         double oversampling) {
+                         double oversampling,
+                         const gr::nrsar::trajectory& path) {
                  return std::make_unique<k::extended_scene>(
-                     num, geo, points, maps, beam, taps, oversampling);
+                     num, geo, points, maps, beam, taps, oversampling, path);
              }),
              py::arg("num"),
              py::arg("geo"),
@@ -112,7 +113,8 @@ void bind_extended_scene_echo(py::module& m)
              py::arg("maps"),
              py::arg("beam") = k::antenna_beam(),
              py::arg("taps") = 8,
-             py::arg("oversampling") = 2.0)
+             py::arg("oversampling") = 2.0,
+             py::arg("path") = gr::nrsar::trajectory())
         .def("num_scatterers", &k::extended_scene::num_scatterers)
         .def("grid_size", &k::extended_scene::grid_size)
         .def("total_power", &k::extended_scene::total_power)
@@ -163,6 +165,7 @@ void bind_extended_scene_echo(py::module& m)
              py::arg("seed") = 0,
              py::arg("taps") = 8,
              py::arg("oversampling") = 2.0,
+             py::arg("path") = gr::nrsar::trajectory(),
              D(extended_scene_echo, make))
         .def("set_snr_db", &blk::set_snr_db, py::arg("snr_db"), "New SNR per RE [dB].")
         .def("snr_db", &blk::snr_db)

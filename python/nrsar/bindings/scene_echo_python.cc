@@ -38,6 +38,7 @@ void bind_scene_echo(py::module& m)
              py::arg("scn"),
              py::arg("snr_db") = std::numeric_limits<double>::infinity(),
              py::arg("seed") = 0,
+             py::arg("path") = gr::nrsar::trajectory(),
              D(scene_echo, make))
 
         .def("set_snr_db",
@@ -53,6 +54,7 @@ void bind_scene_echo(py::module& m)
              py::arg("scn"),
              "New scene, checked with check_scenario.")
         .def("get_scene", &scene_echo::get_scene, "The current scene.")
+        .def("path", &scene_echo::path, "The true flight path (empty: the ideal line).")
         .def("nonfinite_count",
              &scene_echo::nonfinite_count,
              "Non-finite input samples zeroed so far.")

@@ -38,6 +38,7 @@ void bind_td_echo(py::module& m)
              py::arg("taps") = 32,
              py::arg("kaiser_beta") = -1.0,
              py::arg("beam") = gr::nrsar::kernel::antenna_beam(),
+             py::arg("path") = gr::nrsar::trajectory(),
              D(td_echo, make))
 
         .def("set_snr_db",
@@ -55,6 +56,7 @@ void bind_td_echo(py::module& m)
         .def("get_scene", &td_echo::get_scene, "The current scene.")
         .def("taps", &td_echo::taps, "Fractional-delay FIR length.")
         .def("beam", &td_echo::beam, "The antenna beam (illumination) in use.")
+        .def("path", &td_echo::path, "The true flight path (empty: the ideal line).")
         .def("kaiser_beta", &td_echo::kaiser_beta, "Kaiser window parameter in use.")
         .def("nonfinite_count",
              &td_echo::nonfinite_count,

@@ -104,4 +104,27 @@ void bind_trajectory(py::module& m)
              py::arg("t0"),
              py::arg("t1"),
              py::arg("n") = 1000u);
+
+    m.def("attitude_matrix",
+          &gr::nrsar::attitude_matrix,
+          py::arg("roll_pitch_yaw_rad"),
+          "Body-to-frame rotation Rz(yaw) Rx(pitch) Ry(roll), row-major (9 values)");
+    m.def("flies_ideal_line",
+          &gr::nrsar::flies_ideal_line,
+          py::arg("path"),
+          py::arg("geo"),
+          "Whether the echo generators fly geo's ideal line with path");
+    m.def("check_scenario",
+          py::overload_cast<const gr::nrsar::numerology&,
+                            const gr::nrsar::geometry&,
+                            const gr::nrsar::scene&,
+                            const trajectory&,
+                            unsigned>(&gr::nrsar::check_scenario),
+          py::arg("num"),
+          py::arg("geo"),
+          py::arg("scn"),
+          py::arg("path"),
+          py::arg("symbols_per_pulse") = 1,
+          "check_scenario plus a sampled path's checks: targets in front of the antenna, "
+          "round trips within the CP (ValueError naming the target, time and value)");
 }

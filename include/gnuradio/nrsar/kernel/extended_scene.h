@@ -14,6 +14,7 @@
 #include <gnuradio/nrsar/kernel/finite_guard.h>
 #include <gnuradio/nrsar/kernel/gaussian_noise.h>
 #include <gnuradio/nrsar/params.h>
+#include <gnuradio/nrsar/trajectory.h>
 #include <volk/volk_alloc.hh>
 #include <complex>
 #include <cstddef>
@@ -56,6 +57,18 @@ enum class beam_mode {
 };
 
 /*!
+ * \brief The antenna at one instant of a flight: phase centre (SPEC 3 frame) and, for a path
+ * with attitude, the body-to-frame rotation (attitude_matrix) that steers the beam.
+ */
+struct NRSAR_API antenna_pose {
+    vec3 position{};
+    bool steered = false; //!< the path has attitude: the beam turns with the body
+    mat3 rotation{};      //!< body -> frame (when steered)
+    //! The pose on path at time t [s] (throws outside a sampled path's span).
+    static antenna_pose of(const trajectory& path, double t);
+};
+
+/*!
  * \brief Real-aperture antenna of the stripmap SAR, paper eqs. (1)-(3).
  *
  * One-way power pattern sinc^2(D sin(psi) / lambda) (sinc(u) = sin(pi u) / (pi u)),
@@ -86,6 +99,23 @@ struct NRSAR_API antenna_beam {
     double elevation_gain(const geometry& geo, double x_m) const;
     //! Two-way azimuth amplitude for along-track offset dy = y_q - y_p at slant range R.
     double azimuth_gain(const geometry& geo, double dy_m, double range_m) const;
+    /*!
+     * Two-way amplitude (azimuth x elevation) of a ground scatterer (x_q, y_q, 0) at slant
+     * range R seen from pose. Without attitude the antenna keeps the frame's orientation:
+     * u_az = D_a (y_q - y_p) / (R lambda), look = atan2(x_q - x_p, z_p) (on the ideal
+     * line exactly azimuth_gain() elevation_gain()). With attitude the line of sight l =
+     * R^T (q - p) / R is taken into the body: u_az = D_a l_y / lambda, look =
+     * atan2(l_x, -l_z), so roll moves the footprint across track, pitch and yaw along it.
+     */
+    double gain(const geometry& geo,
+                const antenna_pose& pose,
+                double x_q,
+                double y_q,
+                double range_m) const;
+
+private:
+    double elevation_of_look(const geometry& geo, double look_rad) const;
+    double azimuth_of_sine(const geometry& geo, double sin_squint) const;
 };
 
 /*!
@@ -115,6 +145,10 @@ public:
     /*!
      * \param taps kernel length L (even, 2 .. 32); default 8.
      * \param oversampling O = P / N lower bound (1.25 .. 8); default 2.
+     * \param path the true flight path (empty: geo's ideal line; flies_ideal_line): the
+     *        range of every scatterer from path.position(m Tsym) in double, and with a
+     *        beam its gain from the pose (antenna_beam::gain) per symbol; the elevation
+     *        gain is then not folded into the amplitudes.
      * Validates every argument (std::invalid_argument); no scenario check here.
      */
     extended_scene(const numerology& num,
@@ -123,7 +157,8 @@ public:
                    const std::vector<reflectivity_map>& maps,
                    const antenna_beam& beam = antenna_beam(),
                    unsigned taps = 8,
-                   double oversampling = 2.0);
+                   double oversampling = 2.0,
+                   const trajectory& path = trajectory());
     extended_scene(extended_scene&&) = default;
     extended_scene& operator=(extended_scene&&) = default;
     extended_scene(const extended_scene&) = delete;
@@ -143,6 +178,8 @@ public:
     std::complex<double> scatterer_amplitude(std::size_t k) const { return d_amp[k]; }
     const antenna_beam& beam() const { return d_beam; }
     double platform_y(std::uint64_t m) const;
+    //! The true flight path (empty: the ideal line of the geometry).
+    const trajectory& path() const { return d_path; }
 
     //! h[n] = H[n, m], fast path (the echo of S = 1 without noise).
     void reference(std::uint64_t m, gr_complex* h);
@@ -163,12 +200,15 @@ private:
     numerology d_num;
     geometry d_geo;
     antenna_beam d_beam;
+    trajectory d_path;
+    bool d_line; //!< flies geo's ideal line (the bit-identical path)
     unsigned d_L;
     unsigned d_P;
     unsigned d_n0;
     unsigned d_rows; //!< kernel table rows per unit of fractional offset
     double d_total_power = 0.0;
-    std::vector<double> d_x, d_y, d_xh2; //!< position; x^2 + H^2
+    //! position; (x - x_p)^2 + z_p^2 (x^2 + H^2 on the ideal line, else per symbol)
+    std::vector<double> d_x, d_y, d_xh2;
     std::vector<std::complex<double>> d_amp;
     std::vector<gr_complex> d_ampf; //!< d_amp in float for the spreading
     std::vector<float> d_table;       //!< (d_rows + 1) x L kernel weights

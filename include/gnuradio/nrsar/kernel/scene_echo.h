@@ -12,6 +12,7 @@
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/kernel/gaussian_noise.h>
 #include <gnuradio/nrsar/params.h>
+#include <gnuradio/nrsar/trajectory.h>
 #include <volk/volk_alloc.hh>
 #include <complex>
 #include <cstddef>
@@ -43,7 +44,10 @@ struct alignas(32) target_lanes {
  *     R_q(m) = sqrt(x_q^2 + H^2 + (y_p(m) - y_q)^2),  y_p(m) = track_start + v m Tsym
  *     alpha_q = sqrt(rcs_q) exp(j phase_q),   Y[n, m] = S[n, m] H[n, m] + sigma Z[n, m]
  *
- * m is the absolute symbol index (an endless stream keeps the platform moving).
+ * m is the absolute symbol index (an endless stream keeps the platform moving). On a true
+ * flight path p(t) (trajectory, SPEC 9) the range is |(x_q, y_q, 0) - p(m Tsym)|, from the
+ * interpolated phase centre in double; the rest is the same (stop-and-go per symbol, as
+ * on the ideal line: no generator models motion within a symbol).
  * Ranges and phases are formed in double: per symbol and target, the phasors of 8
  * neighbouring subcarriers at every anchor_interval-th subcarrier come from a
  * double-precision recurrence started at an exact sincos; in between, the 8 lanes are
@@ -60,8 +64,15 @@ public:
     //! Subcarriers between exact anchors: 32 float steps of step^8, drift ~2e-6 rad.
     static constexpr unsigned anchor_interval = 256;
 
-    //! Validates num, geo and scn (std::invalid_argument); no scenario check here.
-    scene_echo(const numerology& num, const geometry& geo, const scene& scn);
+    /*!
+     * Validates num, geo and scn (std::invalid_argument); no scenario check here.
+     * path: the true flight path; empty (default) or trajectory::ideal(geo): the ideal
+     * line, bit-identical to a scene_echo without a path (flies_ideal_line).
+     */
+    scene_echo(const numerology& num,
+               const geometry& geo,
+               const scene& scn,
+               const trajectory& path = trajectory());
 
     scene_echo(scene_echo&&) = default;
     scene_echo& operator=(scene_echo&&) = default;
@@ -72,8 +83,10 @@ public:
     const scene& get_scene() const { return d_scene; }
     unsigned num_subcarriers() const { return d_num.num_subcarriers; }
 
-    //! Platform along-track position y_p(m) [m] (double).
+    //! Platform along-track position y_p(m) [m] on the ideal line (double).
     double platform_y(std::uint64_t m) const;
+    //! The true flight path (empty: the ideal line of the geometry).
+    const trajectory& path() const { return d_path; }
 
     //! h[n] = H[n, m]: the echo of S = 1 without noise (the reference of SPEC 8).
     void reference(std::uint64_t m, gr_complex* h);
@@ -106,6 +119,8 @@ private:
     numerology d_num;
     geometry d_geo;
     scene d_scene;
+    trajectory d_path;
+    bool d_line; //!< flies geo's ideal line
     bool d_simd;
     std::vector<point_target> d_active; //!< targets with rcs > 0
     std::vector<echo_detail::target_lanes> d_lanes;

@@ -114,7 +114,9 @@ private:
  *
  * With an antenna beam (antenna_beam, eqs. 1-3) each target's amplitude is multiplied by
  * the two-way gain azimuth_gain(y_q - y_p(m), R_q(m)) elevation_gain(x_q) at symbol m;
- * targets with gain 0 (beyond the beam's cutoff) are left out.
+ * targets with gain 0 (beyond the beam's cutoff) are left out. On a true flight path
+ * (trajectory) R_q(m) = |(x_q, y_q, 0) - p(m Tsym)| in double and the gain is
+ * antenna_beam::gain of the pose (attitude steers the footprint).
  *
  * Noise: sample i of symbol m is sigma z with z element i of block m of
  * kernel::gaussian_noise, independent of how the stream is cut.
@@ -127,14 +129,17 @@ public:
      * \param kaiser_beta Kaiser window parameter; negative: default_beta for the band
      *        edge of num (max(k0, N - k0) / fft_size).
      * \param beam illumination (default WHOLE_BLOCK: every target lit all the time).
-     * Validates num, geo, scn, beam; no scenario check here.
+     * \param path the true flight path (empty or trajectory::ideal(geo): the ideal line,
+     *        bit-identical to a td_echo without one; flies_ideal_line).
+     * Validates num, geo, scn, beam, path; no scenario check here.
      */
     td_echo(const numerology& num,
             const geometry& geo,
             const scene& scn,
             unsigned taps = 32,
             double kaiser_beta = -1.0,
-            const antenna_beam& beam = antenna_beam());
+            const antenna_beam& beam = antenna_beam(),
+            const trajectory& path = trajectory());
     td_echo(td_echo&&) = default;
     td_echo& operator=(td_echo&&) = default;
     td_echo(const td_echo&) = delete;
@@ -143,6 +148,7 @@ public:
     void set_scene(const scene& scn);
     const scene& get_scene() const { return d_scene; }
     const antenna_beam& beam() const { return d_beam; }
+    const trajectory& path() const { return d_path; }
 
     //! Samples per OFDM symbol, cp_samples + fft_size.
     unsigned symbol_samples() const { return d_sym; }
@@ -178,6 +184,8 @@ private:
     geometry d_geo;
     scene d_scene;
     antenna_beam d_beam;
+    trajectory d_path;
+    bool d_line; //!< flies geo's ideal line
     unsigned d_sym;
     multipath_fir d_fir;
     std::uint64_t d_cur_m = ~std::uint64_t(0); //!< symbol whose paths d_fir holds

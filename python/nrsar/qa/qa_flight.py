@@ -1,0 +1,180 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""QA of the flight contracts of the programs (issue #14): --trajectory / --motion /
+--motion-seed / --nav / --nav-error checked before any work (OptionError naming the flag, the
+value and the limit; the app exits 2 with one line), Scenario.trajectory (the truth, flown by
+the echo) and Scenario.navigation (what the processing uses), the JSON keys
+trajectory_rms_dev_m and nav_rms_err_m, and the end-to-end check of docs/flight.md: a gusty
+flight imaged by back-projection along the (perfect) navigation focuses, rd_focuser without
+motion compensation defocuses."""
+
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+from gnuradio import gr_unittest
+
+from gnuradio import nrsar
+from gnuradio.nrsar import chain, isac_chain, scenario
+from gnuradio.nrsar.options import IsacOptions, OptionError, SimOptions
+
+APPS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "apps")
+
+
+def parse(argv):
+    return SimOptions.parse(argv)
+
+
+def write_path_csv(path, x_offset=0.0, span_s=0.3, height=1000.0):
+    """A straight 50 m/s line at 50 Hz over [0, span_s], x_offset across track."""
+    with open(path, "w") as f:
+        f.write("t_s,x_m,y_m,z_m\n")
+        for i in range(int(round(span_s * 50)) + 1):
+            t = i / 50.0
+            f.write(f"{t!r},{x_offset!r},{50.0 * t!r},{height!r}\n")
+
+
+class qa_flight(gr_unittest.TestCase):
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.out = self.tmp.name
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def csv(self, name, **kwargs):
+        path = os.path.join(self.out, name)
+        write_path_csv(path, **kwargs)
+        return path
+
+    def test_flags_are_checked_before_work(self):
+        cases = [
+            (dict(motion="wild"), "--motion = 'wild' must be one of none, calm, gusty"),
+            (dict(nav_error="dgps"), "--nav-error = 'dgps' must be one of none, rtk, gnss"),
+            (dict(motion_seed=-1), "--motion-seed = -1 must be at least 0"),
+            (dict(trajectory=os.path.join(self.out, "missing.csv")), "is not a readable file"),
+            (dict(trajectory=self.csv("a.csv"), motion="gusty"), "both name the path"),
+            (dict(nav=self.csv("b.csv"), nav_error="rtk"), "both name the path"),
+        ]
+        for fields, text in cases:
+            with self.assertRaises(OptionError) as ctx:
+                SimOptions(**fields).validate()
+            self.assertIn(text, str(ctx.exception), fields)
+
+    def test_path_contents_are_checked_with_the_flag(self):
+        base = ["--preset", "tiny", "--aperture-s", "0.2", "--out", self.out]
+        # too short for the aperture (0.1 s of samples)
+        opts = parse(base + ["--trajectory", self.csv("ok.csv")])
+        self.assertFalse(scenario.of(opts).trajectory.is_ideal())
+        short = self.csv("short2.csv", span_s=0.1)
+        with self.assertRaisesRegex(OptionError, r"^--trajectory = .*short2.csv.*too short"):
+            scenario.of(opts.replace(trajectory=short))
+        # 260 m across track: T2 of paper3 (x = 250 m) is behind the antenna
+        side = self.csv("side.csv", x_offset=260.0)
+        with self.assertRaisesRegex(OptionError, r"^--trajectory = .*target 1 .*behind"):
+            scenario.of(opts.replace(trajectory=side))
+        with self.assertRaisesRegex(OptionError, r"^--nav = .*too short"):
+            scenario.of(opts.replace(trajectory=None, nav=short))
+        # the app: exit 2, one line, no traceback
+        proc = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-sim")] + base +
+                              ["--trajectory", side], capture_output=True, text=True,
+                              timeout=120)
+        self.assertEqual(proc.returncode, 2, proc.stderr)
+        self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+        self.assertIn("--trajectory", proc.stderr)
+        self.assertNotIn("Traceback", proc.stderr)
+
+    def test_scenario_names_the_truth_and_the_navigation(self):
+        base = ["--preset", "tiny", "--aperture-s", "0.2"]
+        sc = scenario.of(parse(base))
+        self.assertTrue(sc.trajectory.is_ideal() and sc.navigation.is_ideal())
+        sc = scenario.of(parse(base + ["--motion", "gusty", "--motion-seed", "5"]))
+        self.assertFalse(sc.trajectory.is_ideal())
+        p0 = np.array(sc.trajectory.position(0.1))
+        self.assertEqual(list(sc.navigation.position(0.1)), list(p0))  # perfect navigation
+        again = scenario.of(parse(base + ["--motion", "gusty", "--motion-seed", "5"]))
+        self.assertEqual(list(again.trajectory.position(0.1)), list(p0))  # seeded
+        other = scenario.of(parse(base + ["--motion", "gusty", "--motion-seed", "6"]))
+        self.assertNotEqual(list(other.trajectory.position(0.1)), list(p0))
+        sc = scenario.of(parse(base + ["--motion", "gusty", "--nav-error", "gnss"]))
+        d = np.array(sc.navigation.position(0.1)) - np.array(sc.trajectory.position(0.1))
+        self.assertGreater(np.linalg.norm(d), 1e-3)
+        # a CSV file is the truth, a second one the navigation
+        sc = scenario.of(parse(base + ["--trajectory", self.csv("t.csv", x_offset=0.2),
+                                       "--nav", self.csv("n.csv", x_offset=0.1)]))
+        self.assertAlmostEqual(sc.trajectory.position(0.05)[0], 0.2, places=12)
+        self.assertAlmostEqual(sc.navigation.position(0.05)[0], 0.1, places=12)
+
+    def test_gusty_flight_bp_focuses_and_rd_defocuses(self):
+        # docs/flight.md: a gusty flight, presummed; BP along the navigation (perfect: the
+        # truth) focuses the target within a quarter range bin and keeps the ideal flight's
+        # NMSE; rd_focuser has no motion compensation yet. The chain's reference branch images
+        # the same flight along the truth, so both focusers are also held against the ideal
+        # flight's reference image here: PEL_ideal = -20 log10 |<ref_ideal, img> / <ref_ideal,
+        # ref_ideal>| (SPEC 8's calibration factor against the ideal flight).
+        common = ["--preset", "small", "--aperture-s", "0.2", "--target", "600,5",
+                  "--snr-db", "10", "--presum", "cheby", "--decim", "4"]
+        runs = {}
+        for f in ("bp", "rd"):
+            for motion in ("none", "gusty"):
+                opts = parse(common + ["--focuser", f, "--motion", motion, "--out",
+                                       os.path.join(self.out, f + motion)])
+                r, g = chain.simulate_graph(opts, keep_reference=True)
+                ref = np.array(g["reference_sink"].data()).reshape(-1, r["range_bins"])
+                runs[f, motion] = (r, np.load(r["image_npy"]), ref)
+        sc = scenario.of(parse(common + ["--motion", "gusty"]))
+        for f in ("bp", "rd"):
+            ideal, img_i, ref_i = runs[f, "none"]
+            gusty, img_g, _ = runs[f, "gusty"]
+            self.assertEqual(ideal["trajectory_rms_dev_m"], 0.0)
+            self.assertEqual(ideal["nav_rms_err_m"], 0.0)
+            self.assertAlmostEqual(gusty["trajectory_rms_dev_m"],
+                                   sc.trajectory.rms_deviation_m(0.0, 0.2), places=12)
+            self.assertEqual(gusty["nav_rms_err_m"], 0.0)
+            pel = {m: -20 * math.log10(abs(np.vdot(ref_i, img) / np.vdot(ref_i, ref_i)))
+                   for m, img in (("none", img_i), ("gusty", img_g))}
+            print(f"{f}: rms deviation {gusty['trajectory_rms_dev_m'] * 100:.2f} cm; ideal "
+                  f"flight PEL {ideal['pel_db']:.2f} dB NMSE {ideal['nmse_db']:.2f} dB peak error "
+                  f"{ideal['peak_error_m']:.3f} m IRW az {ideal['irw_azimuth_m']}; gusty PEL "
+                  f"{gusty['pel_db']:.2f} dB NMSE {gusty['nmse_db']:.2f} dB peak error "
+                  f"{gusty['peak_error_m']:.3f} m IRW az {gusty['irw_azimuth_m']}; against the "
+                  f"ideal flight's reference: PEL {pel['none']:.2f} -> {pel['gusty']:.2f} dB")
+            runs[f] = (ideal, gusty, pel)
+        ideal, gusty, pel = runs["bp"]
+        self.assertLess(gusty["peak_error_m"], 0.25 * gusty["range_axis_m"][1])
+        self.assertLess(abs(gusty["nmse_db"] - ideal["nmse_db"]), 0.5)
+        self.assertLess(abs(pel["gusty"] - pel["none"]), 0.5)
+        ideal, gusty, pel = runs["rd"]
+        self.assertGreater(pel["gusty"], pel["none"] + 3.0)  # defocused: the peak energy goes
+
+    def test_isac_flies_the_path_through_the_time_domain(self):
+        # nrsar-isac: td_echo flies the truth, the processing uses the navigation (rtk)
+        payload = os.path.join(self.out, "payload.bin")
+        with open(payload, "wb") as f:
+            f.write(bytes(range(200)))
+        r = isac_chain.run(IsacOptions.parse(
+            ["--preset", "sdr20", "--aperture-s", "0.05", "--target", "300,1", "--payload",
+             payload, "--motion", "gusty", "--nav-error", "rtk", "--focuser", "bp",
+             "--out", os.path.join(self.out, "isac")]))
+        sc = scenario.of(SimOptions.parse(["--preset", "sdr20", "--aperture-s", "0.05",
+                                           "--motion", "gusty", "--nav-error", "rtk"]))
+        t = np.linspace(0.0, 0.05, 1000)
+        d = np.array(sc.navigation.positions(list(t))) - np.array(sc.trajectory.positions(list(t)))
+        self.assertAlmostEqual(r["nav_rms_err_m"], float(np.sqrt(np.mean(np.sum(d * d, 1)))),
+                               places=12)
+        self.assertGreater(r["nav_rms_err_m"], 1e-3)  # centimetres (docs/flight.md)
+        self.assertLess(r["nav_rms_err_m"], 0.2)
+        self.assertGreater(r["trajectory_rms_dev_m"], 0.0)
+        self.assertTrue(r["payload_identical"])
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_flight)
