@@ -41,8 +41,6 @@ double default_range_bin(const numerology& num, double range_bin_m)
     check_finite_positive("range_bin_m", range_bin_m);
     return range_bin_m;
 }
-
-bool differs(double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); }
 } // namespace
 
 bp_focuser_impl::bp_focuser_impl(const numerology& num,
@@ -133,34 +131,11 @@ void bp_focuser_impl::handle_tag(const tag_t& tag)
     double T = d_pending ? d_pending_T : d_T;
     double r0 = d_pending ? d_pending_first_range : d_first_range;
     double rho = d_pending ? d_pending_range_bin : d_range_bin;
-    if (pmt::eq(tag.key, tags::pulse_interval_key())) {
-        if (!parse_pulse_interval(tag.value, T)) {
-            d_logger->warn("ignoring pulse_interval tag with value {}", pmt::write_string(tag.value));
-            return;
-        }
-    } else if (pmt::eq(tag.key, tags::range_axis_key())) {
-        double first = 0.0, step = 0.0;
-        uint64_t k = 0;
-        if (!parse_range_axis(tag.value, first, step, k) || k != d_K || !(first >= 0.0) ||
-            !(step > 0.0) || !std::isfinite(first + step)) {
-            d_logger->warn("ignoring range_axis tag {}: the block has {} bins",
-                           pmt::write_string(tag.value),
-                           d_K);
-            return;
-        }
-        if (differs(first, d_ctor_first_range) || differs(step, d_ctor_range_bin))
-            d_logger->warn("range_axis tag ({} m, {} m) differs from the constructor's "
-                           "({} m, {} m): using the tag",
-                           first,
-                           step,
-                           d_ctor_first_range,
-                           d_ctor_range_bin);
-        r0 = first;
-        rho = step;
-    } else {
+    if (!axes_from_tag(tag, d_K, d_ctor_first_range, d_ctor_range_bin, d_logger, T, r0, rho))
         return;
-    }
-    if (!differs(T, d_T) && !differs(r0, d_first_range) && !differs(rho, d_range_bin)) {
+    using kernel::aperture_focuser;
+    if (!aperture_focuser::differs(T, d_T) && !aperture_focuser::differs(r0, d_first_range) &&
+        !aperture_focuser::differs(rho, d_range_bin)) {
         d_pending = false;
         return;
     }

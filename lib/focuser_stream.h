@@ -7,13 +7,17 @@
 
 // What rd_focuser and bp_focuser share of the stream: the end of the input (they hold
 // their last item back until the upstream is done, so that the scheduler calls them once
-// more to flush) and the values of the axis tags they follow.
+// more to flush) and the axis tags they follow.
 
 #ifndef INCLUDED_NRSAR_FOCUSER_STREAM_H
 #define INCLUDED_NRSAR_FOCUSER_STREAM_H
 
 #include <gnuradio/block_detail.h>
 #include <gnuradio/buffer_reader.h>
+#include <gnuradio/logger.h>
+#include <gnuradio/nrsar/kernel/aperture_focuser.h>
+#include <gnuradio/nrsar/tags.h>
+#include <gnuradio/tags.h>
 #include <pmt/pmt.h>
 #include <cmath>
 #include <cstdint>
@@ -55,6 +59,52 @@ inline bool parse_range_axis(const pmt::pmt_t& v, double& first, double& step, u
     first = pmt::to_double(pmt::tuple_ref(v, 0));
     step = pmt::to_double(pmt::tuple_ref(v, 1));
     k = pmt::to_uint64(pmt::tuple_ref(v, 2));
+    return true;
+}
+
+/*!
+ * The axes (T, first, step) after a pulse_interval or range_axis tag, starting from the
+ * ones the next aperture would use. False when the tag is neither or is refused (logged:
+ * malformed, another bin count); a range_axis unlike the constructor's axis is used and
+ * logged.
+ */
+inline bool axes_from_tag(const gr::tag_t& tag,
+                          unsigned K,
+                          double ctor_first,
+                          double ctor_step,
+                          const gr::logger_ptr& logger,
+                          double& T,
+                          double& first_range,
+                          double& range_bin)
+{
+    if (pmt::eq(tag.key, tags::pulse_interval_key())) {
+        if (parse_pulse_interval(tag.value, T))
+            return true;
+        logger->warn("ignoring pulse_interval tag with value {}", pmt::write_string(tag.value));
+        return false;
+    }
+    if (!pmt::eq(tag.key, tags::range_axis_key()))
+        return false;
+    double first = 0.0, step = 0.0;
+    uint64_t k = 0;
+    if (!parse_range_axis(tag.value, first, step, k)) {
+        logger->warn("ignoring malformed range_axis tag {}", pmt::write_string(tag.value));
+        return false;
+    }
+    if (k != K || !(first >= 0.0) || !(step > 0.0) || !std::isfinite(first + step)) {
+        logger->warn("ignoring range_axis tag ({}, {}, {}): the block has {} bins", first, step, k, K);
+        return false;
+    }
+    if (kernel::aperture_focuser::differs(first, ctor_first) ||
+        kernel::aperture_focuser::differs(step, ctor_step))
+        logger->warn("range_axis tag ({} m, {} m) differs from the constructor's ({} m, {} m): "
+                     "using the tag",
+                     first,
+                     step,
+                     ctor_first,
+                     ctor_step);
+    first_range = first;
+    range_bin = step;
     return true;
 }
 

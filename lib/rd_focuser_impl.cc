@@ -100,39 +100,8 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
     double T = d_focuser.next_pulse_interval_s();
     double r0 = d_focuser.next_first_range_m();
     double rho = d_focuser.next_range_bin_m();
-    if (pmt::eq(tag.key, tags::pulse_interval_key())) {
-        if (!parse_pulse_interval(tag.value, T)) {
-            d_logger->warn("ignoring pulse_interval tag with value {}", pmt::write_string(tag.value));
-            return;
-        }
-    } else if (pmt::eq(tag.key, tags::range_axis_key())) {
-        double first = 0.0, step = 0.0;
-        uint64_t k = 0;
-        if (!parse_range_axis(tag.value, first, step, k)) {
-            d_logger->warn("ignoring malformed range_axis tag {}", pmt::write_string(tag.value));
-            return;
-        }
-        if (k != d_K || !(first >= 0.0) || !(step > 0.0) || !std::isfinite(first + step)) {
-            d_logger->warn("ignoring range_axis tag ({}, {}, {}): the block has {} bins",
-                           first,
-                           step,
-                           k,
-                           d_K);
-            return;
-        }
-        if (kernel::aperture_focuser::differs(first, d_ctor_first_range) ||
-            kernel::aperture_focuser::differs(step, d_ctor_range_bin))
-            d_logger->warn("range_axis tag ({} m, {} m) differs from the constructor's "
-                           "({} m, {} m): using the tag",
-                           first,
-                           step,
-                           d_ctor_first_range,
-                           d_ctor_range_bin);
-        r0 = first;
-        rho = step;
-    } else {
+    if (!axes_from_tag(tag, d_K, d_ctor_first_range, d_ctor_range_bin, d_logger, T, r0, rho))
         return;
-    }
     switch (d_focuser.set_axes(T, r0, rho)) {
     case kernel::aperture_focuser::axes_change::APPLIED:
         log_warnings();

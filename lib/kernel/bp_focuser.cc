@@ -44,21 +44,32 @@ void bp_grid::validate() const
     check_finite("first_y_m", first_y_m);
     check_finite_positive("line_spacing_m", line_spacing_m);
     check_finite_positive("reference_height_m", reference_height_m);
+    if (ground) {
+        check_finite("first_x_m", first_x_m);
+        check_finite_positive("x_spacing_m", x_spacing_m);
+        check_finite("ground_height_m", ground_height_m);
+    }
+    check_range("beam_oversample", beam_oversample, 1.0, 64.0);
 }
 
 // Per-thread FFT plans and scratch.
 struct bp_focuser::worker {
     gr::fft::fft_complex_fwd fwd;
     gr::fft::fft_complex_rev rev;
-    std::vector<int> idx;
-    std::vector<float> mu, frac, sine;
+    std::vector<int> idx, beam;
+    std::vector<float> mu, nu, frac, sine;
     std::vector<gr_complex> demod; // K: exp(-j 2 pi fc_r k) / K (inverse-FFT scale folded in)
+    // FFBP: the plans of the polar subimage's rows (K + 2 E bins), made when E changes.
+    std::unique_ptr<gr::fft::fft_complex_fwd> sub_fwd;
+    std::unique_ptr<gr::fft::fft_complex_rev> sub_rev;
 
     worker(const bp_grid& g)
         : fwd(g.num_range_bins, 1),
           rev(g.num_range_bins * g.upsample, 1),
           idx(g.num_range_bins),
+          beam(g.num_range_bins),
           mu(g.num_range_bins),
+          nu(g.num_range_bins),
           frac(g.num_range_bins),
           sine(g.num_range_bins),
           demod(g.num_range_bins)
@@ -73,6 +84,19 @@ struct bp_focuser::worker {
 
 namespace {
 constexpr unsigned chunk_pulses = 64; // pulses upsampled at once (U K x 64 samples)
+
+// fn(t, lo, hi) on [0, n) split over the threads (t = 0 runs on the caller's).
+template <typename F>
+void split(unsigned threads, unsigned n, F&& fn)
+{
+    if (threads == 1 || n < 2) {
+        fn(0u, 0u, n);
+        return;
+    }
+    std::thread other([&] { fn(1u, n / 2, n); });
+    fn(0u, 0u, n / 2);
+    other.join();
+}
 } // namespace
 
 bp_focuser::bp_focuser(const bp_grid& grid, unsigned num_threads, bool allow_simd)
@@ -86,10 +110,12 @@ bp_focuser::bp_focuser(const bp_grid& grid, unsigned num_threads, bool allow_sim
     d_ground.resize(K);
     d_valid.resize(K);
     const double h = grid.reference_height_m;
+    d_surface_z = grid.ground ? grid.ground_height_m : 0.0;
     for (unsigned k = 0; k < K; ++k) {
         const double r0 = grid.first_range_m + k * grid.range_bin_m;
-        const bool ok = r0 > h;
-        d_ground[k] = ok ? std::sqrt((r0 - h) * (r0 + h)) : 0.0;
+        const bool ok = grid.ground || r0 > h;
+        d_ground[k] = grid.ground ? grid.first_x_m + k * grid.x_spacing_m
+                                  : (ok ? std::sqrt((r0 - h) * (r0 + h)) : 0.0);
         d_valid[k] = ok ? 1.0f : 0.0f;
     }
     d_image.assign(static_cast<size_t>(grid.num_lines) * K, gr_complex(0.0f, 0.0f));
@@ -107,24 +133,37 @@ void bp_focuser::reset(double first_y_m)
     d_pulses = 0;
 }
 
-// Demodulate, K-point FFT, zero padding in the middle (the spectrum is centred at 0 after
-// demodulation), U K-point inverse FFT: out[U k] = pulse[k] exp(-j 2 pi fc_r k).
-void bp_focuser::upsample(worker& w, const gr_complex* pulse, gr_complex* out)
+namespace {
+// K-point FFT of in (times demod[k], or 1 / K without), zero padding in the middle (the
+// spectrum is centred at 0), U K-point inverse FFT: out[U k] = in[k] (demod[k] K).
+void upsample_row(gr::fft::fft_complex_fwd& fwd,
+                  gr::fft::fft_complex_rev& rev,
+                  const gr_complex* in,
+                  const gr_complex* demod,
+                  gr_complex* out)
 {
-    const unsigned K = d_grid.num_range_bins;
-    const unsigned L = K * d_grid.upsample;
-    gr_complex* ib = w.fwd.get_inbuf();
+    const unsigned K = fwd.inbuf_length();
+    const unsigned L = rev.inbuf_length();
+    gr_complex* ib = fwd.get_inbuf();
+    const float scale = 1.0f / K;
     for (unsigned k = 0; k < K; ++k)
-        ib[k] = pulse[k] * w.demod[k];
-    w.fwd.execute();
-    const gr_complex* spec = w.fwd.get_outbuf();
-    gr_complex* rb = w.rev.get_inbuf();
+        ib[k] = demod ? in[k] * demod[k] : in[k] * scale;
+    fwd.execute();
+    const gr_complex* spec = fwd.get_outbuf();
+    gr_complex* rb = rev.get_inbuf();
     const unsigned pos = (K + 1) / 2, neg = K / 2;
     std::memcpy(rb, spec, sizeof(gr_complex) * pos);
     std::fill(rb + pos, rb + L - neg, gr_complex(0.0f, 0.0f));
     std::memcpy(rb + L - neg, spec + K - neg, sizeof(gr_complex) * neg);
-    w.rev.execute();
-    std::memcpy(out, w.rev.get_outbuf(), sizeof(gr_complex) * L);
+    rev.execute();
+    std::memcpy(out, rev.get_outbuf(), sizeof(gr_complex) * L);
+}
+} // namespace
+
+// Demodulated by exp(-j 2 pi fc_r k) (the spectrum to 0) and upsampled.
+void bp_focuser::upsample(worker& w, const gr_complex* pulse, gr_complex* out)
+{
+    upsample_row(w.fwd, w.rev, pulse, w.demod.data(), out);
 }
 
 void bp_focuser::project_lines(worker& w,
@@ -160,7 +199,8 @@ void bp_focuser::project_lines(worker& w,
             j.profile = profiles + p * L;
             for (unsigned line = t0; line < t1; ++line) {
                 const double dy = d_grid.first_y_m + line * d_grid.line_spacing_m - antenna[p][1];
-                j.c = dy * dy + antenna[p][2] * antenna[p][2];
+                const double dz = d_surface_z - antenna[p][2];
+                j.c = dy * dy + dz * dz;
                 j.acc = &d_image[static_cast<size_t>(line) * K];
                 if (d_simd)
                     bp_detail::project_line_avx2(j);
@@ -173,35 +213,211 @@ void bp_focuser::project_lines(worker& w,
 
 void bp_focuser::add(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna)
 {
-    const unsigned K = d_grid.num_range_bins;
-    const size_t L = static_cast<size_t>(K) * d_grid.upsample;
     for (unsigned p = 0; p < n; ++p)
         for (int ax = 0; ax < 3; ++ax)
             check_finite("antenna position", antenna[p][ax]);
-    std::vector<gr_complex> prof(L * std::min(n, chunk_pulses));
+    if (d_grid.subaperture > 1)
+        add_ffbp(pulses, n, antenna);
+    else
+        add_bp(pulses, n, antenna);
+    d_pulses += n;
+}
+
+// The n pulses' upsampled profiles into prof (n x U K), the threads taking every other one.
+void bp_focuser::upsample_pulses(const gr_complex* pulses, unsigned n, gr_complex* prof)
+{
+    const unsigned K = d_grid.num_range_bins;
+    const size_t L = static_cast<size_t>(K) * d_grid.upsample;
+    auto part = [&](unsigned t) {
+        for (unsigned p = t; p < n; p += d_threads)
+            upsample(*d_workers[t], pulses + static_cast<size_t>(p) * K, prof + p * L);
+    };
+    if (d_threads == 1 || n < 2) {
+        part(0);
+        return;
+    }
+    std::thread other(part, 1u);
+    part(0);
+    other.join();
+}
+
+void bp_focuser::add_bp(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna)
+{
+    const unsigned K = d_grid.num_range_bins;
+    const size_t L = static_cast<size_t>(K) * d_grid.upsample;
+    d_prof.resize(L * std::min(n, chunk_pulses));
     for (unsigned p0 = 0; p0 < n; p0 += chunk_pulses) {
         const unsigned c = std::min(chunk_pulses, n - p0);
-        const unsigned M = d_grid.num_lines;
-        if (d_threads == 1 || M < 2) {
-            for (unsigned p = 0; p < c; ++p)
-                upsample(*d_workers[0], pulses + static_cast<size_t>(p0 + p) * K, &prof[p * L]);
-            project_lines(*d_workers[0], 0, M, prof.data(), c, antenna + p0);
-            continue;
-        }
-        // Two threads: each upsamples half of the chunk, then each projects half the lines.
-        auto half_up = [&](unsigned t) {
-            for (unsigned p = t; p < c; p += 2)
-                upsample(*d_workers[t], pulses + static_cast<size_t>(p0 + p) * K, &prof[p * L]);
-        };
-        std::thread up(half_up, 1u);
-        half_up(0);
-        up.join();
-        const unsigned mid = M / 2;
-        std::thread pr([&] { project_lines(*d_workers[1], mid, M, prof.data(), c, antenna + p0); });
-        project_lines(*d_workers[0], 0, mid, prof.data(), c, antenna + p0);
-        pr.join();
+        upsample_pulses(pulses + static_cast<size_t>(p0) * K, c, d_prof.data());
+        // Each thread projects the chunk onto its half of the lines.
+        split(d_threads, d_grid.num_lines, [&](unsigned t, unsigned lo, unsigned hi) {
+            project_lines(*d_workers[t], lo, hi, d_prof.data(), c, antenna + p0);
+        });
     }
-    d_pulses += n;
+}
+
+void bp_focuser::add_ffbp(const gr_complex* pulses,
+                          unsigned n,
+                          const std::array<double, 3>* antenna)
+{
+    const unsigned K = d_grid.num_range_bins;
+    const unsigned U = d_grid.upsample;
+    const size_t L = static_cast<size_t>(K) * U;
+    const double rho = d_grid.range_bin_m, first = d_grid.first_range_m;
+    const double fcr = d_grid.range_centre_cycles;
+    const double cs = 2.0 / d_grid.wavelength_m + fcr / rho; // cycles per metre of range
+    const double zs = d_surface_z;
+    const unsigned M = d_grid.num_lines;
+    const double y0 = d_grid.first_y_m, y1 = y0 + (M - 1) * d_grid.line_spacing_m;
+    for (unsigned s0 = 0; s0 < n; s0 += d_grid.subaperture) {
+        const unsigned c = std::min(d_grid.subaperture, n - s0);
+        const std::array<double, 3>& ctr = antenna[s0 + c / 2];
+        const double dz = zs - ctr[2];
+        // The pixels' direction cosines along track as seen from the centre.
+        double umin = 1.0, umax = -1.0;
+        for (double y : { y0, y1 })
+            for (unsigned k = 0; k < K; ++k) {
+                if (d_valid[k] == 0.0f)
+                    continue;
+                const double dx = d_ground[k] - ctr[0], dy = y - ctr[1];
+                const double u = dy / std::sqrt(dx * dx + dy * dy + dz * dz);
+                umin = std::min(umin, u);
+                umax = std::max(umax, u);
+            }
+        if (umin > umax)
+            return; // no pixel on the surface
+        // Nyquist beam spacing of the subaperture: the baseband phase 2 pi cs (R_p - r)
+        // changes with u by at most cs D / sqrt(1 - u^2) cycles per unit.
+        double dmax = 0.0;
+        for (unsigned p = 0; p < c; ++p) {
+            const auto& a = antenna[s0 + p];
+            dmax = std::max(dmax, std::hypot(a[0] - ctr[0], a[1] - ctr[1], a[2] - ctr[2]));
+        }
+        const double umag = std::min(0.999, std::max(std::abs(umin), std::abs(umax)));
+        const double band = 2.0 * cs * dmax / std::sqrt(1.0 - umag * umag);
+        const double span = std::max(umax - umin, 1e-9);
+        const double du = band > 0.0 ? std::min(span, 1.0 / (band * d_grid.beam_oversample)) : span;
+        const unsigned B = static_cast<unsigned>(std::ceil(span / du)) + 3;
+        const double u0 = umin - du;
+        d_beams = B;
+
+        // Polar points: range r_i x beam u_b on the imaged surface. The ranges are the
+        // input bins and E more on either side: a pixel up to D beyond the input window
+        // still sees pulses inside it.
+        const unsigned E = static_cast<unsigned>(std::ceil(dmax / rho)) + 1;
+        const unsigned Kp = K + 2 * E;
+        const size_t Lp = static_cast<size_t>(Kp) * U;
+        const double first_p = first - E * rho;
+        const size_t BK = static_cast<size_t>(B) * Kp;
+        d_px.resize(BK);
+        d_py.resize(BK);
+        d_pvalid.resize(BK);
+        for (unsigned b = 0; b < B; ++b) {
+            const double u = u0 + b * du;
+            for (unsigned i = 0; i < Kp; ++i) {
+                const double r = first_p + i * rho;
+                const double g2 = r * r * (1.0 - u * u) - dz * dz;
+                const size_t o = static_cast<size_t>(b) * Kp + i;
+                d_px[o] = ctr[0] + std::sqrt(std::max(g2, 0.0));
+                d_py[o] = ctr[1] + u * r;
+                d_pvalid[o] = g2 > 0.0 && r > 0.0 ? 1.0f : 0.0f;
+            }
+        }
+        for (auto& w : d_workers) {
+            if (!w->sub_fwd || static_cast<unsigned>(w->sub_fwd->inbuf_length()) != Kp) {
+                w->sub_fwd = std::make_unique<gr::fft::fft_complex_fwd>(Kp, 1);
+                w->sub_rev = std::make_unique<gr::fft::fft_complex_rev>(Kp * U, 1);
+            }
+            for (auto* v : { &w->mu, &w->nu, &w->frac, &w->sine })
+                v->resize(std::max(Kp, K));
+            w->idx.resize(std::max(Kp, K));
+            w->beam.resize(std::max(Kp, K));
+        }
+        d_sub.assign(BK, gr_complex(0.0f, 0.0f));
+        d_sub_up.resize(static_cast<size_t>(B) * Lp);
+        d_prof.resize(L * c);
+        upsample_pulses(pulses + static_cast<size_t>(s0) * K, c, d_prof.data());
+
+        // Stage 1: the subaperture's pulses onto the beams (the threads split the beams),
+        // then each beam to baseband and upsampled.
+        const double co = fcr * first / rho;
+        split(d_threads, B, [&](unsigned t, unsigned lo, unsigned hi) {
+            worker& w = *d_workers[t];
+            bp_detail::line_job j;
+            j.pos_scale = U / rho;
+            j.pos_offset = U * first / rho;
+            j.cyc_scale = cs;
+            j.cyc_offset = co;
+            j.last = static_cast<int>(U * (K - 1)) - 1;
+            j.K = Kp;
+            j.idx = w.idx.data();
+            j.mu = w.mu.data();
+            j.frac = w.frac.data();
+            j.sine = w.sine.data();
+            for (unsigned b = lo; b < hi; ++b) {
+                const size_t o = static_cast<size_t>(b) * Kp;
+                j.ground = &d_px[o];
+                j.py = &d_py[o];
+                j.valid = &d_pvalid[o];
+                j.acc = &d_sub[o];
+                for (unsigned p = 0; p < c; ++p) {
+                    const auto& a = antenna[s0 + p];
+                    j.ax = a[0];
+                    j.ay = a[1];
+                    j.c = (zs - a[2]) * (zs - a[2]);
+                    j.profile = &d_prof[p * L];
+                    if (d_simd)
+                        bp_detail::project_line_avx2(j);
+                    else
+                        bp_detail::project_line_body(j);
+                }
+                // Baseband: remove exp(j 2 pi (cs r_i - co)), the phase in double.
+                for (unsigned i = 0; i < Kp; ++i) {
+                    const double cyc = cs * (first_p + i * rho) - co;
+                    const double ph = -2.0 * M_PI * (cyc - std::nearbyint(cyc));
+                    d_sub[o + i] *= gr_complex(static_cast<float>(std::cos(ph)),
+                                               static_cast<float>(std::sin(ph)));
+                }
+                upsample_row(*w.sub_fwd, *w.sub_rev, &d_sub[o], nullptr, &d_sub_up[b * Lp]);
+            }
+        });
+
+        // Stage 2: every pixel takes the subimage at its own (r, u) (the threads split the
+        // lines).
+        split(d_threads, M, [&](unsigned t, unsigned lo, unsigned hi) {
+            worker& w = *d_workers[t];
+            bp_detail::merge_job m;
+            m.l.ground = d_ground.data();
+            m.l.valid = d_valid.data();
+            m.l.ax = ctr[0];
+            m.l.pos_scale = U / rho;
+            m.l.pos_offset = U * first_p / rho;
+            m.l.cyc_scale = cs;
+            m.l.cyc_offset = co;
+            m.l.profile = d_sub_up.data();
+            m.l.last = static_cast<int>(U * (Kp - 1)) - 1;
+            m.l.K = K;
+            m.l.idx = w.idx.data();
+            m.l.mu = w.mu.data();
+            m.l.frac = w.frac.data();
+            m.l.sine = w.sine.data();
+            m.u0 = u0;
+            m.inv_du = 1.0 / du;
+            m.last_beam = static_cast<int>(B) - 2;
+            m.row = Lp;
+            m.beam = w.beam.data();
+            m.nu = w.nu.data();
+            for (unsigned line = lo; line < hi; ++line) {
+                m.dy = y0 + line * d_grid.line_spacing_m - ctr[1];
+                m.l.c = m.dy * m.dy + dz * dz;
+                m.l.acc = &d_image[static_cast<size_t>(line) * K];
+                if (d_simd)
+                    bp_detail::merge_line_avx2(m);
+                else
+                    bp_detail::merge_line_body(m);
+            }
+        });
+    }
 }
 
 void bp_focuser::image(gr_complex* out) const
