@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 
 namespace gr {
 namespace nrsar {
@@ -120,6 +121,32 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
     g.first_y_m = d_next_y;
     g.line_spacing_m = dy;
     g.reference_height_m = d_geo.height_m;
+    if (d_cfg.grid == image_grid::GROUND) {
+        // The plane at ground_height_m: x of the first bin and the projected bin spacing.
+        const double dz = d_geo.height_m - d_cfg.ground_height_m;
+        if (!(dz > 0.0))
+            throw_param("ground_height_m", d_cfg.ground_height_m,
+                        "must be below the platform height " + std::to_string(d_geo.height_m));
+        const double r_mid = first_range + 0.5 * (d_K - 1) * range_bin;
+        if (std::isnan(d_cfg.ground_first_x_m) && !(first_range > dz))
+            throw_param("first_range_m (ground grid)", first_range,
+                        "must exceed the height above the grid " + std::to_string(dz) +
+                            " m (or set ground_first_x_m)");
+        if (d_cfg.ground_spacing_m == 0.0 && !(r_mid > dz))
+            throw_param("mid range (ground grid)", r_mid,
+                        "must exceed the height above the grid " + std::to_string(dz) +
+                            " m (or set ground_spacing_m)");
+        g.ground = true;
+        g.ground_height_m = d_cfg.ground_height_m;
+        g.first_x_m = std::isnan(d_cfg.ground_first_x_m)
+                          ? std::sqrt((first_range - dz) * (first_range + dz))
+                          : d_cfg.ground_first_x_m;
+        g.x_spacing_m = d_cfg.ground_spacing_m > 0.0
+                            ? d_cfg.ground_spacing_m
+                            : range_bin * r_mid / std::sqrt((r_mid - dz) * (r_mid + dz));
+    }
+    g.subaperture = d_cfg.ffbp_subaperture;
+    g.beam_oversample = d_cfg.ffbp_beam_oversample;
     d_kernel = std::make_unique<kernel::bp_focuser>(g, d_cfg.num_threads);
     d_pulses.resize(static_cast<size_t>(d_M) * d_K);
     d_antenna.resize(d_M);
@@ -200,11 +227,13 @@ int bp_focuser_impl::drain(gr_complex* out, int noutput, int produced)
                          pmt::make_tuple(pmt::from_double(d_out_y0),
                                          pmt::from_double(d_geo.velocity_mps * d_T),
                                          pmt::from_uint64(d_out_len)));
+            const auto& g = d_kernel->grid();
+            // The columns' axis: slant range, or ground x (ground_range_axis).
             add_item_tag(0,
                          item,
-                         tags::range_axis_key(),
-                         pmt::make_tuple(pmt::from_double(d_kernel->grid().first_range_m),
-                                         pmt::from_double(d_kernel->grid().range_bin_m),
+                         g.ground ? tags::ground_range_axis_key() : tags::range_axis_key(),
+                         pmt::make_tuple(pmt::from_double(g.ground ? g.first_x_m : g.first_range_m),
+                                         pmt::from_double(g.ground ? g.x_spacing_m : g.range_bin_m),
                                          pmt::from_uint64(d_K)));
             if (d_nonfinite_pending) {
                 add_item_tag(0, item, tags::nonfinite_key(), pmt::from_uint64(d_nonfinite_pending));

@@ -27,6 +27,12 @@ void bp_config::validate() const
     if (!std::isnan(range_centre_cycles))
         check_range("range_centre_cycles", range_centre_cycles, -1.0, 1.0);
     check_range("num_threads", num_threads, 1u, 2u);
+    check_finite("ground_height_m", ground_height_m);
+    if (!std::isnan(ground_first_x_m))
+        check_finite("ground_first_x_m", ground_first_x_m);
+    if (!(ground_spacing_m >= 0.0 && std::isfinite(ground_spacing_m)))
+        throw_param("ground_spacing_m", ground_spacing_m, "must be finite and >= 0 (0: automatic)");
+    check_range("ffbp_beam_oversample", ffbp_beam_oversample, 1.0, 64.0);
 }
 
 namespace kernel {
