@@ -145,6 +145,7 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
                             ? d_cfg.ground_spacing_m
                             : range_bin * r_mid / std::sqrt((r_mid - dz) * (r_mid + dz));
     }
+    g.sinc_taps = d_cfg.sinc_taps;
     g.subaperture = d_cfg.ffbp_subaperture;
     g.beam_oversample = d_cfg.ffbp_beam_oversample;
     d_kernel = std::make_unique<kernel::bp_focuser>(g, d_cfg.num_threads);

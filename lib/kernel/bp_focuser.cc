@@ -33,6 +33,13 @@ void bp_config::validate() const
     if (!(ground_spacing_m >= 0.0 && std::isfinite(ground_spacing_m)))
         throw_param("ground_spacing_m", ground_spacing_m, "must be finite and >= 0 (0: automatic)");
     check_range("ffbp_beam_oversample", ffbp_beam_oversample, 1.0, 64.0);
+    if (sinc_taps != 0) {
+        check_range("sinc_taps", sinc_taps, 2u, 32u);
+        if (sinc_taps % 2)
+            throw_param("sinc_taps", sinc_taps, "must be even (0: upsampled linear)");
+        if (ffbp_subaperture > 1)
+            throw_param("sinc_taps", sinc_taps, "must be 0 with FFBP (ffbp_subaperture > 1)");
+    }
 }
 
 namespace kernel {
@@ -56,6 +63,13 @@ void bp_grid::validate() const
         check_finite("ground_height_m", ground_height_m);
     }
     check_range("beam_oversample", beam_oversample, 1.0, 64.0);
+    if (sinc_taps != 0) {
+        check_range("sinc_taps", sinc_taps, 2u, 32u);
+        if (sinc_taps % 2)
+            throw_param("sinc_taps", sinc_taps, "must be even (0: upsampled linear)");
+        if (subaperture > 1)
+            throw_param("sinc_taps", sinc_taps, "must be 0 with FFBP (subaperture > 1)");
+    }
 }
 
 // Per-thread FFT plans and scratch.
@@ -125,6 +139,9 @@ bp_focuser::bp_focuser(const bp_grid& grid, unsigned num_threads, bool allow_sim
         d_valid[k] = ok ? 1.0f : 0.0f;
     }
     d_image.assign(static_cast<size_t>(grid.num_lines) * K, gr_complex(0.0f, 0.0f));
+    if (grid.sinc_taps)
+        d_sinc = std::make_unique<sinc_interpolator>(grid.sinc_taps);
+    d_stride = grid.sinc_taps ? K + grid.sinc_taps : static_cast<size_t>(K) * grid.upsample;
     for (unsigned t = 0; t < num_threads; ++t)
         d_workers.push_back(std::make_unique<worker>(d_grid));
 }
@@ -166,10 +183,19 @@ void upsample_row(gr::fft::fft_complex_fwd& fwd,
 }
 } // namespace
 
-// Demodulated by exp(-j 2 pi fc_r k) (the spectrum to 0) and upsampled.
+// Demodulated by exp(-j 2 pi fc_r k) (the spectrum to 0) and upsampled; for the short sinc
+// demodulated only, between taps / 2 zeros on either side.
 void bp_focuser::upsample(worker& w, const gr_complex* pulse, gr_complex* out)
 {
-    upsample_row(w.fwd, w.rev, pulse, w.demod.data(), out);
+    if (!d_sinc) {
+        upsample_row(w.fwd, w.rev, pulse, w.demod.data(), out);
+        return;
+    }
+    const unsigned K = d_grid.num_range_bins, half = d_grid.sinc_taps / 2;
+    std::fill(out, out + half, gr_complex(0.0f, 0.0f));
+    for (unsigned k = 0; k < K; ++k)
+        out[half + k] = pulse[k] * w.demod[k] * static_cast<float>(K); // demod carries 1 / K
+    std::fill(out + half + K, out + 2 * half + K, gr_complex(0.0f, 0.0f));
 }
 
 void bp_focuser::project_lines(worker& w,
@@ -180,9 +206,14 @@ void bp_focuser::project_lines(worker& w,
                                const std::array<double, 3>* antenna)
 {
     const unsigned K = d_grid.num_range_bins;
-    const unsigned U = d_grid.upsample;
-    const size_t L = static_cast<size_t>(K) * U;
+    const unsigned U = d_sinc ? 1 : d_grid.upsample; // the sinc reads the input bins
+    const size_t L = d_stride;
     bp_detail::line_job j;
+    if (d_sinc) {
+        j.sinc_table = d_sinc->phase_taps(0.0);
+        j.sinc_taps = d_sinc->taps();
+        j.sinc_phases = static_cast<float>(d_sinc->phases());
+    }
     j.ground = d_ground.data();
     j.valid = d_valid.data();
     j.pos_scale = U / d_grid.range_bin_m;
@@ -195,7 +226,7 @@ void bp_focuser::project_lines(worker& w,
     j.mu = w.mu.data();
     j.frac = w.frac.data();
     j.sine = w.sine.data();
-    // Tiles of lines: a pulse's profile (U K samples) is read for every line of the tile
+    // Tiles of lines: a pulse's profile (U K samples, K + taps) is read for every line of the tile
     // while it is in L1, and the tile's accumulators stay in L2.
     const unsigned tile = std::max(1u, 16384u / K);
     for (unsigned t0 = line0; t0 < line1; t0 += tile) {
@@ -233,7 +264,7 @@ void bp_focuser::add(const gr_complex* pulses, unsigned n, const std::array<doub
 void bp_focuser::upsample_pulses(const gr_complex* pulses, unsigned n, gr_complex* prof)
 {
     const unsigned K = d_grid.num_range_bins;
-    const size_t L = static_cast<size_t>(K) * d_grid.upsample;
+    const size_t L = d_stride;
     auto part = [&](unsigned t) {
         for (unsigned p = t; p < n; p += d_threads)
             upsample(*d_workers[t], pulses + static_cast<size_t>(p) * K, prof + p * L);
@@ -250,7 +281,7 @@ void bp_focuser::upsample_pulses(const gr_complex* pulses, unsigned n, gr_comple
 void bp_focuser::add_bp(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna)
 {
     const unsigned K = d_grid.num_range_bins;
-    const size_t L = static_cast<size_t>(K) * d_grid.upsample;
+    const size_t L = d_stride;
     d_prof.resize(L * std::min(n, chunk_pulses));
     for (unsigned p0 = 0; p0 < n; p0 += chunk_pulses) {
         const unsigned c = std::min(chunk_pulses, n - p0);

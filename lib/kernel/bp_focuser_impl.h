@@ -38,6 +38,11 @@ struct line_job {
     const gr_complex* profile = nullptr; //!< upsampled, demodulated profile
     int last = 0;                   //!< last sample an interpolation may start at: U (K - 1) - 1
     unsigned K = 0;
+    //! Short sinc: the interpolator's table ((phases + 1) x taps), or null (linear); the
+    //! profile is then zero padded, sample n at n + taps / 2.
+    const float* sinc_table = nullptr;
+    unsigned sinc_taps = 0;
+    float sinc_phases = 0.0f;
     gr_complex* acc = nullptr;      //!< K accumulators of the line
     int* idx = nullptr;             //!< K scratch
     float* mu = nullptr;            //!< K scratch
@@ -111,11 +116,35 @@ inline void project_line_t(const line_job& j)
     // Pass 2, float: the phase's cosine and sine.
     float* __restrict sines = j.sine;
     phase_pass(K, fracs, sines);
-    // Pass 3: linear interpolation of the profile, complex multiply-accumulate.
     const float* __restrict prof = reinterpret_cast<const float*>(j.profile);
     const float* __restrict valid = j.valid;
     float* __restrict acc = reinterpret_cast<float*>(j.acc);
     const int last = j.last;
+    if (j.sinc_table) {
+        // Pass 3, short sinc: the taps of the nearest tabulated phase on the padded profile.
+        const unsigned T = j.sinc_taps;
+        const float P = j.sinc_phases;
+        for (unsigned k = 0; k < K; ++k) {
+            const int i = idx[k];
+            const bool in = i >= 0 && i <= last;
+            const int ic = in ? i : 0;
+            const float w = valid[k] * (in ? 1.0f : 0.0f);
+            const float* h = j.sinc_table + static_cast<size_t>(mus[k] * P + 0.5f) * T;
+            const float* x = prof + 2 * (ic + 1);
+            float re = 0.0f, im = 0.0f;
+            for (unsigned t = 0; t < T; ++t) {
+                re += h[t] * x[2 * t];
+                im += h[t] * x[2 * t + 1];
+            }
+            re *= w;
+            im *= w;
+            const float cs = fracs[k], sn = sines[k];
+            acc[2 * k] += re * cs - im * sn;
+            acc[2 * k + 1] += re * sn + im * cs;
+        }
+        return;
+    }
+    // Pass 3: linear interpolation of the profile, complex multiply-accumulate.
     for (unsigned k = 0; k < K; ++k) {
         const int i = idx[k];
         const bool in = i >= 0 && i <= last;

@@ -41,6 +41,9 @@ struct NRSAR_API bp_config {
     //! Centre of the range spectrum [cycles per range bin], as
     //! focuser_config::range_centre_cycles (NaN: (N - 1) Delta f rho / c).
     double range_centre_cycles = std::numeric_limits<double>::quiet_NaN();
+    //! Range interpolation: 0 = upsampled by U, linear; an even 2..32 = a Kaiser-windowed
+    //! sinc of that many taps on the input bins (exact BP only; docs: the trade-off).
+    unsigned sinc_taps = 0;
     //! Worker threads of the back-projection (1 or 2: the image lines are split).
     unsigned num_threads = 1;
     //! The image grid; GROUND: column k at x = ground_first_x_m + k ground_spacing_m.

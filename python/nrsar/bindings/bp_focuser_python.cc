@@ -42,6 +42,7 @@ void bind_bp_focuser(py::module& m)
                          double band_margin_hz,
                          double range_centre_cycles,
                          unsigned num_threads,
+                         unsigned sinc_taps,
                          gr::nrsar::image_grid grid,
                          double ground_height_m,
                          double ground_first_x_m,
@@ -55,6 +56,7 @@ void bind_bp_focuser(py::module& m)
                  c.band_margin_hz = band_margin_hz;
                  c.range_centre_cycles = range_centre_cycles;
                  c.num_threads = num_threads;
+                 c.sinc_taps = sinc_taps;
                  c.grid = grid;
                  c.ground_height_m = ground_height_m;
                  c.ground_first_x_m = ground_first_x_m;
@@ -69,6 +71,7 @@ void bind_bp_focuser(py::module& m)
              py::arg("band_margin_hz") = -1.0,
              py::arg("range_centre_cycles") = std::numeric_limits<double>::quiet_NaN(),
              py::arg("num_threads") = 1u,
+             py::arg("sinc_taps") = 0u,
              py::arg("grid") = gr::nrsar::image_grid::SLANT,
              py::arg("ground_height_m") = 0.0,
              py::arg("ground_first_x_m") = std::numeric_limits<double>::quiet_NaN(),
@@ -82,6 +85,7 @@ void bind_bp_focuser(py::module& m)
         .def_readwrite("band_margin_hz", &bp_config::band_margin_hz)
         .def_readwrite("range_centre_cycles", &bp_config::range_centre_cycles)
         .def_readwrite("num_threads", &bp_config::num_threads)
+        .def_readwrite("sinc_taps", &bp_config::sinc_taps)
         .def_readwrite("grid", &bp_config::grid)
         .def_readwrite("ground_height_m", &bp_config::ground_height_m)
         .def_readwrite("ground_first_x_m", &bp_config::ground_first_x_m)

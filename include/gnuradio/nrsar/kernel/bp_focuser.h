@@ -11,6 +11,7 @@
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/sinc_interpolator.h>
 #include <array>
 #include <memory>
 #include <vector>
@@ -38,6 +39,10 @@ struct NRSAR_API bp_grid {
     double first_x_m = 0.0;       //!< cross-track position of column 0 [m]
     double x_spacing_m = 0.0;     //!< dx [m]
     double ground_height_m = 0.0; //!< z of the grid's plane [m]
+    //! Range interpolation: 0 = the profile upsampled U times, linearly interpolated; an
+    //! even 2..32 = a Kaiser-windowed sinc of that many taps on the input bins (U unused;
+    //! exact BP only).
+    unsigned sinc_taps = 0;
     //! Fast factorized back-projection: pulses per subaperture (0 or 1: exact BP).
     unsigned subaperture = 0;
     //! FFBP's beams per Nyquist beam of the subaperture's angular bandwidth (>= 1).
@@ -67,6 +72,9 @@ struct NRSAR_API bp_grid {
  * the N subcarriers), a unit target seen by all M pulses of the aperture focuses to
  * sqrt(N) M / sqrt(M) = sqrt(N M) at its pixel; white input noise of variance sigma^2 gives
  * pixel noise of about sigma^2 (unitary, as rd_focuser).
+ * Short sinc (sinc_taps L > 0) instead of steps 1-2's upsampling and linear interpolation:
+ * the demodulated profile at q by the L-tap Kaiser-windowed sinc of kernel::sinc_interpolator
+ * (its table of 1024 phases, samples outside [0, K) zero).
  * Ground grid: the same per pixel with the point (x_k, y_j, h).
  *
  * FFBP (subaperture L > 1): the pulses of each add() call are taken L at a time. Each
@@ -125,6 +133,8 @@ private:
     std::vector<float> d_valid;   // K: 1 where the pixel has a ground point
     std::vector<gr_complex> d_image;
     std::vector<std::unique_ptr<worker>> d_workers;
+    std::unique_ptr<sinc_interpolator> d_sinc; // sinc_taps > 0
+    size_t d_stride = 0; // samples per prepared profile: U K, or K + taps (sinc, zero padded)
 
     void upsample(worker& w, const gr_complex* pulse, gr_complex* out);
     void upsample_pulses(const gr_complex* pulses, unsigned n, gr_complex* prof);
