@@ -272,40 +272,30 @@ int bp_focuser_impl::general_work(int noutput_items,
     const int navail = ninput_items[0];
     const bool upstream_done = input_ended(detail(), navail);
 
-    int produced = drain(out, noutput_items, 0);
     std::vector<tag_t> tags;
     get_tags_in_range(tags, 0, d_lines_in, nread + navail);
     std::sort(tags.begin(), tags.end(), tag_t::offset_compare);
-    size_t next_tag = 0;
-    while (produced < noutput_items && d_out_pos >= d_out_len) {
-        const uint64_t next = d_lines_in;
-        const int i = static_cast<int>(next - nread);
-        if (i < navail) {
-            while (next_tag < tags.size() && tags[next_tag].offset <= next)
-                handle_tag(tags[next_tag++]);
-            uint64_t end = nread + navail;
-            if (next_tag < tags.size())
-                end = std::min<uint64_t>(end, tags[next_tag].offset);
-            const unsigned n = static_cast<unsigned>(std::min<uint64_t>(end - next, d_M - d_fill));
-            ingest(in + static_cast<size_t>(i) * d_K, n);
-            if (d_fill == d_M)
-                process_aperture();
-        } else if (upstream_done && !d_flush_done) {
-            // End of stream: the partial aperture from the pulses received.
-            if (d_fill > 0)
-                process_aperture();
-            else
-                d_flush_done = true;
-        } else {
-            break;
-        }
-        produced = drain(out, noutput_items, produced);
-    }
-    int consume = static_cast<int>(d_lines_in - nread);
-    if (!(upstream_done && d_flush_done && d_out_pos >= d_out_len))
-        consume = std::min(consume, navail - 1);
-    consume_each(std::max(consume, 0));
-    return produced;
+    // The block's side of the shared input loop (focuser_stream.h).
+    struct side {
+        bp_focuser_impl& b;
+        gr_complex* out;
+        int noutput;
+        int produced = 0;
+        uint64_t lines_in() const { return b.d_lines_in; }
+        void handle_tag(const tag_t& t) { b.handle_tag(t); }
+        unsigned room() const { return b.d_M - b.d_fill; }
+        void ingest(const gr_complex* lines, unsigned n) { b.ingest(lines, n); }
+        bool block_full() const { return b.d_fill == b.d_M; }
+        // End of stream: the partial aperture from the pulses received.
+        bool flush_due() const { return b.d_fill > 0; }
+        void focus() { b.process_aperture(); }
+        bool queues_empty() const { return b.d_out_pos >= b.d_out_len; }
+        bool wants_input() const { return produced < noutput && queues_empty(); }
+        void drain() { produced = b.drain(out, noutput, produced); }
+    } s{ *this, out, noutput_items };
+    consume_each(
+        focuser_stream_loop(s, tags, in, d_K, nread, navail, upstream_done, d_flush_done));
+    return s.produced;
 }
 
 bool bp_focuser_impl::stop()

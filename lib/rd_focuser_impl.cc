@@ -240,51 +240,43 @@ int rd_focuser_impl::general_work(int noutput_items,
     d_want_rd = output_items.size() > 1;
     auto* rd_out = d_want_rd ? static_cast<gr_complex*>(output_items[1]) : nullptr;
 
-    int produced = drain(out, noutput_items, 0);
-    int produced_rd = d_want_rd ? drain_rd(rd_out, noutput_items, 0) : 0;
     // The tags of everything not yet ingested, in offset order.
     std::vector<tag_t> tags;
     get_tags_in_range(tags, 0, d_focuser.lines_in(), nread + navail);
     std::sort(tags.begin(), tags.end(), tag_t::offset_compare);
-    size_t next_tag = 0;
-    while (produced < noutput_items && queues_empty()) {
-        const uint64_t next = d_focuser.lines_in(); // absolute index of the next line to ingest
-        const int i = static_cast<int>(next - nread);
-        if (i < navail) {
-            while (next_tag < tags.size() && tags[next_tag].offset <= next)
-                handle_tag(tags[next_tag++]);
-            prepare();
-            // Ingest up to the next tag, the end of the input or a full block.
-            uint64_t end = nread + navail;
-            if (next_tag < tags.size())
-                end = std::min<uint64_t>(end, tags[next_tag].offset);
-            const unsigned n =
-                static_cast<unsigned>(std::min<uint64_t>(end - next, d_focuser.room()));
-            ingest(in + static_cast<size_t>(i) * d_K, n);
-            if (d_focuser.block_full())
-                focus();
-        } else if (upstream_done && !d_flush_done) {
-            // End of stream: emit, zero padded, every aperture whose own pulses
-            // [iM, iM + M) were (partly) received.
-            if (d_focuser.flush_due()) {
-                focus();
-            } else {
-                d_flush_done = true;
-            }
-        } else {
-            break;
+    // The block's side of the shared input loop (focuser_stream.h).
+    struct side {
+        rd_focuser_impl& b;
+        gr_complex* out;
+        gr_complex* rd_out;
+        int noutput;
+        int produced = 0;
+        int produced_rd = 0;
+        uint64_t lines_in() const { return b.d_focuser.lines_in(); }
+        void handle_tag(const tag_t& t) { b.handle_tag(t); }
+        unsigned room()
+        {
+            b.prepare(); // after an axis tag: the kernel of the new axes
+            return b.d_focuser.room();
         }
-        produced = drain(out, noutput_items, produced);
-        if (d_want_rd)
-            produced_rd = drain_rd(rd_out, noutput_items, produced_rd);
-    }
-
-    // Consume what was ingested, holding the last item back until the stream ends and
-    // everything is flushed.
-    int consume = static_cast<int>(d_focuser.lines_in() - nread);
-    if (!(upstream_done && d_flush_done && queues_empty()))
-        consume = std::min(consume, navail - 1);
-    consume_each(std::max(consume, 0));
+        void ingest(const gr_complex* lines, unsigned n) { b.ingest(lines, n); }
+        bool block_full() const { return b.d_focuser.block_full(); }
+        // End of stream: emit, zero padded, every aperture whose own pulses [iM, iM + M)
+        // were (partly) received.
+        bool flush_due() const { return b.d_focuser.flush_due(); }
+        void focus() { b.focus(); }
+        bool queues_empty() const { return b.queues_empty(); }
+        bool wants_input() const { return produced < noutput && b.queues_empty(); }
+        void drain()
+        {
+            produced = b.drain(out, noutput, produced);
+            if (b.d_want_rd)
+                produced_rd = b.drain_rd(rd_out, noutput, produced_rd);
+        }
+    } s{ *this, out, rd_out, noutput_items };
+    consume_each(
+        focuser_stream_loop(s, tags, in, d_K, nread, navail, upstream_done, d_flush_done));
+    const int produced = s.produced, produced_rd = s.produced_rd;
     if (!d_want_rd)
         return produced;
     produce(0, produced);
