@@ -83,8 +83,10 @@ inline void phase_pass(unsigned K, float* __restrict fracs, float* __restrict si
     }
 }
 
+// Passes 1 and 2 of one pulse onto one line: idx, mu, and the phase's cosine (in frac) and
+// sine.
 template <bool per_pixel_y>
-inline void project_line_t(const line_job& j)
+inline void position_phase_passes(const line_job& j)
 {
     // Locals with __restrict: the stores to the scratch and accumulator arrays cannot alias
     // the inputs, so both passes vectorise.
@@ -114,8 +116,25 @@ inline void project_line_t(const line_job& j)
         fracs[k] = static_cast<float>(cyc - rc);
     }
     // Pass 2, float: the phase's cosine and sine.
-    float* __restrict sines = j.sine;
-    phase_pass(K, fracs, sines);
+    phase_pass(K, fracs, j.sine);
+}
+
+inline void position_phase_passes(const line_job& j)
+{
+    if (j.py)
+        position_phase_passes<true>(j);
+    else
+        position_phase_passes<false>(j);
+}
+
+// Pass 3: the profile at the positions (short sinc or linear), times the phase, summed.
+inline void interpolate_pass(const line_job& j)
+{
+    const unsigned K = j.K;
+    const int* __restrict idx = j.idx;
+    const float* __restrict mus = j.mu;
+    const float* __restrict fracs = j.frac;
+    const float* __restrict sines = j.sine;
     const float* __restrict prof = reinterpret_cast<const float*>(j.profile);
     const float* __restrict valid = j.valid;
     float* __restrict acc = reinterpret_cast<float*>(j.acc);
@@ -163,10 +182,8 @@ inline void project_line_t(const line_job& j)
 
 inline void project_line_body(const line_job& j)
 {
-    if (j.py)
-        project_line_t<true>(j);
-    else
-        project_line_t<false>(j);
+    position_phase_passes(j);
+    interpolate_pass(j);
 }
 
 inline void merge_line_body(const merge_job& m)
