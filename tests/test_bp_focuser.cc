@@ -373,8 +373,9 @@ TEST(bp_focuser, ffbp_converges_to_back_projection)
             EXPECT_LE(ratio, 1.001);
             EXPECT_GE(ratio, 1.0 - std::pow(M_PI / os, 2) / 8.0);
             if (L == 8u) {
-                if (os > 2.0)
+                if (os > 2.0) {
                     EXPECT_LT(e, prev - 9.0) << "os " << os; // 12 dB per doubling
+                }
                 prev = e;
             }
         }
@@ -400,10 +401,12 @@ TEST(bp_focuser, short_sinc_interpolation)
         // of the 1024-phase table (shift error up to 1/2048 bin: -61 dB at b = 0.5).
         const double e = nmse_db(img, limit);
         std::printf("sinc %2u taps: NMSE against U = infinity %.1f dB\n", taps, e);
-        if (taps == 8)
+        if (taps == 8) {
             EXPECT_LT(e, prev - 6.0);
-        if (taps == 16)
+        }
+        if (taps == 16) {
             EXPECT_LT(e, prev + 0.5);
+        }
         prev = e;
     }
     bp_grid g = grid(8);
