@@ -13,10 +13,26 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 #include <thread>
 
 namespace gr {
 namespace nrsar {
+
+namespace {
+// The short sinc: 0 (off) or an even 2..32, not with FFBP (its subimages are upsampled).
+void check_sinc_taps(unsigned taps, unsigned subaperture, const char* subaperture_name)
+{
+    if (taps == 0)
+        return;
+    check_range("sinc_taps", taps, 2u, 32u);
+    if (taps % 2)
+        throw_param("sinc_taps", taps, "must be even (0: upsampled linear)");
+    if (subaperture > 1)
+        throw_param("sinc_taps", taps, std::string("must be 0 with FFBP (") + subaperture_name +
+                                           " > 1)");
+}
+} // namespace
 
 void bp_config::validate() const
 {
@@ -33,13 +49,7 @@ void bp_config::validate() const
     if (!(ground_spacing_m >= 0.0 && std::isfinite(ground_spacing_m)))
         throw_param("ground_spacing_m", ground_spacing_m, "must be finite and >= 0 (0: automatic)");
     check_range("ffbp_beam_oversample", ffbp_beam_oversample, 1.0, 64.0);
-    if (sinc_taps != 0) {
-        check_range("sinc_taps", sinc_taps, 2u, 32u);
-        if (sinc_taps % 2)
-            throw_param("sinc_taps", sinc_taps, "must be even (0: upsampled linear)");
-        if (ffbp_subaperture > 1)
-            throw_param("sinc_taps", sinc_taps, "must be 0 with FFBP (ffbp_subaperture > 1)");
-    }
+    check_sinc_taps(sinc_taps, ffbp_subaperture, "ffbp_subaperture");
 }
 
 namespace kernel {
@@ -63,13 +73,7 @@ void bp_grid::validate() const
         check_finite("ground_height_m", ground_height_m);
     }
     check_range("beam_oversample", beam_oversample, 1.0, 64.0);
-    if (sinc_taps != 0) {
-        check_range("sinc_taps", sinc_taps, 2u, 32u);
-        if (sinc_taps % 2)
-            throw_param("sinc_taps", sinc_taps, "must be even (0: upsampled linear)");
-        if (subaperture > 1)
-            throw_param("sinc_taps", sinc_taps, "must be 0 with FFBP (subaperture > 1)");
-    }
+    check_sinc_taps(sinc_taps, subaperture, "subaperture");
 }
 
 // Per-thread FFT plans and scratch.
