@@ -109,6 +109,25 @@ struct bp_focuser::worker {
 namespace {
 constexpr unsigned chunk_pulses = 64; // pulses upsampled at once (U K x 64 samples)
 
+// A job on the pulses' range axis, U samples per bin: position and phase scales, the last
+// interpolation start, K, and the worker's scratch.
+template <typename W>
+bp_detail::line_job range_job(const bp_grid& g, unsigned U, W& w)
+{
+    bp_detail::line_job j;
+    j.pos_scale = U / g.range_bin_m;
+    j.pos_offset = U * g.first_range_m / g.range_bin_m;
+    j.cyc_scale = 2.0 / g.wavelength_m + g.range_centre_cycles / g.range_bin_m;
+    j.cyc_offset = g.range_centre_cycles * g.first_range_m / g.range_bin_m;
+    j.last = static_cast<int>(U * (g.num_range_bins - 1)) - 1;
+    j.K = g.num_range_bins;
+    j.idx = w.idx.data();
+    j.mu = w.mu.data();
+    j.frac = w.frac.data();
+    j.sine = w.sine.data();
+    return j;
+}
+
 // fn(t, lo, hi) on [0, n) split over the threads (t = 0 runs on the caller's).
 template <typename F>
 void split(unsigned threads, unsigned n, F&& fn)
@@ -212,7 +231,7 @@ void bp_focuser::project_lines(worker& w,
     const unsigned K = d_grid.num_range_bins;
     const unsigned U = d_sinc ? 1 : d_grid.upsample; // the sinc reads the input bins
     const size_t L = d_stride;
-    bp_detail::line_job j;
+    bp_detail::line_job j = range_job(d_grid, U, w);
     if (d_sinc) {
         j.sinc_table = d_sinc->phase_taps(0.0);
         j.sinc_taps = d_sinc->taps();
@@ -220,16 +239,6 @@ void bp_focuser::project_lines(worker& w,
     }
     j.ground = d_ground.data();
     j.valid = d_valid.data();
-    j.pos_scale = U / d_grid.range_bin_m;
-    j.pos_offset = U * d_grid.first_range_m / d_grid.range_bin_m;
-    j.cyc_scale = 2.0 / d_grid.wavelength_m + d_grid.range_centre_cycles / d_grid.range_bin_m;
-    j.cyc_offset = d_grid.range_centre_cycles * d_grid.first_range_m / d_grid.range_bin_m;
-    j.last = static_cast<int>(U * (K - 1)) - 1;
-    j.K = K;
-    j.idx = w.idx.data();
-    j.mu = w.mu.data();
-    j.frac = w.frac.data();
-    j.sine = w.sine.data();
     // Tiles of lines: a pulse's profile (U K samples, K + taps) is read for every line of the tile
     // while it is in L1, and the tile's accumulators stay in L2.
     const unsigned tile = std::max(1u, 16384u / K);
@@ -384,17 +393,8 @@ void bp_focuser::add_ffbp(const gr_complex* pulses,
         const double co = fcr * first / rho;
         split(d_threads, B, [&](unsigned t, unsigned lo, unsigned hi) {
             worker& w = *d_workers[t];
-            bp_detail::line_job j;
-            j.pos_scale = U / rho;
-            j.pos_offset = U * first / rho;
-            j.cyc_scale = cs;
-            j.cyc_offset = co;
-            j.last = static_cast<int>(U * (K - 1)) - 1;
-            j.K = Kp;
-            j.idx = w.idx.data();
-            j.mu = w.mu.data();
-            j.frac = w.frac.data();
-            j.sine = w.sine.data();
+            bp_detail::line_job j = range_job(d_grid, U, w);
+            j.K = Kp; // the polar points, read from the pulses' K bins
             for (unsigned b = lo; b < hi; ++b) {
                 const size_t o = static_cast<size_t>(b) * Kp;
                 j.ground = &d_px[o];
@@ -428,20 +428,13 @@ void bp_focuser::add_ffbp(const gr_complex* pulses,
         split(d_threads, M, [&](unsigned t, unsigned lo, unsigned hi) {
             worker& w = *d_workers[t];
             bp_detail::merge_job m;
+            m.l = range_job(d_grid, U, w);
             m.l.ground = d_ground.data();
             m.l.valid = d_valid.data();
             m.l.ax = ctr[0];
-            m.l.pos_scale = U / rho;
-            m.l.pos_offset = U * first_p / rho;
-            m.l.cyc_scale = cs;
-            m.l.cyc_offset = co;
+            m.l.pos_offset = U * first_p / rho; // the polar rows start E bins earlier
             m.l.profile = d_sub_up.data();
             m.l.last = static_cast<int>(U * (Kp - 1)) - 1;
-            m.l.K = K;
-            m.l.idx = w.idx.data();
-            m.l.mu = w.mu.data();
-            m.l.frac = w.frac.data();
-            m.l.sine = w.sine.data();
             m.u0 = u0;
             m.inv_du = 1.0 / du;
             m.last_beam = static_cast<int>(B) - 2;
