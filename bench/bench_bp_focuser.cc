@@ -25,6 +25,8 @@ static void run(benchmark::State& state, bool simd)
     const unsigned P = static_cast<unsigned>(state.range(1)); // pulses = image lines
     const unsigned U = static_cast<unsigned>(state.range(2));
     const unsigned threads = static_cast<unsigned>(state.range(3));
+    const unsigned taps = state.range(4); // short sinc (0: upsampled linear)
+    const unsigned sub = state.range(5);  // FFBP subaperture (0: exact BP)
     const double T = 1.0 / 2400.0, v = 50.0; // presummed paper rate
     bp_grid g;
     g.num_range_bins = K;
@@ -37,6 +39,9 @@ static void run(benchmark::State& state, bool simd)
     g.first_y_m = 50.0;
     g.line_spacing_m = v * T;
     g.reference_height_m = 1000.0 * 0.7;
+    g.sinc_taps = taps;
+    g.subaperture = sub;
+    g.beam_oversample = 8.0;
     bp_focuser bp(g, threads, simd);
     std::mt19937 rng(1); // seeded: every benchmark projects the same data
     std::normal_distribution<float> gauss;
@@ -56,17 +61,26 @@ static void run(benchmark::State& state, bool simd)
     state.counters["bp_per_s"] = benchmark::Counter(
         double(K) * P * P * state.iterations(), benchmark::Counter::kIsRate);
     state.counters["simd"] = bp.simd();
+    state.counters["beams"] = bp.beams();
 }
 
 static void BM_bp_simd(benchmark::State& s) { run(s, true); }
 static void BM_bp_generic(benchmark::State& s) { run(s, false); }
 
-// K, pulses (= lines), U, threads.
+// K, pulses (= lines), U, threads, sinc taps, FFBP subaperture (bp_per_s counts the exact
+// BP's K P^2 back-projections, so FFBP's is its equivalent rate).
 BENCHMARK(BM_bp_simd)
-    ->Args({ 256, 512, 8, 1 })
-    ->Args({ 256, 512, 8, 2 })
-    ->Args({ 256, 512, 2, 1 })
-    ->Args({ 256, 512, 32, 1 })
+    ->Args({ 256, 512, 8, 1, 0, 0 })
+    ->Args({ 256, 512, 8, 2, 0, 0 })
+    ->Args({ 256, 512, 2, 1, 0, 0 })
+    ->Args({ 256, 512, 32, 1, 0, 0 })
+    ->Args({ 256, 512, 8, 1, 8, 0 })
+    ->Args({ 256, 512, 8, 1, 16, 0 })
+    ->Args({ 256, 512, 8, 1, 0, 16 })
+    ->Args({ 256, 512, 8, 1, 0, 32 })
+    ->Args({ 256, 512, 8, 1, 0, 64 })
+    // The paper-full aperture (4800 presummed pulses onto 4800 lines, FFBP, both cores).
+    ->Args({ 256, 4800, 8, 2, 0, 64 })
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK(BM_bp_generic)->Args({ 256, 512, 8, 1 })->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_bp_generic)->Args({ 256, 512, 8, 1, 0, 0 })->Unit(benchmark::kMillisecond)->UseRealTime();

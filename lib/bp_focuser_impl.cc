@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
 
 namespace gr {
 namespace nrsar {
@@ -41,8 +42,6 @@ double default_range_bin(const numerology& num, double range_bin_m)
     check_finite_positive("range_bin_m", range_bin_m);
     return range_bin_m;
 }
-
-bool differs(double a, double b) { return std::abs(a - b) > 1e-9 * std::max(1.0, std::abs(b)); }
 } // namespace
 
 bp_focuser_impl::bp_focuser_impl(const numerology& num,
@@ -122,6 +121,33 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
     g.first_y_m = d_next_y;
     g.line_spacing_m = dy;
     g.reference_height_m = d_geo.height_m;
+    if (d_cfg.grid == image_grid::GROUND) {
+        // The plane at ground_height_m: x of the first bin and the projected bin spacing.
+        const double dz = d_geo.height_m - d_cfg.ground_height_m;
+        if (!(dz > 0.0))
+            throw_param("ground_height_m", d_cfg.ground_height_m,
+                        "must be below the platform height " + std::to_string(d_geo.height_m));
+        const double r_mid = first_range + 0.5 * (d_K - 1) * range_bin;
+        if (std::isnan(d_cfg.ground_first_x_m) && !(first_range > dz))
+            throw_param("first_range_m (ground grid)", first_range,
+                        "must exceed the height above the grid " + std::to_string(dz) +
+                            " m (or set ground_first_x_m)");
+        if (d_cfg.ground_spacing_m == 0.0 && !(r_mid > dz))
+            throw_param("mid range (ground grid)", r_mid,
+                        "must exceed the height above the grid " + std::to_string(dz) +
+                            " m (or set ground_spacing_m)");
+        g.ground = true;
+        g.ground_height_m = d_cfg.ground_height_m;
+        g.first_x_m = std::isnan(d_cfg.ground_first_x_m)
+                          ? std::sqrt((first_range - dz) * (first_range + dz))
+                          : d_cfg.ground_first_x_m;
+        g.x_spacing_m = d_cfg.ground_spacing_m > 0.0
+                            ? d_cfg.ground_spacing_m
+                            : range_bin * r_mid / std::sqrt((r_mid - dz) * (r_mid + dz));
+    }
+    g.sinc_taps = d_cfg.sinc_taps;
+    g.subaperture = d_cfg.ffbp_subaperture;
+    g.beam_oversample = d_cfg.ffbp_beam_oversample;
     d_kernel = std::make_unique<kernel::bp_focuser>(g, d_cfg.num_threads);
     d_pulses.resize(static_cast<size_t>(d_M) * d_K);
     d_antenna.resize(d_M);
@@ -133,34 +159,11 @@ void bp_focuser_impl::handle_tag(const tag_t& tag)
     double T = d_pending ? d_pending_T : d_T;
     double r0 = d_pending ? d_pending_first_range : d_first_range;
     double rho = d_pending ? d_pending_range_bin : d_range_bin;
-    if (pmt::eq(tag.key, tags::pulse_interval_key())) {
-        if (!parse_pulse_interval(tag.value, T)) {
-            d_logger->warn("ignoring pulse_interval tag with value {}", pmt::write_string(tag.value));
-            return;
-        }
-    } else if (pmt::eq(tag.key, tags::range_axis_key())) {
-        double first = 0.0, step = 0.0;
-        uint64_t k = 0;
-        if (!parse_range_axis(tag.value, first, step, k) || k != d_K || !(first >= 0.0) ||
-            !(step > 0.0) || !std::isfinite(first + step)) {
-            d_logger->warn("ignoring range_axis tag {}: the block has {} bins",
-                           pmt::write_string(tag.value),
-                           d_K);
-            return;
-        }
-        if (differs(first, d_ctor_first_range) || differs(step, d_ctor_range_bin))
-            d_logger->warn("range_axis tag ({} m, {} m) differs from the constructor's "
-                           "({} m, {} m): using the tag",
-                           first,
-                           step,
-                           d_ctor_first_range,
-                           d_ctor_range_bin);
-        r0 = first;
-        rho = step;
-    } else {
+    if (!axes_from_tag(tag, d_K, d_ctor_first_range, d_ctor_range_bin, d_logger, T, r0, rho))
         return;
-    }
-    if (!differs(T, d_T) && !differs(r0, d_first_range) && !differs(rho, d_range_bin)) {
+    using kernel::aperture_focuser;
+    if (!aperture_focuser::differs(T, d_T) && !aperture_focuser::differs(r0, d_first_range) &&
+        !aperture_focuser::differs(rho, d_range_bin)) {
         d_pending = false;
         return;
     }
@@ -225,11 +228,13 @@ int bp_focuser_impl::drain(gr_complex* out, int noutput, int produced)
                          pmt::make_tuple(pmt::from_double(d_out_y0),
                                          pmt::from_double(d_geo.velocity_mps * d_T),
                                          pmt::from_uint64(d_out_len)));
+            const auto& g = d_kernel->grid();
+            // The columns' axis: slant range, or ground x (ground_range_axis).
             add_item_tag(0,
                          item,
-                         tags::range_axis_key(),
-                         pmt::make_tuple(pmt::from_double(d_kernel->grid().first_range_m),
-                                         pmt::from_double(d_kernel->grid().range_bin_m),
+                         g.ground ? tags::ground_range_axis_key() : tags::range_axis_key(),
+                         pmt::make_tuple(pmt::from_double(g.ground ? g.first_x_m : g.first_range_m),
+                                         pmt::from_double(g.ground ? g.x_spacing_m : g.range_bin_m),
                                          pmt::from_uint64(d_K)));
             if (d_nonfinite_pending) {
                 add_item_tag(0, item, tags::nonfinite_key(), pmt::from_uint64(d_nonfinite_pending));
@@ -267,40 +272,30 @@ int bp_focuser_impl::general_work(int noutput_items,
     const int navail = ninput_items[0];
     const bool upstream_done = input_ended(detail(), navail);
 
-    int produced = drain(out, noutput_items, 0);
     std::vector<tag_t> tags;
     get_tags_in_range(tags, 0, d_lines_in, nread + navail);
     std::sort(tags.begin(), tags.end(), tag_t::offset_compare);
-    size_t next_tag = 0;
-    while (produced < noutput_items && d_out_pos >= d_out_len) {
-        const uint64_t next = d_lines_in;
-        const int i = static_cast<int>(next - nread);
-        if (i < navail) {
-            while (next_tag < tags.size() && tags[next_tag].offset <= next)
-                handle_tag(tags[next_tag++]);
-            uint64_t end = nread + navail;
-            if (next_tag < tags.size())
-                end = std::min<uint64_t>(end, tags[next_tag].offset);
-            const unsigned n = static_cast<unsigned>(std::min<uint64_t>(end - next, d_M - d_fill));
-            ingest(in + static_cast<size_t>(i) * d_K, n);
-            if (d_fill == d_M)
-                process_aperture();
-        } else if (upstream_done && !d_flush_done) {
-            // End of stream: the partial aperture from the pulses received.
-            if (d_fill > 0)
-                process_aperture();
-            else
-                d_flush_done = true;
-        } else {
-            break;
-        }
-        produced = drain(out, noutput_items, produced);
-    }
-    int consume = static_cast<int>(d_lines_in - nread);
-    if (!(upstream_done && d_flush_done && d_out_pos >= d_out_len))
-        consume = std::min(consume, navail - 1);
-    consume_each(std::max(consume, 0));
-    return produced;
+    // The block's side of the shared input loop (focuser_stream.h).
+    struct side {
+        bp_focuser_impl& b;
+        gr_complex* out;
+        int noutput;
+        int produced = 0;
+        uint64_t lines_in() const { return b.d_lines_in; }
+        void handle_tag(const tag_t& t) { b.handle_tag(t); }
+        unsigned room() const { return b.d_M - b.d_fill; }
+        void ingest(const gr_complex* lines, unsigned n) { b.ingest(lines, n); }
+        bool block_full() const { return b.d_fill == b.d_M; }
+        // End of stream: the partial aperture from the pulses received.
+        bool flush_due() const { return b.d_fill > 0; }
+        void focus() { b.process_aperture(); }
+        bool queues_empty() const { return b.d_out_pos >= b.d_out_len; }
+        bool wants_input() const { return produced < noutput && queues_empty(); }
+        void drain() { produced = b.drain(out, noutput, produced); }
+    } s{ *this, out, noutput_items };
+    consume_each(
+        focuser_stream_loop(s, tags, in, d_K, nread, navail, upstream_done, d_flush_done));
+    return s.produced;
 }
 
 bool bp_focuser_impl::stop()

@@ -96,6 +96,8 @@ public:
     double band_lo_hz() const override { return d_band_lo_hz; }
     double band_hi_hz() const override { return d_band_hi_hz; }
     bool simd() const override { return d_kernel && d_kernel->simd(); }
+    double ground_first_x_m() const override { return d_kernel->grid().first_x_m; }
+    double ground_spacing_m() const override { return d_kernel->grid().x_spacing_m; }
     std::uint64_t apertures() const override { return d_apertures; }
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
 };

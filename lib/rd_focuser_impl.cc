@@ -103,39 +103,8 @@ void rd_focuser_impl::handle_tag(const tag_t& tag)
     double T = d_focuser.next_pulse_interval_s();
     double r0 = d_focuser.next_first_range_m();
     double rho = d_focuser.next_range_bin_m();
-    if (pmt::eq(tag.key, tags::pulse_interval_key())) {
-        if (!parse_pulse_interval(tag.value, T)) {
-            d_logger->warn("ignoring pulse_interval tag with value {}", pmt::write_string(tag.value));
-            return;
-        }
-    } else if (pmt::eq(tag.key, tags::range_axis_key())) {
-        double first = 0.0, step = 0.0;
-        uint64_t k = 0;
-        if (!parse_range_axis(tag.value, first, step, k)) {
-            d_logger->warn("ignoring malformed range_axis tag {}", pmt::write_string(tag.value));
-            return;
-        }
-        if (k != d_K || !(first >= 0.0) || !(step > 0.0) || !std::isfinite(first + step)) {
-            d_logger->warn("ignoring range_axis tag ({}, {}, {}): the block has {} bins",
-                           first,
-                           step,
-                           k,
-                           d_K);
-            return;
-        }
-        if (kernel::aperture_focuser::differs(first, d_ctor_first_range) ||
-            kernel::aperture_focuser::differs(step, d_ctor_range_bin))
-            d_logger->warn("range_axis tag ({} m, {} m) differs from the constructor's "
-                           "({} m, {} m): using the tag",
-                           first,
-                           step,
-                           d_ctor_first_range,
-                           d_ctor_range_bin);
-        r0 = first;
-        rho = step;
-    } else {
+    if (!axes_from_tag(tag, d_K, d_ctor_first_range, d_ctor_range_bin, d_logger, T, r0, rho))
         return;
-    }
     switch (d_focuser.set_axes(T, r0, rho)) {
     case kernel::aperture_focuser::axes_change::APPLIED:
         log_warnings();
@@ -274,51 +243,43 @@ int rd_focuser_impl::general_work(int noutput_items,
     d_want_rd = output_items.size() > 1;
     auto* rd_out = d_want_rd ? static_cast<gr_complex*>(output_items[1]) : nullptr;
 
-    int produced = drain(out, noutput_items, 0);
-    int produced_rd = d_want_rd ? drain_rd(rd_out, noutput_items, 0) : 0;
     // The tags of everything not yet ingested, in offset order.
     std::vector<tag_t> tags;
     get_tags_in_range(tags, 0, d_focuser.lines_in(), nread + navail);
     std::sort(tags.begin(), tags.end(), tag_t::offset_compare);
-    size_t next_tag = 0;
-    while (produced < noutput_items && queues_empty()) {
-        const uint64_t next = d_focuser.lines_in(); // absolute index of the next line to ingest
-        const int i = static_cast<int>(next - nread);
-        if (i < navail) {
-            while (next_tag < tags.size() && tags[next_tag].offset <= next)
-                handle_tag(tags[next_tag++]);
-            prepare();
-            // Ingest up to the next tag, the end of the input or a full block.
-            uint64_t end = nread + navail;
-            if (next_tag < tags.size())
-                end = std::min<uint64_t>(end, tags[next_tag].offset);
-            const unsigned n =
-                static_cast<unsigned>(std::min<uint64_t>(end - next, d_focuser.room()));
-            ingest(in + static_cast<size_t>(i) * d_K, n);
-            if (d_focuser.block_full())
-                focus();
-        } else if (upstream_done && !d_flush_done) {
-            // End of stream: emit, zero padded, every aperture whose own pulses
-            // [iM, iM + M) were (partly) received.
-            if (d_focuser.flush_due()) {
-                focus();
-            } else {
-                d_flush_done = true;
-            }
-        } else {
-            break;
+    // The block's side of the shared input loop (focuser_stream.h).
+    struct side {
+        rd_focuser_impl& b;
+        gr_complex* out;
+        gr_complex* rd_out;
+        int noutput;
+        int produced = 0;
+        int produced_rd = 0;
+        uint64_t lines_in() const { return b.d_focuser.lines_in(); }
+        void handle_tag(const tag_t& t) { b.handle_tag(t); }
+        unsigned room()
+        {
+            b.prepare(); // after an axis tag: the kernel of the new axes
+            return b.d_focuser.room();
         }
-        produced = drain(out, noutput_items, produced);
-        if (d_want_rd)
-            produced_rd = drain_rd(rd_out, noutput_items, produced_rd);
-    }
-
-    // Consume what was ingested, holding the last item back until the stream ends and
-    // everything is flushed.
-    int consume = static_cast<int>(d_focuser.lines_in() - nread);
-    if (!(upstream_done && d_flush_done && queues_empty()))
-        consume = std::min(consume, navail - 1);
-    consume_each(std::max(consume, 0));
+        void ingest(const gr_complex* lines, unsigned n) { b.ingest(lines, n); }
+        bool block_full() const { return b.d_focuser.block_full(); }
+        // End of stream: emit, zero padded, every aperture whose own pulses [iM, iM + M)
+        // were (partly) received.
+        bool flush_due() const { return b.d_focuser.flush_due(); }
+        void focus() { b.focus(); }
+        bool queues_empty() const { return b.queues_empty(); }
+        bool wants_input() const { return produced < noutput && b.queues_empty(); }
+        void drain()
+        {
+            produced = b.drain(out, noutput, produced);
+            if (b.d_want_rd)
+                produced_rd = b.drain_rd(rd_out, noutput, produced_rd);
+        }
+    } s{ *this, out, rd_out, noutput_items };
+    consume_each(
+        focuser_stream_loop(s, tags, in, d_K, nread, navail, upstream_done, d_flush_done));
+    const int produced = s.produced, produced_rd = s.produced_rd;
     if (!d_want_rd)
         return produced;
     produce(0, produced);

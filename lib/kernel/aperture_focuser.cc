@@ -5,6 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "../azimuth_window.h"
 #include "param_check.h"
 #include <gnuradio/nrsar/kernel/aperture_focuser.h>
 #include <gnuradio/nrsar/kernel/fft_size.h>
@@ -75,13 +76,12 @@ void aperture_focuser::configure(double T, double first_range, double range_bin)
     }
     check_at_least("lines_per_aperture", d_M, 2u);
 
-    // Scene Doppler band with margin (SPEC 7): about [0, 160] Hz in the paper geometry.
-    const scene_extent ext = compute_extent(d_geo, d_scn);
-    const double bw = ext.max_doppler_hz - ext.min_doppler_hz;
-    const double margin = d_cfg.band_margin_hz >= 0.0 ? d_cfg.band_margin_hz
-                                                      : 0.1 * bw + 2.0 / d_geo.aperture_s;
-    d_scene_lo_hz = ext.min_doppler_hz - margin;
-    d_scene_hi_hz = ext.max_doppler_hz + margin;
+    // The scene band with margin and the output window's shift: one computation with
+    // bp_focuser (azimuth_window.h), so that both image the same lines.
+    const azimuth_window w =
+        scene_azimuth_window(d_geo, d_scn, d_cfg.band_margin_hz, T, first_range, range_bin, d_K);
+    d_scene_lo_hz = w.band_lo_hz;
+    d_scene_hi_hz = w.band_hi_hz;
     const double prf = 1.0 / T;
     if (d_scene_hi_hz - d_scene_lo_hz > prf)
         d_warnings.push_back(format("scene Doppler band [%.1f, %.1f] Hz (with margin) is wider "
@@ -89,36 +89,8 @@ void aperture_focuser::configure(double T, double first_range, double range_bin)
                                     d_scene_lo_hz,
                                     d_scene_hi_hz,
                                     prf));
-
-    // A target at zero-Doppler line t0 has energy on the pulses t = t0 - E(f, R0) for f in
-    // the band, E = f / (Ka(R0) T) = f lambda R0 / (2 v^2 T) lines. So the pulses of one
-    // aperture focus about E(band centre) lines later: the output window of aperture i is
-    // shifted by s = E(f_c, R_mid) lines (in the paper geometry the scene lies ahead of the
-    // track, s = 1.4 s), so that an aperture's image holds what its own pulses focus to.
-    const double v = d_geo.velocity_mps;
-    // The shift and the overlap follow the ranges where the scene's targets are (its slant
-    // range extent within the window), not the whole window: an uncropped range IFFT
-    // (--range-crop off) reaches km beyond the scene, and its far end would place the
-    // output window past the targets and make the overlap (and the memory) grow with it.
-    // Bins beyond the scene hold no target, so their own focusing window does not matter.
-    double r_min = first_range;
-    double r_max = first_range + (d_K - 1) * range_bin;
-    if (ext.max_slant_range_m >= r_min && ext.min_slant_range_m <= r_max) {
-        r_min = std::max(r_min, ext.min_slant_range_m);
-        r_max = std::min(r_max, ext.max_slant_range_m);
-    }
-    auto lines = [&](double f, double r) {
-        return f * d_geo.wavelength_m() * r / (2.0 * v * v) / T;
-    };
-    const double e_hi = std::max(lines(d_scene_hi_hz, r_min), lines(d_scene_hi_hz, r_max));
-    const double e_lo = std::min(lines(d_scene_lo_hz, r_min), lines(d_scene_lo_hz, r_max));
-    if (std::abs(e_hi) > 1e9 || std::abs(e_lo) > 1e9)
-        throw_param("azimuth extent of the scene band (lines)",
-                    std::max(std::abs(e_hi), std::abs(e_lo)),
-                    "must be below 1e9");
-    const double s = std::round(
-        lines(0.5 * (d_scene_lo_hz + d_scene_hi_hz), 0.5 * (r_min + r_max)));
-    d_line_shift = static_cast<long long>(std::clamp(s, std::floor(e_lo), std::ceil(e_hi)));
+    d_line_shift = w.line_shift;
+    const double e_hi = w.e_hi, e_lo = w.e_lo;
     if (d_cfg.overlap_lines < 0) {
         // Overlap-save: image line t0 needs the pulses [t0 - e_hi, t0 - e_lo], so the block
         // of the window [iM + s, iM + s + M) starts `before` = e_hi pulses ahead of it and
@@ -130,7 +102,7 @@ void aperture_focuser::configure(double T, double first_range, double range_bin)
         d_before = d_after = static_cast<unsigned>(d_cfg.overlap_lines);
     }
     if (d_lines_in == 0)
-        d_next_y = d_geo.track_start_m + d_line_shift * v * T;
+        d_next_y = d_geo.track_start_m + d_line_shift * d_geo.velocity_mps * T;
     d_kernel.reset(); // rebuilt lazily for the new block
 }
 

@@ -34,7 +34,7 @@ from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_co
                            nmse_probe, nr_isac_tx, presum_config, presum_domain, probe_config,
                            range_ifft,
                            rd_focuser, scene_echo, tf_filter, bp_config, bp_focuser,
-                           moco_order)
+                           moco_order, image_grid)
 from .options import check_out_dir
 from .scenario import fft_size_of
 
@@ -75,6 +75,15 @@ def range_crop(opts, sc, nfft):
     # the far edge migrates most; back-projection reads no bins beyond the image
     g = rcmc_guard_bins(opts, sc, nfft, crop[1]) if opts.focuser == "rd" else 0
     return (max(0.0, crop[0] - g * rho), crop[1] + g * rho), g
+
+
+def bp_config_of(opts, cfg):
+    """bp_focuser's configuration of the options, on rd_focuser's pulse rate and aperture."""
+    grid = image_grid.GROUND if opts.image_grid == "ground" else image_grid.SLANT
+    return bp_config(symbols_per_pulse=cfg.symbols_per_pulse,
+                     lines_per_aperture=cfg.lines_per_aperture, grid=grid,
+                     ffbp_subaperture=opts.ffbp_subaperture if opts.focuser == "ffbp" else 0,
+                     ffbp_beam_oversample=opts.ffbp_beams)
 
 
 def focuser_config_of(opts, sc, guard_bins):
@@ -148,11 +157,9 @@ class imaging_chain(gr.hier_block2):
             """(block taking the filtered TF pulses, range IFFT, focuser, presummer); nav: the
             path the focuser images along"""
             rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
-            if opts.focuser == "bp":
+            if opts.focuser in ("bp", "ffbp"):
                 foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
-                                 rif.range_bin_m(),
-                                 bp_config(symbols_per_pulse=cfg.symbols_per_pulse,
-                                           lines_per_aperture=cfg.lines_per_aperture), nav)
+                                 rif.range_bin_m(), bp_config_of(opts, cfg), nav)
             else:
                 foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                                  rif.range_bin_m(), cfg, nav)

@@ -305,11 +305,18 @@ class SimOptions(_Options):
                        "geometry, estimated from the data, or the full PRF",
                        choices=list(params.DOPPLER_BANDS))
     focuser: str = option("rd", "image former, both branches: rd = range-Doppler (rd_focuser), "
-                          "bp = time-domain back-projection along the ideal line (bp_focuser)",
-                          choices=["rd", "bp"])
+                          "bp = time-domain back-projection along the navigation (bp_focuser), "
+                          "ffbp = its fast factorized form", choices=["rd", "bp", "ffbp"])
     moco: str = option("on", "rd_focuser's motion compensation from the navigation (first and "
                        "second order, docs/flight.md); a no-op on the ideal line, so 'on' "
                        "changes no ideal-line output", choices=["on", "off"])
+    ffbp_subaperture: int = option(32, "--focuser ffbp: pulses per subaperture (the speed-up "
+                                   "approaches it)", at_least=2, at_most=65536)
+    ffbp_beams: float = option(8.0, "--focuser ffbp: beams per Nyquist beam of a subaperture "
+                               "(error power pi^4 / (600 x^4))", at_least=1.0, at_most=64.0)
+    image_grid: str = option("slant", "bp/ffbp image grid: slant = slant range x along track "
+                             "(rd_focuser's), ground = ground range x along track on the "
+                             "scene's plane", choices=["slant", "ground"])
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "
@@ -393,6 +400,9 @@ class SimOptions(_Options):
                 raise OptionError(f"--fft-size = {size} must be at least 1")
         if not self.out.strip():
             raise OptionError("--out = '' must name a folder")
+        if self.image_grid != "slant" and self.focuser == "rd":
+            raise OptionError(f"--image-grid = {self.image_grid!r} needs --focuser bp or ffbp "
+                              f"(rd_focuser images slant range)")
 
     def presum_factor(self):
         """D of the presummer (1 without one)."""

@@ -164,6 +164,13 @@ def image_results(opts, chain, sc, runtime_s):
                         geo.velocity_mps, foc.pulse_interval_s() * geo.velocity_mps]
 
     warnings = list(sc.warnings)
+    # The image's columns: slant range (range_axis_m), or on a ground grid ground range x
+    # (ground_range_axis_m; range_axis_m stays the range-compressed data's slant axis).
+    ground = getattr(opts, "image_grid", "slant") == "ground"
+    column_axis = [foc.ground_first_x_m(), foc.ground_spacing_m()] if ground else range_axis
+    if ground:
+        warnings.append("the probe's point-target model is on the slant grid: the metrics of a "
+                        "ground-grid image are left out (null)")
     ref_y = scn.targets[0].y_m
     last_y = azimuth_axis[0] + azimuth_axis[1] * (image.shape[0] - 1)
     if not azimuth_axis[0] <= ref_y <= last_y:
@@ -184,8 +191,8 @@ def image_results(opts, chain, sc, runtime_s):
         files[name + "_npy"] = write_npy(os.path.abspath(os.path.join(opts.out, name + ".npy")),
                                          data)
         files[name + "_png"] = os.path.abspath(os.path.join(opts.out, name + ".png"))
-        write_png(files[name + "_png"], data, range_axis, axis, f"{title}, {label}",
-                  azimuth_limits=limits)
+        write_png(files[name + "_png"], data, column_axis if name == "image" else range_axis,
+                  axis, f"{title}, {label}", azimuth_limits=limits)
 
     metrics = {key: float(value) for key, value in probe.metrics().items()}
     result = {
@@ -213,6 +220,7 @@ def image_results(opts, chain, sc, runtime_s):
         "rcmc_applied": bool(foc.rcmc_applied()) if opts.focuser == "rd" else False,
         "focuser": opts.focuser,
         "moco": opts.moco,
+        "image_grid": "ground" if ground else "slant",
         "nonfinite": chain["echo"].nonfinite_count() + chain["filter"].nonfinite_count(),
         "empty_res": chain["filter"].empty_re_count(),
         "warnings": warnings,
@@ -225,6 +233,8 @@ def image_results(opts, chain, sc, runtime_s):
         result["warnings"] += list(chain["presum"].warnings())
     metrics["nmse_minus_theory_band_db"] = metrics.get("nmse_db", math.nan) - metrics.get(
         "nmse_theory_band_db", math.nan)
+    if ground:
+        metrics = {}
     for key in METRIC_KEYS:
         value = metrics.get(key, float("nan"))
         result[key] = value if math.isfinite(value) else None  # JSON has no NaN
@@ -232,6 +242,8 @@ def image_results(opts, chain, sc, runtime_s):
         # SPEC 8's theory is that of data-aided grids
         result["nmse_theory_db"] = result["nmse_theory_band_db"] = None
         result["nmse_minus_theory_band_db"] = None
+    if ground:
+        result["ground_range_axis_m"] = column_axis
     # after the images are written, so the .npy/.png step counts too
     result["peak_rss_mb"] = runtime.peak_rss_mb()
     return result

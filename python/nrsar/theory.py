@@ -175,10 +175,11 @@ def numpy_focus(s, band_lo, band_hi, full, line_shift=0, taps=16, beta=6.0, phas
 
 
 # bp_focuser's steps in float64 numpy: the reference of qa_bp_focuser and nrsar-bench.
-def numpy_bp(data, antenna, first, rho, lam, fc_r, upsample, y_lines, height):
+def numpy_bp(data, antenna, first, rho, lam, fc_r, upsample, y_lines, height, ground=None):
     """Time-domain back-projection of `data` (pulses x K range bins, bin k at first + k rho)
     from the antenna positions (pulses x 3) onto the pixels (y_lines[j], first + k rho):
-    scatterer (sqrt(r0^2 - height^2), y, 0); profile demodulated by exp(-j 2 pi fc_r k),
+    scatterer (sqrt(r0^2 - height^2), y, 0), or with ground = (x columns, z) the ground grid's
+    points (x[k], y, z); profile demodulated by exp(-j 2 pi fc_r k),
     upsampled by FFT zero padding, linearly interpolated at (R - first) / rho, phase
     exp(+j 2 pi (2 R / lam + fc_r q)), summed over the pulses, / sqrt(pulses)."""
     data = np.asarray(data, np.complex128)
@@ -192,13 +193,18 @@ def numpy_bp(data, antenna, first, rho, lam, fc_r, upsample, y_lines, height):
     z[:, n_up - neg:] = spec[:, k - neg:]
     up = np.fft.ifft(z, axis=1) * upsample  # exact at the input bins
     r0 = first + rho * kk
-    ok_r = r0 > height
-    g = np.sqrt(np.where(ok_r, r0 * r0 - height * height, 0.0))
+    if ground is None:
+        ok_r = r0 > height
+        g = np.sqrt(np.where(ok_r, r0 * r0 - height * height, 0.0))
+        zg = 0.0
+    else:
+        g, zg = np.asarray(ground[0], float), float(ground[1])
+        ok_r = np.ones(len(g), bool)
     y = np.asarray(y_lines, float)[:, None]
-    img = np.zeros((len(y_lines), k), complex)
+    img = np.zeros((len(y_lines), len(g)), complex)
     for p in range(m):
         ax, ay, az = antenna[p]
-        r = np.sqrt((g[None, :] - ax) ** 2 + (y - ay) ** 2 + az * az)
+        r = np.sqrt((g[None, :] - ax) ** 2 + (y - ay) ** 2 + (az - zg) ** 2)
         q = (r - first) / rho
         x = q * upsample
         i = np.floor(x).astype(int)

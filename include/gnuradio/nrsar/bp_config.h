@@ -14,6 +14,12 @@
 namespace gr {
 namespace nrsar {
 
+//! The image grid of bp_focuser.
+enum class image_grid {
+    SLANT, //!< closest-approach slant range x along track: rd_focuser's grid
+    GROUND //!< ground (x, y) at ground_height_m
+};
+
 /*!
  * \brief Processing options of the back-projection focuser (bp_focuser block and
  * kernel::bp_focuser). Plain values; validate() throws std::invalid_argument naming the
@@ -35,8 +41,27 @@ struct NRSAR_API bp_config {
     //! Centre of the range spectrum [cycles per range bin], as
     //! focuser_config::range_centre_cycles (NaN: (N - 1) Delta f rho / c).
     double range_centre_cycles = std::numeric_limits<double>::quiet_NaN();
+    //! Range interpolation: 0 = upsampled by U, linear; an even 2..32 = a Kaiser-windowed
+    //! sinc of that many taps on the input bins (exact BP only; docs: the trade-off).
+    unsigned sinc_taps = 0;
     //! Worker threads of the back-projection (1 or 2: the image lines are split).
     unsigned num_threads = 1;
+    //! The image grid; GROUND: column k at x = ground_first_x_m + k ground_spacing_m.
+    image_grid grid = image_grid::SLANT;
+    //! Height of the ground grid's plane [m] (finite, below the platform).
+    double ground_height_m = 0.0;
+    //! Cross-track x of the ground grid's column 0 [m]; NaN: the ground range of the first
+    //! range bin at that height.
+    double ground_first_x_m = std::numeric_limits<double>::quiet_NaN();
+    //! Column spacing of the ground grid [m]; 0: the range bin projected to the ground at
+    //! mid range, rho r / x.
+    double ground_spacing_m = 0.0;
+    //! Fast factorized back-projection: pulses per subaperture (0 or 1: exact BP). The
+    //! speed-up approaches it while the beams stay fewer than the lines.
+    unsigned ffbp_subaperture = 0;
+    //! FFBP's beams per Nyquist beam of a subaperture (1..64): its error power falls as
+    //! beam_oversample^-4 (pi^4 / (600 os^4), docs/blocks/bp_focuser.md).
+    double ffbp_beam_oversample = 8.0;
 
     void validate() const;
 };

@@ -35,9 +35,11 @@ namespace nrsar {
  * profile upsampled cfg.upsample times, carrier and range-centre phase, coherent sum,
  * 1 / sqrt(M)). Grid: rd_focuser's (same range bins; line j of aperture i at along-track
  * y0 + (i M + j) v T, y0 = geo.track_start_m + s v T with rd_focuser's shift s), so images
- * compare pixel for pixel; pixel (r0, y) is the scatterer (sqrt(r0^2 - H^2), y, 0). The first
+ * compare pixel for pixel; pixel (r0, y) is the scatterer (sqrt(r0^2 - H^2), y, 0). With
+ * cfg.grid GROUND: column k is the point (x0 + k dx, y, cfg.ground_height_m) instead. With
+ * cfg.ffbp_subaperture > 1: fast factorized back-projection (kernel::bp_focuser). The first
  * line of every aperture carries tags::aperture_key(), tags::azimuth_axis_key() and
- * tags::range_axis_key(). When the input ends, the partial aperture is imaged from the
+ * tags::range_axis_key() (ground grid: tags::ground_range_axis_key(), (x0, dx, K)). When the input ends, the partial aperture is imaged from the
  * pulses received. Non-finite input samples are zeroed, counted, logged once per aperture
  * and reported with a tags::nonfinite_key() tag.
  */
@@ -68,6 +70,10 @@ public:
 
     virtual bp_config config() const = 0;
     virtual unsigned lines_per_aperture() const = 0;
+    //! The ground grid's column axis: x of column 0 and the spacing [m] (0, 0 on the slant
+    //! grid).
+    virtual double ground_first_x_m() const = 0;
+    virtual double ground_spacing_m() const = 0;
     //! Offset s of the image window from the aperture's pulses [lines] (rd_focuser's).
     virtual long long line_shift() const = 0;
     virtual double pulse_interval_s() const = 0;

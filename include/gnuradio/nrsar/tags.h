@@ -35,6 +35,8 @@ NRSAR_API const pmt::pmt_t& symbol_key();
 NRSAR_API const pmt::pmt_t& slot_key();
 NRSAR_API const pmt::pmt_t& frame_key();
 NRSAR_API const pmt::pmt_t& range_axis_key();
+//! bp_focuser on a ground grid: (x of column 0 [m], spacing [m], columns) instead of range_axis.
+NRSAR_API const pmt::pmt_t& ground_range_axis_key();
 NRSAR_API const pmt::pmt_t& nonfinite_key();
 NRSAR_API const pmt::pmt_t& aperture_key();
 NRSAR_API const pmt::pmt_t& azimuth_axis_key();

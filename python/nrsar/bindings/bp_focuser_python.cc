@@ -31,13 +31,24 @@ void bind_bp_focuser(py::module& m)
     using gr::nrsar::bp_config;
     using bp_focuser = gr::nrsar::bp_focuser;
 
+    py::enum_<gr::nrsar::image_grid>(m, "image_grid", "The image grid of bp_focuser")
+        .value("SLANT", gr::nrsar::image_grid::SLANT)
+        .value("GROUND", gr::nrsar::image_grid::GROUND);
+
     py::class_<bp_config>(m, "bp_config", "Processing options of bp_focuser")
         .def(py::init([](unsigned symbols_per_pulse,
                          unsigned lines_per_aperture,
                          unsigned upsample,
                          double band_margin_hz,
                          double range_centre_cycles,
-                         unsigned num_threads) {
+                         unsigned num_threads,
+                         unsigned sinc_taps,
+                         gr::nrsar::image_grid grid,
+                         double ground_height_m,
+                         double ground_first_x_m,
+                         double ground_spacing_m,
+                         unsigned ffbp_subaperture,
+                         double ffbp_beam_oversample) {
                  bp_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -45,6 +56,13 @@ void bind_bp_focuser(py::module& m)
                  c.band_margin_hz = band_margin_hz;
                  c.range_centre_cycles = range_centre_cycles;
                  c.num_threads = num_threads;
+                 c.sinc_taps = sinc_taps;
+                 c.grid = grid;
+                 c.ground_height_m = ground_height_m;
+                 c.ground_first_x_m = ground_first_x_m;
+                 c.ground_spacing_m = ground_spacing_m;
+                 c.ffbp_subaperture = ffbp_subaperture;
+                 c.ffbp_beam_oversample = ffbp_beam_oversample;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -53,6 +71,13 @@ void bind_bp_focuser(py::module& m)
              py::arg("band_margin_hz") = -1.0,
              py::arg("range_centre_cycles") = std::numeric_limits<double>::quiet_NaN(),
              py::arg("num_threads") = 1u,
+             py::arg("sinc_taps") = 0u,
+             py::arg("grid") = gr::nrsar::image_grid::SLANT,
+             py::arg("ground_height_m") = 0.0,
+             py::arg("ground_first_x_m") = std::numeric_limits<double>::quiet_NaN(),
+             py::arg("ground_spacing_m") = 0.0,
+             py::arg("ffbp_subaperture") = 0u,
+             py::arg("ffbp_beam_oversample") = 8.0,
              "bp_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &bp_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &bp_config::lines_per_aperture)
@@ -60,6 +85,13 @@ void bind_bp_focuser(py::module& m)
         .def_readwrite("band_margin_hz", &bp_config::band_margin_hz)
         .def_readwrite("range_centre_cycles", &bp_config::range_centre_cycles)
         .def_readwrite("num_threads", &bp_config::num_threads)
+        .def_readwrite("sinc_taps", &bp_config::sinc_taps)
+        .def_readwrite("grid", &bp_config::grid)
+        .def_readwrite("ground_height_m", &bp_config::ground_height_m)
+        .def_readwrite("ground_first_x_m", &bp_config::ground_first_x_m)
+        .def_readwrite("ground_spacing_m", &bp_config::ground_spacing_m)
+        .def_readwrite("ffbp_subaperture", &bp_config::ffbp_subaperture)
+        .def_readwrite("ffbp_beam_oversample", &bp_config::ffbp_beam_oversample)
         .def("validate", &bp_config::validate);
 
     py::class_<bp_focuser, gr::block, gr::basic_block, std::shared_ptr<bp_focuser>>(
@@ -84,6 +116,8 @@ void bind_bp_focuser(py::module& m)
         .def("band_lo_hz", &bp_focuser::band_lo_hz)
         .def("band_hi_hz", &bp_focuser::band_hi_hz)
         .def("simd", &bp_focuser::simd)
+        .def("ground_first_x_m", &bp_focuser::ground_first_x_m)
+        .def("ground_spacing_m", &bp_focuser::ground_spacing_m)
         .def("apertures", &bp_focuser::apertures)
         .def("nonfinite_count", &bp_focuser::nonfinite_count);
 }

@@ -24,6 +24,7 @@ void bind_tags(py::module& m)
     t.attr("slot") = pmt::symbol_to_string(tags::slot_key());
     t.attr("frame") = pmt::symbol_to_string(tags::frame_key());
     t.attr("range_axis") = pmt::symbol_to_string(tags::range_axis_key());
+    t.attr("ground_range_axis") = pmt::symbol_to_string(tags::ground_range_axis_key());
     t.attr("nonfinite") = pmt::symbol_to_string(tags::nonfinite_key());
     t.attr("aperture") = pmt::symbol_to_string(tags::aperture_key());
     t.attr("azimuth_axis") = pmt::symbol_to_string(tags::azimuth_axis_key());

@@ -192,6 +192,54 @@ class qa_bp_focuser(gr_unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "too short"):
             focus(np.zeros((4, K)), nav=short)
 
+    def test_005_ground_grid(self):
+        ant = ideal_antenna(M)
+        data = echo_from(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
+        cfg = nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=M,
+                              grid=nrsar.image_grid.GROUND)
+        img, tags, blk = focus(data, cfg=cfg)
+        # Column 0 at the first bin's ground range, the bin projected at mid range.
+        x0 = math.sqrt(R_FIRST ** 2 - H ** 2)
+        r_mid = R_FIRST + (K - 1) / 2 * RHO
+        dx = RHO * r_mid / math.sqrt(r_mid ** 2 - H ** 2)
+        self.assertAlmostEqual(blk.ground_first_x_m(), x0, places=9)
+        self.assertAlmostEqual(blk.ground_spacing_m(), dx, places=9)
+        dy = V * T
+        y0 = blk.line_shift() * dy
+        ref = numpy_bp(data, ant, R_FIRST, RHO, LAM, FC_R, 8, y0 + dy * np.arange(M), H,
+                       ground=(x0 + dx * np.arange(K), 0.0))
+        self.assertLess(nmse_db(img, ref), -60.0)
+        # The target's (y, x); along x the range carrier FC_R per bin becomes FC_R dx / RHO
+        # times dr/dx = x / r at the target.
+        line, col = peak_position(img, FC_R * dx / RHO * X_T / math.hypot(X_T, H))
+        self.assertAlmostEqual(line, (Y_T - y0) / dy, delta=0.25)
+        self.assertAlmostEqual(col, (X_T - x0) / dx, delta=0.25)
+        keys = [str(t.key) for t in tags]
+        self.assertIn("ground_range_axis", keys)
+        self.assertNotIn("range_axis", keys)
+        with self.assertRaisesRegex(ValueError, "ground_height_m = 2000"):
+            focus(data[:4], cfg=nrsar.bp_config(grid=nrsar.image_grid.GROUND,
+                                                ground_height_m=2000.0))
+
+    def test_006_ffbp_against_back_projection(self):
+        # A swaying flight; FFBP's error against the exact BP of the same block is the
+        # linear interpolation between beams, pi^4 / (600 os^4) of the image power at most
+        # (-44 dB at os = 8; kernel test), measured away from the window's ends.
+        nav = nrsar.trajectory.motion(geometry(M * T), nrsar.motion_model.GUSTY, 3, M * T + 0.1)
+        ant = np.array(nav.positions(list(np.arange(M) * T)))
+        data = echo_from(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
+        exact, _, _ = focus(data, nav=nav)
+        for os_, sub in ((8.0, 25), (4.0, 40)):
+            cfg = nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=M,
+                                  ffbp_subaperture=sub, ffbp_beam_oversample=os_)
+            img, _, _ = focus(data, cfg=cfg, nav=nav)
+            bound = 10 * math.log10((math.pi / os_) ** 4 / 600)
+            self.assertLess(nmse_db(img[:, 8:-8], exact[:, 8:-8]), bound + 1.0)
+            for a, b in zip(peak_position(img, FC_R), peak_position(exact, FC_R)):
+                self.assertAlmostEqual(a, b, delta=0.25)
+        with self.assertRaisesRegex(ValueError, "ffbp_beam_oversample = 0.5"):
+            nrsar.bp_config(ffbp_beam_oversample=0.5).validate()
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_bp_focuser)

@@ -11,6 +11,7 @@
 #include <gnuradio/fft/fft.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/sinc_interpolator.h>
 #include <array>
 #include <memory>
 #include <vector>
@@ -33,13 +34,27 @@ struct NRSAR_API bp_grid {
     double line_spacing_m = 0.0; //!< [m]
     //! H: pixel (r0, y) is the scatterer (sqrt(r0^2 - H^2), y, 0)
     double reference_height_m = 0.0;
+    //! Ground grid instead: pixel (j, k) is the point (first_x + k dx, y_j, ground_height).
+    bool ground = false;
+    double first_x_m = 0.0;       //!< cross-track position of column 0 [m]
+    double x_spacing_m = 0.0;     //!< dx [m]
+    double ground_height_m = 0.0; //!< z of the grid's plane [m]
+    //! Range interpolation: 0 = the profile upsampled U times, linearly interpolated; an
+    //! even 2..32 = a Kaiser-windowed sinc of that many taps on the input bins (U unused;
+    //! exact BP only).
+    unsigned sinc_taps = 0;
+    //! Fast factorized back-projection: pulses per subaperture (0 or 1: exact BP).
+    unsigned subaperture = 0;
+    //! FFBP's beams per Nyquist beam of the subaperture's angular bandwidth (>= 1).
+    double beam_oversample = 2.0;
 
     void validate() const;
 };
 
 /*!
  * \brief Time-domain back-projection of range-compressed pulses onto a slant-range x
- * along-track grid (the second paper's imager, section 3).
+ * along-track grid or a ground (x, y) grid (the second paper's imager, section 3), exact
+ * or factorized (FFBP).
  *
  * Pixel (j, k): closest-approach slant range r0 = first_range + k rho, along-track
  * y = first_y + j dy, the scatterer at (g, y, 0), g = sqrt(r0^2 - H^2) (pixels with r0 <= H
@@ -57,8 +72,28 @@ struct NRSAR_API bp_grid {
  * the N subcarriers), a unit target seen by all M pulses of the aperture focuses to
  * sqrt(N) M / sqrt(M) = sqrt(N M) at its pixel; white input noise of variance sigma^2 gives
  * pixel noise of about sigma^2 (unitary, as rd_focuser).
+ * Short sinc (sinc_taps L > 0) instead of steps 1-2's upsampling and linear interpolation:
+ * the demodulated profile at q by the L-tap Kaiser-windowed sinc of kernel::sinc_interpolator
+ * (its table of 1024 phases, samples outside [0, K) zero).
+ * Ground grid: the same per pixel with the point (x_k, y_j, h).
+ *
+ * FFBP (subaperture L > 1): the pulses of each add() call are taken L at a time. Each
+ * subaperture, centred at c (its middle pulse's antenna), is back-projected as above onto a
+ * polar grid around c: range r_i = first_range + i rho (the input's bins) times beams of
+ * direction cosine u = (y - c_y) / r along track, each sample the point of the image surface
+ * (z = 0, or the ground grid's height) at (r_i, u_b), and baseband-shifted by
+ * exp(-j 2 pi (2 r / lambda + fc_r q_r)). Its beam spacing is the Nyquist spacing of the
+ * subaperture's angular bandwidth, 1 / (2 cs D) with cs = 2 / lambda + fc_r / rho and D the
+ * largest pulse distance from c (over sqrt(1 - u^2)), divided by beam_oversample. Every
+ * beam is upsampled U times in range like a pulse; each pixel then takes the subimage at
+ * its own (r, u) by linear interpolation in range and between beams, remodulated by
+ * exp(+j 2 pi (2 r / lambda + fc_r q_r)). Work: L B K + M K per subaperture of L pulses
+ * against L M K for BP (B beams, M lines): the speed-up approaches L when B << M; the
+ * error falls with beam_oversample (linear interpolation between beams) and grows with L
+ * (the subimage's curvature over a beam).
  * Speed: the distance and phase pass (double) and the interpolation pass (float) vectorise;
- * an AVX2/FMA build of both is chosen at run time; two threads split the lines.
+ * an AVX2/FMA build of both is chosen at run time; two threads split the lines (and FFBP's
+ * beams).
  */
 class NRSAR_API bp_focuser
 {
@@ -83,6 +118,8 @@ public:
     bool simd() const { return d_simd; }
     //! Pulses added since the last reset.
     unsigned pulses() const { return d_pulses; }
+    //! FFBP: beams of the last subaperture (0 for BP).
+    unsigned beams() const { return d_beams; }
 
 private:
     struct worker;
@@ -90,18 +127,30 @@ private:
     unsigned d_threads;
     bool d_simd;
     unsigned d_pulses = 0;
-    std::vector<double> d_ground; // K: g of every range bin (0 where r0 <= H)
+    unsigned d_beams = 0;
+    double d_surface_z = 0.0;     // z of the imaged surface (0, or the ground grid's height)
+    std::vector<double> d_ground; // K: x of every column (slant: g, 0 where r0 <= H)
     std::vector<float> d_valid;   // K: 1 where the pixel has a ground point
     std::vector<gr_complex> d_image;
     std::vector<std::unique_ptr<worker>> d_workers;
+    std::unique_ptr<sinc_interpolator> d_sinc; // sinc_taps > 0
+    size_t d_stride = 0; // samples per prepared profile: U K, or K + taps (sinc, zero padded)
 
     void upsample(worker& w, const gr_complex* pulse, gr_complex* out);
+    void upsample_pulses(const gr_complex* pulses, unsigned n, gr_complex* prof);
     void project_lines(worker& w,
                        unsigned line0,
                        unsigned line1,
                        const gr_complex* profiles,
                        unsigned n,
                        const std::array<double, 3>* antenna);
+    void add_bp(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna);
+    void add_ffbp(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna);
+    // FFBP scratch: the subaperture's profiles, polar points and (upsampled) subimage.
+    std::vector<gr_complex> d_prof;
+    std::vector<double> d_px, d_py;
+    std::vector<float> d_pvalid;
+    std::vector<gr_complex> d_sub, d_sub_up;
 };
 
 } // namespace kernel

@@ -54,6 +54,9 @@ public:
      */
     void resample(const gr_complex* in, int n, const float* shift, gr_complex* out) const;
 
+    //! The taps of the phase nearest mu in [0, 1]: h(j - mu + 1 - L/2), j < L.
+    const float* phase_taps(double mu) const;
+
 private:
     unsigned d_taps;
     unsigned d_phases;
@@ -63,7 +66,6 @@ private:
     volk::vector<float> d_table; // (phases + 1) x taps
 
     double window(double u) const; // u in [-1, 1]
-    const float* phase_taps(double mu) const;
 };
 
 } // namespace kernel
