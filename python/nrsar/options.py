@@ -293,6 +293,10 @@ class SimOptions(_Options):
     focuser: str = option("rd", "image former, both branches: rd = range-Doppler (rd_focuser), "
                           "bp = time-domain back-projection along the ideal line (bp_focuser)",
                           choices=["rd", "bp"])
+    autofocus: str = option("none", "autofocus of the data branch's image after the focuser "
+                            "(the reference branch stays the calibration standard): pga = "
+                            "phase gradient, entropy = minimum image entropy",
+                            choices=list(params.AUTOFOCUS_METHODS))
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "

@@ -14,6 +14,7 @@ from .nrsar_python import (numerology, geometry, scene, point_target, srs_config
                            modulation, tx_mode, filter_type, presum_method, presum_domain,
                            doppler_band, beam_mode, image_colormap, check_scenario,
                            compute_extent, trajectory, motion_model, nav_error_model)
+from .nrsar_python import autofocus_method
 
 
 def _names(enum):
@@ -33,6 +34,7 @@ COLORMAPS = _names(image_colormap)
 
 MOTIONS = _names(motion_model)
 NAV_ERRORS = _names(nav_error_model)
+AUTOFOCUS_METHODS = _names(autofocus_method)
 
 
 def _lookup(table, kind, name):
@@ -61,6 +63,7 @@ make_presum_method = _builder(PRESUM_METHODS, "presum method")
 make_presum_domain = _builder(PRESUM_DOMAINS, "presum domain")
 make_doppler_band = _builder(DOPPLER_BANDS, "doppler band")
 make_colormap = _builder(COLORMAPS, "colormap")
+make_autofocus_method = _builder(AUTOFOCUS_METHODS, "autofocus method")
 
 
 def _with_overrides(obj, overrides, kind):
