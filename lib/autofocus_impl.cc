@@ -24,6 +24,13 @@ namespace {
 constexpr unsigned max_untagged_lines = 65536;
 constexpr double nan_v = std::numeric_limits<double>::quiet_NaN();
 
+// The stream signature of K range bins, K checked first (both signatures use it).
+gr::io_signature::sptr vectors_of(unsigned num_range_bins)
+{
+    return gr::io_signature::make(
+        1, 1, sizeof(gr_complex) * check_at_least("num_range_bins", num_range_bins, 1u));
+}
+
 const autofocus_config& validated(const autofocus_config& cfg)
 {
     cfg.validate();
@@ -37,10 +44,7 @@ autofocus::sptr autofocus::make(unsigned num_range_bins, const autofocus_config&
 }
 
 autofocus_impl::autofocus_impl(unsigned num_range_bins, const autofocus_config& cfg)
-    : gr::block("autofocus",
-                gr::io_signature::make(
-                    1, 1, sizeof(gr_complex) * check_at_least("num_range_bins", num_range_bins, 1u)),
-                gr::io_signature::make(1, 1, sizeof(gr_complex) * num_range_bins)),
+    : gr::block("autofocus", vectors_of(num_range_bins), vectors_of(num_range_bins)),
       d_K(num_range_bins),
       d_kernel(validated(cfg)),
       d_port(pmt::mp("phase_error"))
@@ -156,13 +160,7 @@ int autofocus_impl::general_work(int noutput_items,
     int produced = drain(out, noutput_items, 0);
     std::vector<tag_t> tags;
     get_tags_in_range(tags, 0, d_lines_in, nread + navail);
-    // By offset; on one line the aperture tag first (it closes the previous image before
-    // the axis tags of the new one apply).
-    std::stable_sort(tags.begin(), tags.end(), [](const tag_t& a, const tag_t& b) {
-        if (a.offset != b.offset)
-            return a.offset < b.offset;
-        return pmt::eq(a.key, tags::aperture_key()) && !pmt::eq(b.key, tags::aperture_key());
-    });
+    sort_aperture_first(tags);
     std::size_t next_tag = 0;
     // The image buffer is also the output buffer: collect only when it has been sent.
     while (produced < noutput_items && d_out_pos >= d_out_len) {

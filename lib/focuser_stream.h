@@ -14,9 +14,13 @@
 
 #include <gnuradio/block_detail.h>
 #include <gnuradio/buffer_reader.h>
+#include <gnuradio/nrsar/tags.h>
+#include <gnuradio/tags.h>
 #include <pmt/pmt.h>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -56,6 +60,17 @@ inline bool parse_range_axis(const pmt::pmt_t& v, double& first, double& step, u
     step = pmt::to_double(pmt::tuple_ref(v, 1));
     k = pmt::to_uint64(pmt::tuple_ref(v, 2));
     return true;
+}
+
+//! Tags of image lines by offset; on one line the aperture tag first (it closes the
+//! previous image before the axis tags of the new one apply).
+inline void sort_aperture_first(std::vector<gr::tag_t>& tags)
+{
+    std::stable_sort(tags.begin(), tags.end(), [](const gr::tag_t& a, const gr::tag_t& b) {
+        if (a.offset != b.offset)
+            return a.offset < b.offset;
+        return pmt::eq(a.key, tags::aperture_key()) && !pmt::eq(b.key, tags::aperture_key());
+    });
 }
 
 } // namespace nrsar

@@ -28,8 +28,8 @@ void autofocus_config::validate() const
     if (!(std::isfinite(pga_window_db) && pga_window_db > 0.0 && pga_window_db <= 60.0))
         throw_param("pga_window_db", pga_window_db, "must be in (0, 60]");
     check_at_least("pga_min_window", pga_min_window, 2u);
-    if (!(std::isfinite(entropy_support_db) && entropy_support_db > 0.0 && entropy_support_db <= 100.0))
-        throw_param("entropy_support_db", entropy_support_db, "must be in (0, 100]");
+    if (!(std::isfinite(support_db) && support_db > 0.0 && support_db <= 100.0))
+        throw_param("support_db", support_db, "must be in (0, 100]");
     if (entropy_order == 1 || entropy_order > 8)
         throw_param("entropy_order", entropy_order, "must be 0 (per bin) or in [2, 8]");
 }
@@ -253,6 +253,15 @@ autofocus_result autofocus::focus(gr_complex* img, std::size_t lines, std::size_
         for (std::size_t p = 0; p < M; ++p)
             d_weight[p] += std::norm(out[p]) / static_cast<double>(M);
     }
+    // The targets' band: only there is the phase estimated, fitted and counted.
+    {
+        const auto sm = smoothed(d_weight);
+        const double floor_v = *std::max_element(sm.begin(), sm.end()) *
+                               std::pow(10.0, -d_cfg.support_db / 10.0);
+        for (std::size_t p = 0; p < M; ++p)
+            if (!(sm[p] >= floor_v && sm[p] > 0.0))
+                d_weight[p] = 0.0;
+    }
     autofocus_result r;
     r.entropy_before = image_entropy(img, M * K);
     if (d_cfg.method == autofocus_method::PGA)
@@ -345,7 +354,13 @@ unsigned autofocus::run_pga()
                 z_energy[p] += std::norm(a);
             }
         }
-        const std::size_t s = weakest(z_energy);
+        // Outside the band the gradient is noise: the phase is held there.
+        for (std::size_t p = 0; p < M; ++p)
+            if (d_weight[p] == 0.0 || d_weight[(p + M - 1) % M] == 0.0) {
+                z[p] = cd(1.0, 0.0);
+                z_energy[p] = 0.0;
+            }
+        const std::size_t s = weakest(d_weight);
         dphi[s] = 0.0;
         for (std::size_t i = 1; i < M; ++i) {
             const std::size_t p = (s + i) % M, q = (s + i - 1) % M;
@@ -366,7 +381,7 @@ unsigned autofocus::run_pga()
 // W = DFT(g ln D) (S is constant: the correction keeps the energy). Each iteration takes
 // the preconditioned descent step Im q(p) / (lambda h(p)), h(p) = max(w(p), mean w): a
 // Doppler bin's curvature scales with its energy w(p), and the floor keeps bins of noise
-// alone from being tuned to it (bins below entropy_support_db stay as they are).
+// alone from being tuned to it (bins outside the band, support_db, stay as they are).
 // entropy_order >= 2: the step projected, with weights h,
 // onto Legendre polynomials of that order (the Gauss-Newton step of their coefficients).
 // lambda grows fourfold when a step fails to lower the entropy and halves when it
@@ -382,13 +397,9 @@ unsigned autofocus::run_entropy()
     for (std::size_t p = 0; p < M; ++p)
         h[p] = std::max(d_weight[p], mean_w);
     std::vector<bool> frozen(M, false);
-    if (d_cfg.entropy_order == 0) {
-        const auto sm = smoothed(d_weight);
-        const double floor_v = *std::max_element(sm.begin(), sm.end()) *
-                               std::pow(10.0, -d_cfg.entropy_support_db / 10.0);
+    if (d_cfg.entropy_order == 0)
         for (std::size_t p = 0; p < M; ++p)
-            frozen[p] = sm[p] < floor_v;
-    }
+            frozen[p] = d_weight[p] == 0.0;
     std::vector<cd> q(M);
     image_of(d_phi.data());
     double E = entropy_of_work();
@@ -423,7 +434,7 @@ unsigned autofocus::run_entropy()
         for (std::size_t p = 0; p < M; ++p)
             step[p] = frozen[p] ? 0.0 : q[p].imag() / (lambda * h[p] * static_cast<double>(M));
         if (d_cfg.entropy_order >= 2)
-            project_polynomial(step, h, d_cfg.entropy_order, start);
+            project_polynomial(step, d_weight, d_cfg.entropy_order, start);
         for (std::size_t p = 0; p < M; ++p)
             trial[p] = d_phi[p] + step[p];
         image_of(trial.data());

@@ -42,10 +42,11 @@ struct NRSAR_API autofocus_config {
     //! Minimum entropy: 0 = one phase per azimuth frequency bin, 2..16 = a polynomial of
     //! this order in the normalised frequency (the constant and linear terms excluded).
     unsigned entropy_order = 0;
-    //! Minimum entropy, one phase per bin: bins whose energy (a moving sum over M / 32
-    //! bins) lies more than this many dB below the strongest stay uncorrected; noise alone
-    //! would otherwise be phased into the targets to lower the entropy.
-    double entropy_support_db = 10.0;
+    //! The targets' band: Doppler bins whose energy (a moving sum over M / 32 bins) lies
+    //! within this many dB of the strongest stretch. Outside it the phase is held (noise
+    //! alone would otherwise be phased into the targets, or its random gradient integrated),
+    //! and the fits and the rms count only the band.
+    double support_db = 10.0;
 
     void validate() const;
 };

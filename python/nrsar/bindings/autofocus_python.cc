@@ -47,7 +47,7 @@ void bind_autofocus(py::module& m)
                          double pga_window_db,
                          unsigned pga_min_window,
                          unsigned entropy_order,
-                         double entropy_support_db) {
+                         double support_db) {
                  autofocus_config c;
                  c.method = method;
                  c.lines_per_aperture = lines_per_aperture;
@@ -57,7 +57,7 @@ void bind_autofocus(py::module& m)
                  c.pga_window_db = pga_window_db;
                  c.pga_min_window = pga_min_window;
                  c.entropy_order = entropy_order;
-                 c.entropy_support_db = entropy_support_db;
+                 c.support_db = support_db;
                  return c;
              }),
              py::arg("method") = autofocus_method::PGA,
@@ -68,7 +68,7 @@ void bind_autofocus(py::module& m)
              py::arg("pga_window_db") = 10.0,
              py::arg("pga_min_window") = 8u,
              py::arg("entropy_order") = 0u,
-             py::arg("entropy_support_db") = 10.0,
+             py::arg("support_db") = 10.0,
              "autofocus_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("method", &autofocus_config::method)
         .def_readwrite("lines_per_aperture", &autofocus_config::lines_per_aperture)
@@ -78,7 +78,7 @@ void bind_autofocus(py::module& m)
         .def_readwrite("pga_window_db", &autofocus_config::pga_window_db)
         .def_readwrite("pga_min_window", &autofocus_config::pga_min_window)
         .def_readwrite("entropy_order", &autofocus_config::entropy_order)
-        .def_readwrite("entropy_support_db", &autofocus_config::entropy_support_db)
+        .def_readwrite("support_db", &autofocus_config::support_db)
         .def("validate", &autofocus_config::validate);
 
     py::class_<autofocus, gr::block, gr::basic_block, std::shared_ptr<autofocus>>(

@@ -37,27 +37,14 @@ import numpy as np
 from gnuradio import blocks, gr
 
 from .. import params
-from ..focus_scenario import C, H, K, LAM, N_SUB, NFFT, NUM, R_FIRST, RHO, SPP, T, V, geometry
+from ..focus_scenario import (H, K, LAM, N_SUB, NUM, R_FIRST, RHO, SPP, T, V, echo_along,
+                              geometry)
 from ..nrsar_python import (autofocus, autofocus_config, autofocus_method, bp_config,
                             bp_focuser, image_entropy)
 
 M = 400                          # pulses per aperture (1 s, 50 m of track)
-TARGETS = [(800.0, 25.03, 1.0), (815.0, 21.0, 0.5), (790.0, 29.0, 0.3)]  # (x, y, amplitude)
+TARGETS = [(800.0, 25.03, 1.0), (830.0, 25.03, 0.5), (770.0, 25.03, 0.3)]  # (x, y, amplitude)
 SNR_DB = 10.0                    # per pulse and range-compressed sample of the first target
-
-
-def echo(antenna):
-    """Exact range-compressed echo (eq. 29) seen from the antenna positions (pulses x 3)."""
-    k = np.arange(K)
-    n = np.arange(N_SUB)
-    out = np.zeros((len(antenna), K), complex)
-    for x, y, a in TARGETS:
-        r = np.sqrt((x - antenna[:, 0]) ** 2 + (y - antenna[:, 1]) ** 2 + antenna[:, 2] ** 2)
-        kq = (r - R_FIRST) / RHO
-        prof = np.exp(2j * np.pi * (k[None, :, None] - kq[:, None, None]) * n[None, None, :]
-                      / NFFT).sum(-1) / np.sqrt(N_SUB)
-        out += a * prof * np.exp(-4j * np.pi * np.mod(r / LAM, 1.0))[:, None]
-    return out
 
 
 def image(data, nav, method=None):
@@ -129,7 +116,7 @@ def run(seed, make_plot=None):
     times = list(np.arange(M) * T)
     truth_ant = np.array(truth.positions(times))
     nav_ant = np.array(nav.positions(times))
-    clean = echo(truth_ant)
+    clean = echo_along(truth_ant, TARGETS)
     rng = np.random.default_rng(seed)
     sigma2 = N_SUB / 10 ** (SNR_DB / 10)  # the first target's sample power is N
     noisy = clean + np.sqrt(sigma2 / 2) * (rng.standard_normal(clean.shape) +

@@ -32,12 +32,12 @@ namespace kernel {
  * phi is the per-pulse error mapped through the target's Doppler history. The constant
  * and linear parts of phi do not defocus (a phase and a shift) and are not estimated:
  * every estimate comes back with its energy-weighted constant and linear fit removed
- * (weights w(p) = sum_k |G(p, k)|^2; frequency unwrapped from the weakest stretch of w, so
+ * (weights w(p) = sum_k |G(p, k)|^2 over the targets' band, config support_db; frequency unwrapped from the weakest stretch of w, so
  * a band across DFT bin 0 is one piece), so the corrected image stays where it was.
  */
 struct NRSAR_API autofocus_result {
     std::vector<double> phase_rad; //!< phi(p), p = 0..M-1 (DFT order) [rad]
-    std::vector<double> weight;    //!< w(p) of the input image
+    std::vector<double> weight;    //!< w(p) of the input image inside the band, 0 outside
     double phase_rms_rad = 0.0;    //!< sqrt(sum w phi^2 / sum w)
     double entropy_before = 0.0;   //!< image_entropy of the input
     double entropy_after = 0.0;    //!< and of the corrected image
