@@ -355,7 +355,7 @@ TEST(ImageMetrics, EdgePreservationIndex)
     for (std::size_t m = 1; m + 1 < L; ++m)
         for (std::size_t k = 1; k + 1 < N; ++k) {
             const auto lap = [&](const std::vector<gr_complex>& a) {
-                const auto A = [&](std::size_t mm, std::size_t kk) { return double(std::abs(a[mm * N + kk])); };
+                const auto A = [&](std::size_t mm, std::size_t kk) { return std::abs(cd(a[mm * N + kk])); };
                 return A(m - 1, k) + A(m + 1, k) + A(m, k - 1) + A(m, k + 1) - 4 * A(m, k);
             };
             lx.push_back(lap(x));

@@ -382,7 +382,7 @@ unsigned autofocus::run_pga()
 // the preconditioned descent step Im q(p) / (lambda h(p)), h(p) = max(w(p), mean w): a
 // Doppler bin's curvature scales with its energy w(p), and the floor keeps bins of noise
 // alone from being tuned to it (bins outside the band, support_db, stay as they are).
-// entropy_order >= 2: the step projected, with weights h,
+// entropy_order >= 2: the step projected, with weights w (the band),
 // onto Legendre polynomials of that order (the Gauss-Newton step of their coefficients).
 // lambda grows fourfold when a step fails to lower the entropy and halves when it
 // succeeds (a trust region: E never rises).

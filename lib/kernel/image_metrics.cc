@@ -306,7 +306,7 @@ double edge_preservation_index(const gr_complex* x,
         throw_param("image size (lines x bins)", lines * bins, "must be at least 3 x 3");
     const auto lap = [bins](const gr_complex* a, std::size_t m, std::size_t k) {
         const auto A = [a, bins](std::size_t mm, std::size_t kk) {
-            return static_cast<double>(std::abs(a[mm * bins + kk]));
+            return std::abs(std::complex<double>(a[mm * bins + kk]));
         };
         return A(m - 1, k) + A(m + 1, k) + A(m, k - 1) + A(m, k + 1) - 4.0 * A(m, k);
     };

@@ -477,7 +477,7 @@ class qa_nmse_probe(gr_unittest.TestCase):
         lx, ly = laplacian(ref32), laplacian(img32)
         lx, ly = lx - lx.mean(), ly - ly.mean()
         self.assertAlmostEqual(got["epi"], np.sum(lx * ly) / np.sqrt(np.sum(lx ** 2) * np.sum(ly ** 2)),
-                               delta=1e-9)
+                               delta=1e-8)
         c = np.vdot(ref32, img32) / np.vdot(ref32, ref32)
         noise = np.mean(abs(img32 - c * ref32)[:, sc.noise_mask()] ** 2)
         rcs = sc.scn.targets[0].rcs
