@@ -166,6 +166,17 @@ int focuser_stream_loop(S& s,
     return std::max(consume, 0);
 }
 
+//! Tags of image lines by offset; on one line the aperture tag first (it closes the
+//! previous image before the axis tags of the new one apply).
+inline void sort_aperture_first(std::vector<gr::tag_t>& tags)
+{
+    std::stable_sort(tags.begin(), tags.end(), [](const gr::tag_t& a, const gr::tag_t& b) {
+        if (a.offset != b.offset)
+            return a.offset < b.offset;
+        return pmt::eq(a.key, tags::aperture_key()) && !pmt::eq(b.key, tags::aperture_key());
+    });
+}
+
 } // namespace nrsar
 } // namespace gr
 

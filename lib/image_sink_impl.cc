@@ -6,6 +6,7 @@
  */
 
 #include "image_sink_impl.h"
+#include "focuser_stream.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
@@ -169,13 +170,7 @@ int image_sink_impl::work(int noutput_items,
     const std::uint64_t n0 = nitems_read(0);
     std::vector<tag_t> tags;
     get_tags_in_range(tags, 0, n0, n0 + noutput_items);
-    // By offset; on one line the aperture tag first (it closes the previous image before
-    // the axis tags of the new one apply).
-    std::sort(tags.begin(), tags.end(), [](const tag_t& a, const tag_t& b) {
-        if (a.offset != b.offset)
-            return a.offset < b.offset;
-        return pmt::eq(a.key, tags::aperture_key()) && !pmt::eq(b.key, tags::aperture_key());
-    });
+    sort_aperture_first(tags);
     std::uint64_t pos = n0;
     size_t t = 0;
     while (pos < n0 + noutput_items) {

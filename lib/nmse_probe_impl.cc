@@ -238,6 +238,8 @@ void nmse_probe_impl::finish_aperture(bool partial)
     cfg.range_res_bins = rho_r / std::abs(dr);
     cfg.azimuth_res_lines = rho_a / std::abs(dy);
     cfg.sidelobe_window_cells = d_cfg.sidelobe_window_cells;
+    cfg.reference_rcs_m2 = target.rcs;
+    cfg.pixel_area_m2 = std::abs(dr * dy);
     // Other targets on a cut through the reference (within 2 cells across it) bound that
     // cut's sidelobe window at half their distance: their main lobes are not sidelobes.
     for (std::size_t q = 1; q < d_scene.targets.size(); ++q) {
@@ -358,6 +360,9 @@ void nmse_probe_impl::finish_aperture(bool partial)
     m["peak_error_range_m"] = r_pk - R0;
     m["peak_error_azimuth_m"] = y_pk - target.y_m;
     m["peak_error_m"] = err;
+    m["image_entropy"] = res.image_entropy;
+    m["epi"] = res.epi;
+    m["nesz_db"] = res.nesz_db;
 
     if (d_nonfinite_ap)
         d_logger->warn("aperture {}: {} non-finite samples zeroed", d_aperture, d_nonfinite_ap);

@@ -21,7 +21,7 @@ from .params import (make_numerology, make_geometry, make_scene, make_srs, make_
                      make_modulation, make_tx_mode, make_filter, make_presum_method,
                      make_presum_domain, make_doppler_band, make_colormap, parse_target,
                      make_trajectory, make_navigation, make_moco_order, make_pusch_config,
-                     make_pusch_coding, make_pusch_scrambling)
+                     make_pusch_coding, make_pusch_scrambling, make_autofocus_method)
 from .scenes import (make_map, make_beam, load_scene_file, SceneFileError)
 from .options import SimOptions, IsacOptions, SoakOptions, OptionError
 from .chain import imaging_chain

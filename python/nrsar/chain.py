@@ -13,7 +13,8 @@
 `imaging_chain` (nrsar.imaging_chain) is the receive side as a gr.hier_block2: inputs
 0 = echo, 1 = transmit grid, 2 = reference echo (N-vectors, TF domain); outputs 0 = focused
 image, 1 = range-compressed data, 2 = reference image (K-vectors / range-bin vectors). Its
-blocks are attributes (filter, range_ifft, presum, focuser, focuser_ref, probe).
+blocks are attributes (filter, range_ifft, presum, focuser, focuser_ref, probe, autofocus:
+None unless --autofocus, which puts it after the data branch's focuser).
 
 `build(tb, opts, sc)` wires the whole simulation into a top block (the transmitter, the echo
 front, the chain and its sinks) and returns the blocks by name. Hooks instead of patches:
@@ -34,7 +35,7 @@ from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_co
                            nmse_probe, nr_isac_tx, presum_config, presum_domain, probe_config,
                            range_ifft,
                            rd_focuser, scene_echo, tf_filter, bp_config, bp_focuser,
-                           moco_order, image_grid)
+                           moco_order, image_grid, autofocus, autofocus_config)
 from .options import check_out_dir
 from .scenario import fft_size_of
 
@@ -235,9 +236,19 @@ class imaging_chain(gr.hier_block2):
                                                 sc.srs.symbol_in_slot),
                              sink)
         check_memory(rif, foc, sc.symbols, keep_images)
-        self.connect(foc, (self, 0))
+        # Autofocus on the data branch only: the reference branch is the calibration
+        # standard (SPEC 8, the noise-free echo's image), so NMSE and PEL measure how close
+        # the autofocused image comes to it.
+        image = foc
+        af = None
+        if opts.autofocus != "none":
+            af = autofocus(k, autofocus_config(
+                method=params.make_autofocus_method(opts.autofocus)))
+            self.connect(foc, af)
+            image = af
+        self.connect(image, (self, 0))
         self.connect(rif, (self, 1))
-        self.connect(foc, (probe, 0))
+        self.connect(image, (probe, 0))
         if reference:
             self.connect(foc_ref, (self, 2))
             self.connect(foc_ref, (probe, 1))
@@ -246,6 +257,7 @@ class imaging_chain(gr.hier_block2):
         self.filter_ref = filters[1] if reference else None
         self.focuser_ref = foc_ref if reference else None
         self.probe = probe
+        self.autofocus = af
 
     # The probe's last metrics, for GRC's function probes and GUI labels
     def nmse_db(self):
@@ -307,7 +319,7 @@ def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=Fal
     tb. The sinks hold the range-compressed data, the focused image (vector sinks, or null
     sinks with --images none) and, with keep_reference, the reference image. Returns the
     blocks by name (tx, head, echo, chain, filter, range_ifft, presum, focuser, focuser_ref,
-    probe, range_sink, image_sink, reference_sink)."""
+    probe, range_sink, image_sink, reference_sink, autofocus (None without))."""
     n = sc.num.num_subcarriers
     keep = opts.images != "none"
     if tx is None:
@@ -334,6 +346,7 @@ def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=Fal
     return {"tx": tx, "head": head, "echo": echo, "chain": chain, "filter": chain.filter,
             "range_ifft": chain.range_ifft, "presum": chain.presum, "focuser": chain.focuser,
             "focuser_ref": chain.focuser_ref, "probe": chain.probe, "range_sink": range_sink,
+            "autofocus": chain.autofocus,
             "image_sink": image_sink, "reference_sink": reference_sink}
 
 

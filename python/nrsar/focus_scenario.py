@@ -58,3 +58,20 @@ def echo(targets, n_lines, t_pulse=T, track_start=0.0, illum=None):
         w = np.ones(n_lines) if illum is None else (np.abs(yp - y) <= illum).astype(float)
         out += a * w[:, None] * prof * np.exp(-4j * np.pi * np.mod(r / LAM, 1.0))[:, None]
     return out
+
+
+def echo_along(antenna, targets):
+    """Exact range-compressed echo (eq. 29) seen from antenna positions (pulses x 3, the
+    frame of SPEC 3) of targets (x, y, amplitude) on the ground: echo()'s sum with the
+    range from each position."""
+    antenna = np.asarray(antenna, float)
+    k = np.arange(K)
+    n = np.arange(N_SUB)
+    out = np.zeros((len(antenna), K), complex)
+    for x, y, a in targets:
+        r = np.sqrt((x - antenna[:, 0]) ** 2 + (y - antenna[:, 1]) ** 2 + antenna[:, 2] ** 2)
+        kq = (r - R_FIRST) / RHO
+        prof = np.exp(2j * np.pi * (k[None, :, None] - kq[:, None, None]) * n[None, None, :]
+                      / NFFT).sum(-1) / np.sqrt(N_SUB)
+        out += a * prof * np.exp(-4j * np.pi * np.mod(r / LAM, 1.0))[:, None]
+    return out

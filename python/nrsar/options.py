@@ -317,6 +317,10 @@ class SimOptions(_Options):
     image_grid: str = option("slant", "bp/ffbp image grid: slant = slant range x along track "
                              "(rd_focuser's), ground = ground range x along track on the "
                              "scene's plane", choices=["slant", "ground"])
+    autofocus: str = option("none", "autofocus of the data branch's image after the focuser "
+                            "(the reference branch stays the calibration standard): pga = "
+                            "phase gradient, entropy = minimum image entropy",
+                            choices=list(params.AUTOFOCUS_METHODS))
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "

@@ -14,7 +14,8 @@ from .nrsar_python import (numerology, geometry, scene, point_target, srs_config
                            modulation, tx_mode, filter_type, presum_method, presum_domain,
                            doppler_band, beam_mode, image_colormap, check_scenario,
                            compute_extent, trajectory, motion_model, nav_error_model,
-                           moco_order, pusch_coding, pusch_scrambling, pusch_config, mcs as nr_mcs)
+                           moco_order, pusch_coding, pusch_scrambling, pusch_config, mcs as nr_mcs,
+                           autofocus_method)
 
 
 def _names(enum):
@@ -41,6 +42,8 @@ PUSCH_SCRAMBLINGS = _names(pusch_scrambling)
 MCS_TABLES = ("qam64", "qam256")
 # bits per symbol of the square QAMs pusch_receiver demaps
 QAM_BITS = {"qpsk": 2, "qam16": 4, "qam64": 6, "qam256": 8}
+
+AUTOFOCUS_METHODS = _names(autofocus_method)
 
 
 def _lookup(table, kind, name):
@@ -107,6 +110,8 @@ def make_pusch_config(num, modulation="qam256", dmrs="pusch2", coding="nr-ldpc",
     _with_overrides(cfg, fields, "pusch_config")
     cfg.validate()
     return cfg
+
+make_autofocus_method = _builder(AUTOFOCUS_METHODS, "autofocus method")
 
 
 def _with_overrides(obj, overrides, kind):

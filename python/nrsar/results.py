@@ -117,6 +117,8 @@ def azimuth_axis_of(sink, fallback):
 METRIC_KEYS = ("nmse_db", "nmse_theory_db", "nmse_theory_band_db", "nmse_minus_theory_band_db",
                "pel_db", "snr_out_db", "islr_db", "pslr_db", "irw_range_m", "irw_azimuth_m",
                "peak_error_m")
+# the second paper's extended-scene figures (section 3.2.1; docs/blocks/nmse_probe.md)
+METRIC_KEYS += ("image_entropy", "nesz_db", "epi")
 
 
 def flight_rms_deviation_m(sc, n=1000):
@@ -221,6 +223,7 @@ def image_results(opts, chain, sc, runtime_s):
         "focuser": opts.focuser,
         "moco": opts.moco,
         "image_grid": "ground" if ground else "slant",
+        "autofocus": opts.autofocus,
         "nonfinite": chain["echo"].nonfinite_count() + chain["filter"].nonfinite_count(),
         "empty_res": chain["filter"].empty_re_count(),
         "warnings": warnings,
@@ -231,6 +234,10 @@ def image_results(opts, chain, sc, runtime_s):
     }
     if chain["presum"] is not None:
         result["warnings"] += list(chain["presum"].warnings())
+    # rms of the azimuth phase error autofocus estimated (energy-weighted, rad)
+    af = chain["autofocus"]
+    af_rms = af.phase_rms_rad() if af is not None else math.nan
+    result["autofocus_phase_rms_rad"] = af_rms if math.isfinite(af_rms) else None
     metrics["nmse_minus_theory_band_db"] = metrics.get("nmse_db", math.nan) - metrics.get(
         "nmse_theory_band_db", math.nan)
     if ground:

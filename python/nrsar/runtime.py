@@ -52,9 +52,10 @@ def run(tb, counters=True):
 
 def rx_block_times(blocks_by_name):
     """CPU time [s] each block of the receive chain (main branch: filter, range IFFT,
-    presummer, focuser, probe) spent in work(), from pc_work_time_total (high-resolution
-    timer ticks, ns on Linux). The reference branch and the generator are excluded."""
-    names = ("filter", "range_ifft", "presum", "focuser", "probe")
+    presummer, focuser, autofocus, probe) spent in work(), from pc_work_time_total
+    (high-resolution timer ticks, ns on Linux). The reference branch and the generator are
+    excluded."""
+    names = ("filter", "range_ifft", "presum", "focuser", "autofocus", "probe")
     return {name: blocks_by_name[name].pc_work_time_total() / 1e9 for name in names
             if blocks_by_name.get(name) is not None}
 

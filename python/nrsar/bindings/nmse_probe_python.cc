@@ -15,6 +15,7 @@
 /***********************************************************************************/
 
 #include <pybind11/complex.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -138,6 +139,32 @@ void bind_nmse_probe(py::module& m)
           py::arg("velocity_mps"),
           "Per-pixel weights W / s (lines x bins, row-major) of the NMSE of a zero-padded "
           "aperture (kernel::strip_pixel_weights, SPEC section 8)");
+
+    using cimage = py::array_t<std::complex<float>, py::array::c_style | py::array::forcecast>;
+    m.def(
+        "image_entropy",
+        [](cimage img) { return gr::nrsar::kernel::image_entropy(img.data(), img.size()); },
+        py::arg("img"),
+        "-sum D ln D, D = |I|^2 / sum |I|^2 (the second paper's section 3.2.1)");
+    m.def(
+        "edge_preservation_index",
+        [](cimage x, cimage y) {
+            if (x.ndim() != 2 || y.ndim() != 2 || x.shape(0) != y.shape(0) || x.shape(1) != y.shape(1))
+                throw std::invalid_argument("x and y must be 2-D images of one shape");
+            return gr::nrsar::kernel::edge_preservation_index(
+                x.data(), y.data(), x.shape(0), x.shape(1));
+        },
+        py::arg("x"),
+        py::arg("y"),
+        "EPI of y against x: correlation coefficient of their amplitudes' 4-neighbour "
+        "Laplacians over the interior pixels (the second paper's section 3.2.1)");
+    m.def("nesz_db",
+          &gr::nrsar::kernel::nesz_db,
+          py::arg("noise_power"),
+          py::arg("target_energy"),
+          py::arg("rcs_m2"),
+          py::arg("pixel_area_m2"),
+          "10 log10(P_n sigma_ref / (E_t A)): NESZ by the integral method");
 
     m.def("nmse_theory_db",
           &gr::nrsar::kernel::nmse_theory_db,

@@ -39,6 +39,7 @@ namespace py = pybind11;
     void bind_image_sink(py::module& m);
     void bind_trajectory(py::module& m);
     void bind_bp_focuser(py::module& m);
+    void bind_autofocus(py::module& m);
 // ) END BINDING_FUNCTION_PROTOTYPES
 
 
@@ -89,5 +90,6 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_td_echo(m);
     bind_image_sink(m);
     bind_bp_focuser(m);
+    bind_autofocus(m);
     // ) END BINDING_FUNCTION_CALLS
 }

@@ -454,5 +454,36 @@ class qa_nmse_probe(gr_unittest.TestCase):
         self.assertLess(abs(got["peak_error_range_m"]), 0.02 * sc.rho_r)
 
 
+    def test_extended_scene_figures_match_numpy(self):
+        # The second paper's section 3.2.1 in numpy float64: entropy -sum D ln D,
+        # D = |I|^2 / sum |I|^2; EPI of the image against the reference, the correlation
+        # coefficient of their amplitudes' 4-neighbour Laplacians over interior pixels; NESZ
+        # by the integral method, P_n sigma_ref / (|c|^2 <ref, ref> dr dy).
+        sc = scenario()
+        ref = sc.psf()
+        img = 0.8 * np.exp(0.4j) * ref + sc.noise(0.003)
+        ref32 = ref.astype(np.complex64).astype(complex)
+        img32 = img.astype(np.complex64).astype(complex)
+        probe = sc.probe(True)
+        run(self.tb, sc, probe, [img], [ref])
+        got = probe.metrics()
+        D = abs(img32) ** 2 / np.sum(abs(img32) ** 2)
+        self.assertAlmostEqual(got["image_entropy"], -np.sum(D * np.log(D)), delta=1e-9)
+
+        def laplacian(a):
+            a = abs(a)
+            return (a[:-2, 1:-1] + a[2:, 1:-1] + a[1:-1, :-2] + a[1:-1, 2:] - 4 * a[1:-1, 1:-1]).ravel()
+
+        lx, ly = laplacian(ref32), laplacian(img32)
+        lx, ly = lx - lx.mean(), ly - ly.mean()
+        self.assertAlmostEqual(got["epi"], np.sum(lx * ly) / np.sqrt(np.sum(lx ** 2) * np.sum(ly ** 2)),
+                               delta=1e-8)
+        c = np.vdot(ref32, img32) / np.vdot(ref32, ref32)
+        noise = np.mean(abs(img32 - c * ref32)[:, sc.noise_mask()] ** 2)
+        rcs = sc.scn.targets[0].rcs
+        nesz = 10 * np.log10(noise * rcs / (abs(c) ** 2 * np.vdot(ref32, ref32).real * sc.dr * sc.dy))
+        self.assertAlmostEqual(got["nesz_db"], nesz, delta=1e-3)
+
+
 if __name__ == "__main__":
     gr_unittest.run(qa_nmse_probe)
