@@ -40,7 +40,8 @@ private:
     std::uint64_t d_stamp_full = 0;
     double d_stamp_frac = 0.0;
     std::uint64_t d_skip = 0;      // samples still to drop
-    std::uint64_t d_next_symbol = 0;
+    std::uint64_t d_next_symbol = 0; // symbol index of the next output item
+    std::uint64_t d_fill = 0;        // lost symbols still to output as zeros
     bool d_tag_next = false;       // put a symbol tag on the next output (after a re-alignment)
     std::uint64_t d_lost = 0, d_dropped = 0, d_stamps = 0;
     bool d_warned_unstamped = false;
