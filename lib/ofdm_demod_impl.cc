@@ -190,6 +190,14 @@ void ofdm_demod_impl::apply_stamp(std::uint64_t abs, std::uint64_t full, double 
     apply_offset(abs, d_aligner->samples_until_start(full, frac), "rx_time");
 }
 
+void ofdm_demod_impl::count_stamp(std::uint64_t offset)
+{
+    // A stamp left unconsumed (the output filled up behind it) is seen again next call.
+    if (d_stamps == 0 || offset > d_last_stamp)
+        d_stamps++;
+    d_last_stamp = offset;
+}
+
 void ofdm_demod_impl::tag_symbol(std::uint64_t item)
 {
     const std::uint64_t sym = d_next_symbol;
@@ -249,7 +257,7 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
                 d_logger->warn("rx_time tag at input sample {} is not (uint64 s, double s); "
                                "ignored",
                                t.offset);
-                d_stamps++;
+                count_stamp(t.offset);
                 si++;
                 continue;
             }
@@ -257,7 +265,7 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
                 const std::int64_t s0 =
                     std::int64_t(t.offset) + d_aligner->samples_until_start(full, frac);
                 if (s0 == d_s0) { // the same timeline: nothing to do
-                    d_stamps++;
+                    count_stamp(t.offset);
                     si++;
                     continue;
                 }
@@ -284,7 +292,7 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
             std::uint64_t full;
             double frac;
             parse_stamp(t.value, full, frac); // checked by next_stamp()
-            d_stamps++;
+            count_stamp(t.offset);
             apply_stamp(t.offset, full, frac);
             si++;
             stamp_at = next_stamp();

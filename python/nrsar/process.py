@@ -74,6 +74,7 @@ def recording_front(rec):
                 [(start - rec.hardware_delay_samples, count) for start, count in rec.gaps])
             demod = ofdm_demod(num, -1, 1.0)
             tb.connect(source, stamper, demod)
+            tb.rx_time_stamper = stamper  # a Python block lives as long as its object
         else:
             demod = ofdm_demod(num)
             tb.connect(source, demod)

@@ -126,13 +126,15 @@ def build_meta(opts, sc, data_path, *, recorder, hw, description, snr_db=None, e
     return {"global": glob, "captures": captures, "annotations": annotations}
 
 
-def check_recordable(opts, sc):
-    """--record's rules that need the scenario (before the run): a writable folder, and
-    point targets (td_echo echoes point targets, not a scene file's maps)."""
+def check_recordable(opts, sc, folder=None, flag="--record"):
+    """--record's rules that need the scenario (before the run): a writable folder (folder,
+    default opts.record), and point targets (td_echo echoes point targets, not a scene
+    file's maps)."""
+    folder = opts.record if folder is None else folder
     if sc.scene_file is not None:
-        raise OptionError(f"--record = {opts.record!r} needs point targets: td_echo has no "
+        raise OptionError(f"{flag} = {folder!r} needs point targets: td_echo has no "
                           f"reflectivity maps (--scene {opts.scene!r} is a scene file)")
-    check_out_dir(opts.record, "--record")
+    check_out_dir(folder, flag)
     flight = sc.symbols * (sc.num.cp_samples + sc.num.fft_size)
     for sample, count in parse_gaps(opts.record_gap or []):
         if sample + count >= flight:
@@ -561,7 +563,7 @@ class sigmf_sink(gr.sync_block):
         from . import scenario
         opts.validate()
         self.opts, self.sc = opts, scenario.of(opts)
-        check_recordable(opts, self.sc)
+        check_recordable(opts, self.sc, folder, "record_dir")
         if not (math.isfinite(hardware_delay_s) and hardware_delay_s >= 0):
             raise OptionError(f"hardware_delay_s = {hardware_delay_s!r} must be finite and "
                               f">= 0")
@@ -576,7 +578,7 @@ class sigmf_sink(gr.sync_block):
         self.key = pmt.intern("rx_time")
         self.first = None  # (whole s, fraction) of the first stamp
         self.gaps, self.lost = [], 0
-        self.start = datetime.datetime.now(datetime.timezone.utc)
+        self.started = datetime.datetime.now(datetime.timezone.utc)
 
     def work(self, input_items, output_items):
         x = input_items[0]
@@ -612,7 +614,7 @@ class sigmf_sink(gr.sync_block):
                 description=f"radio recording, preset {self.opts.preset}, "
                             f"{self.opts.modulation}",
                 snr_db=None, gaps=self.gaps, dmrs=self.dmrs, payload=payload,
-                hardware_delay_s=self.hardware_delay_s, start=self.start)
+                hardware_delay_s=self.hardware_delay_s, start=self.started)
             self._stack.close()  # the data file under its name
             results.write_json(self.meta_path, meta)
         except Exception as err:  # the flowgraph stops anyway: say why there is no recording
