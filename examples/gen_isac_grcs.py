@@ -381,6 +381,26 @@ def sdr_params(g, y=200):
             "eng_float", "", "")
 
 
+def recorder(g, rx, coord, hw, delay):
+    """record_dir (default '' = off): the radar's receive stream as SigMF
+    (nrsar.recording.sigmf_sink: rx_time tags -> overflow annotations; docs/recording.md),
+    connected by a snippet only when a folder is given."""
+    g.param("record_dir", "Record the RX stream as SigMF into (folder, '' = off)", "",
+            (coord[0], coord[1] - 100), "str", "", "")
+    g.add("record", "snippet", coord,
+          "record_dir set: the RX stream -> DIR/flight.sigmf-{data,meta} (SigMF, the nrsar "
+          "extension; overflows from rx_time become annotations)",
+          section="main_after_init", priority="1",
+          code="if self.record_dir:\n"
+               "    self.recorder = nrsar.recording.sigmf_sink(\n"
+               "        self.record_dir, nrsar.SimOptions(preset='sdr20', geometry='short', "
+               f"scene='300,2', modulation='{QAM}', snr_db=self.radar_snr_db),\n"
+               f"        hardware_delay_s={delay}, hw='{hw}',\n"
+               "        dmrs=nrsar.make_dmrs('pusch2').symbols, "
+               f"recorder='{g.gid}.grc (gr-nrsar)')\n"
+               f"    self.connect((self.{rx}, 0), (self.recorder, 0))")
+
+
 def sdr_graph(gid, title, description, front_end):
     g = Graph(gid, title, description, gui=True)
     common_vars(g)
@@ -435,6 +455,11 @@ def sdr_graph(gid, title, description, front_end):
         rx = "soapy_source"
         tx_start = "-1"
         sync_demod = True
+    if front_end == "uhd":
+        recorder(g, rx, (1240, 560), "USRP (gr-uhd), RX2",
+                 "self.rx_lead_s + self.hw_delay_samples / self.samp_rate")
+    else:  # no timed start: the recording starts wherever the source did
+        recorder(g, rx, (1240, 560), "SoapySDR (gr-soapy), RX2", "0.0")
     base_station(g, 8, 900, rx, eq=True, channel=False)
     radar(g, 8, 1200, rx, "0", "tx", echo=False, tx_start=tx_start, sync_demod=sync_demod)
     gui_sinks(g)
@@ -520,6 +545,8 @@ def loopback_headless():
     g.c("rx_latency", "0", "usrp_source", "0")
     radar(g, 8, 1100, "usrp_source", "0", "head", echo=False,
           tx_start="tx_start_s + hw_delay_samples / samp_rate")
+    recorder(g, "usrp_source", (760, 820), "none: simulated USRP (td_echo, loopback graph)",
+             "self.rx_lead_s + self.hw_delay_samples / self.samp_rate")
     headless_sinks(g, 1400, 1300)
     g.dump()
 

@@ -22,7 +22,8 @@ from gnuradio.nrsar import options
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "nrsar_imaging_chain.block.yml")
 
 # Fields of SimOptions that are about files, maps and printing, not the chain.
-NOT_CHAIN = {"out", "json", "images", "target", "record", "geotiff", "geotiff_grid", "origin"}
+NOT_CHAIN = {"out", "json", "images", "target", "record", "record_gap", "geotiff", "geotiff_grid",
+             "origin"}
 
 
 def grc_param(f, hints):

@@ -88,6 +88,7 @@ void ofdm_demod_impl::set_tx_start_time(double t)
         d_aligner.reset();
         d_aligned = false;
         d_skip = 0;
+        d_fill = 0;
         return;
     }
     std::uint64_t full;
@@ -137,12 +138,13 @@ int ofdm_demod_impl::work_plain(int noutput_items,
 void ofdm_demod_impl::apply_offset(std::uint64_t abs, std::int64_t tx_start_offset, const char* why)
 {
     const auto len = d_kernel.symbol_length();
-    const std::uint64_t expected = d_aligned ? d_next_symbol : 0;
+    // The symbol the output stream is at, zero symbols still owed included.
+    const std::uint64_t expected = d_aligned ? d_next_symbol + d_fill : 0;
     const auto r = kernel::rx_time_aligner::align_offset(tx_start_offset, len, expected);
     if (r.lost_symbols > 0) {
         d_lost += std::uint64_t(r.lost_symbols);
-        d_logger->warn("{} at input sample {}: symbols {} .. {} lost ({} so far); the next "
-                       "output is symbol {}",
+        d_logger->warn("{} at input sample {}: symbols {} .. {} lost ({} so far), output as "
+                       "zeros; symbol {} follows",
                        why,
                        abs,
                        expected,
@@ -167,7 +169,15 @@ void ofdm_demod_impl::apply_offset(std::uint64_t abs, std::int64_t tx_start_offs
     }
     d_s0 = std::int64_t(abs) + tx_start_offset;
     d_skip = r.skip;
-    d_next_symbol = r.next_symbol;
+    // Lost symbols are output as zero vectors, so output item k stays symbol k (the radar's
+    // reference grid and slow time go on); a stamp that goes back in time restarts there.
+    if (r.lost_symbols > 0) {
+        d_next_symbol = expected - d_fill;
+        d_fill += std::uint64_t(r.lost_symbols);
+    } else {
+        d_next_symbol = r.next_symbol;
+        d_fill = 0;
+    }
     d_aligned = true;
     d_tag_next = true;
 }
@@ -178,6 +188,14 @@ void ofdm_demod_impl::apply_stamp(std::uint64_t abs, std::uint64_t full, double 
     d_stamp_full = full;
     d_stamp_frac = frac;
     apply_offset(abs, d_aligner->samples_until_start(full, frac), "rx_time");
+}
+
+void ofdm_demod_impl::count_stamp(std::uint64_t offset)
+{
+    // A stamp left unconsumed (the output filled up behind it) is seen again next call.
+    if (d_stamps == 0 || offset > d_last_stamp)
+        d_stamps++;
+    d_last_stamp = offset;
 }
 
 void ofdm_demod_impl::tag_symbol(std::uint64_t item)
@@ -226,7 +244,8 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
     std::size_t si = 0; // next stamp not applied yet
     std::uint64_t pos = 0;
     int produced = 0;
-    std::vector<std::uint64_t> starts; // relative input start of each produced item
+    // (relative input start, output item) of each demodulated symbol
+    std::vector<std::pair<std::uint64_t, int>> starts;
 
     // Next stamp that changes the timeline, skipping malformed and consistent ones.
     auto next_stamp = [&]() -> std::uint64_t {
@@ -238,7 +257,7 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
                 d_logger->warn("rx_time tag at input sample {} is not (uint64 s, double s); "
                                "ignored",
                                t.offset);
-                d_stamps++;
+                count_stamp(t.offset);
                 si++;
                 continue;
             }
@@ -246,7 +265,7 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
                 const std::int64_t s0 =
                     std::int64_t(t.offset) + d_aligner->samples_until_start(full, frac);
                 if (s0 == d_s0) { // the same timeline: nothing to do
-                    d_stamps++;
+                    count_stamp(t.offset);
                     si++;
                     continue;
                 }
@@ -257,13 +276,23 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
     };
 
     std::uint64_t stamp_at = next_stamp();
-    while (pos < avail) {
+    while (pos < avail || d_fill > 0) {
+        if (d_fill > 0) { // a lost symbol: zeros in its place
+            if (produced == noutput_items)
+                break;
+            tag_symbol(w0 + produced);
+            std::fill_n(out + std::size_t(produced) * d_kernel.n(), d_kernel.n(), gr_complex(0));
+            d_next_symbol++;
+            produced++;
+            d_tag_next = --d_fill == 0; // the first received symbol after the gap
+            continue;
+        }
         if (stamp_at == pos) {
             const auto& t = tags[stamps[si]];
             std::uint64_t full;
             double frac;
             parse_stamp(t.value, full, frac); // checked by next_stamp()
-            d_stamps++;
+            count_stamp(t.offset);
             apply_stamp(t.offset, full, frac);
             si++;
             stamp_at = next_stamp();
@@ -300,7 +329,7 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
         const std::uint64_t item = w0 + produced;
         tag_symbol(item);
         demod_one(in + pos, out + std::size_t(produced) * d_kernel.n(), item);
-        starts.push_back(pos);
+        starts.emplace_back(pos, produced);
         d_next_symbol++;
         produced++;
         pos += len;
@@ -320,10 +349,10 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
         const std::uint64_t rel = t.offset - r0;
         if (rel >= pos)
             break;
-        while (j < starts.size() && starts[j] + len <= rel)
+        while (j < starts.size() && starts[j].first + len <= rel)
             j++;
         if (j < starts.size()) {
-            t.offset = w0 + j;
+            t.offset = w0 + std::uint64_t(starts[j].second);
             add_item_tag(0, t);
         } else {
             d_pending.push_back(t);

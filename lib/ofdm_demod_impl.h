@@ -40,9 +40,11 @@ private:
     std::uint64_t d_stamp_full = 0;
     double d_stamp_frac = 0.0;
     std::uint64_t d_skip = 0;      // samples still to drop
-    std::uint64_t d_next_symbol = 0;
+    std::uint64_t d_next_symbol = 0; // symbol index of the next output item
+    std::uint64_t d_fill = 0;        // lost symbols still to output as zeros
     bool d_tag_next = false;       // put a symbol tag on the next output (after a re-alignment)
     std::uint64_t d_lost = 0, d_dropped = 0, d_stamps = 0;
+    std::uint64_t d_last_stamp = 0; // input offset of the last stamp counted
     bool d_warned_unstamped = false;
     std::vector<gr::tag_t> d_pending; // tags on dropped samples, for the next output item
 
@@ -52,6 +54,7 @@ private:
     void apply_stamp(std::uint64_t abs, std::uint64_t full, double frac);
     void apply_offset(std::uint64_t abs, std::int64_t tx_start_offset, const char* why);
     void tag_symbol(std::uint64_t item);
+    void count_stamp(std::uint64_t offset);
 
 public:
     ofdm_demod_impl(kernel::ofdm_demodulator&& kern, const numerology& num, double tx_start_time);

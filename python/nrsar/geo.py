@@ -38,7 +38,9 @@ import os
 from xml.sax.saxutils import escape
 
 import numpy as np
+import pmt
 import pyproj
+from gnuradio import gr
 from osgeo import gdal, osr
 
 from . import results
@@ -175,20 +177,20 @@ def _vrt_text(cols, rows, frame, geotransform, bands):
     return "\n".join(lines) + "\n"
 
 
-def write_geotiffs(opts, result, height_m, name="image"):
-    """Writes the focused image of a run (result: the JSON dict of SPEC 9, its image_npy
-    and axes) as GeoTIFFs into opts.out; returns the JSON keys that name them."""
-    frame = Frame(opts.origin)
-    image = np.load(result["image_npy"])
-    range_axis, y_axis = result["range_axis_m"], result["azimuth_axis_m"]
+def write_image(image, range_axis, y_axis, origin, height_m, grid, prefix):
+    """Writes one focused image (lines x slant bins; range_axis [first, step] of the bins,
+    y_axis [first, step] of the lines, both in metres) as prefix_db.tif, prefix_complex.tif
+    and prefix.vrt on the map of origin ('LAT,LON,HEADING_DEG'); returns the JSON keys that
+    name them."""
+    frame = Frame(origin)
     slant_error = None
-    if opts.geotiff_grid == "ground":
+    if grid == "ground":
         power, cplx, x_axis = to_ground(image, range_axis, height_m)
     else:
         power, cplx = np.abs(image.astype(np.complex128)) ** 2, image
         x_axis, slant_error = slant_linearised(range_axis, image.shape[1], height_m)
     geotransform = frame.geotransform(x_axis, y_axis)
-    paths = {key: os.path.abspath(os.path.join(opts.out, f"{name}{suffix}"))
+    paths = {key: os.path.abspath(prefix + suffix)
              for key, suffix in (("db", "_db.tif"), ("complex", "_complex.tif"),
                                  ("vrt", ".vrt"))}
     db_text, cplx_text = "power [dB]", "complex image"
@@ -201,6 +203,60 @@ def write_geotiffs(opts, result, height_m, name="image"):
          ("CFloat32", os.path.basename(paths["complex"]), cplx_text)]))
     return {"geotiff_db": paths["db"], "geotiff_complex": paths["complex"],
             "geotiff_vrt": paths["vrt"], "geotiff_epsg": frame.epsg,
-            "geotiff_grid": opts.geotiff_grid,
+            "geotiff_grid": grid,
             "geotiff_x_axis_m": x_axis,  # [first, step] of the columns' ground range
             "geotiff_slant_max_error_m": slant_error}
+
+
+def write_geotiffs(opts, result, height_m, name="image"):
+    """Writes the focused image of a run (result: the JSON dict of SPEC 9, its image_npy
+    and axes) as GeoTIFFs into opts.out; returns the JSON keys that name them."""
+    return write_image(np.load(result["image_npy"]), result["range_axis_m"],
+                       result["azimuth_axis_m"], opts.origin, height_m, opts.geotiff_grid,
+                       os.path.join(opts.out, name))
+
+
+class geotiff_writer(gr.basic_block):
+    """image_sink's GeoTIFF writer: fed by image_sink's `files` message port, it writes every
+    aperture's .npy as GeoTIFFs beside it (NAME_db.tif, NAME_complex.tif, NAME.vrt, with
+    NAME the .npy's path without .npy) on the map of origin 'LAT,LON,HEADING_DEG', at the
+    platform's height_m, on the `ground` or `slant` grid (docs/blocks/image_sink.md). The
+    message's range_axis and azimuth_axis tuples (first, step, count) place the pixels.
+    Each aperture's keys (write_image's, plus `aperture`) leave on the `geotiffs` port; a
+    message without an .npy (image_sink's write_npy off) or that fails is logged and counted
+    (failed())."""
+
+    def __init__(self, origin, height_m, grid="ground"):
+        gr.basic_block.__init__(self, "geotiff_writer", in_sig=None, out_sig=None)
+        Frame(origin)  # checks the origin now
+        if not (math.isfinite(height_m) and height_m > 0):
+            raise ValueError(f"height_m = {height_m!r} must be finite and > 0")
+        if grid not in ("ground", "slant"):
+            raise ValueError(f"grid = {grid!r} must be ground or slant")
+        self.origin, self.height_m, self.grid = origin, float(height_m), grid
+        self.written, self._failed = [], 0
+        self.message_port_register_in(pmt.intern("files"))
+        self.message_port_register_out(pmt.intern("geotiffs"))
+        self.set_msg_handler(pmt.intern("files"), self.handle)
+
+    def failed(self):
+        return self._failed
+
+    def handle(self, msg):
+        info = pmt.to_python(msg)
+        try:
+            npy = info.get("npy") if isinstance(info, dict) else None
+            if not npy:
+                raise ValueError("the message names no .npy (image_sink's write_npy is off)")
+            image = np.load(npy)
+            range_axis, y_axis = info["range_axis"], info["azimuth_axis"]
+            keys = write_image(image, [range_axis[0], range_axis[1]], [y_axis[0], y_axis[1]],
+                               self.origin, self.height_m, self.grid, npy[:-len(".npy")])
+        except (OSError, ValueError, KeyError, TypeError, IndexError, RuntimeError) as err:
+            self._failed += 1
+            gr.logger("geotiff_writer").error(f"aperture {info!r:.200}: {err}")
+            return
+        keys["aperture"] = int(info.get("aperture", len(self.written)))
+        self.written.append(keys)
+        self.message_port_pub(pmt.intern("geotiffs"), pmt.to_pmt(
+            {k: v for k, v in keys.items() if v is not None}))

@@ -20,6 +20,7 @@ The image, its metrics and the JSON keys are nrsar-sim's (SPEC 9); the backhaul 
 payload_identical, backhaul_ber, backhaul_bler, throughput_mbps and the receiver's numbers.
 """
 
+import contextlib
 import math
 import os
 import time
@@ -28,22 +29,27 @@ import numpy as np
 import pmt
 from gnuradio import analog, blocks, gr
 
-from . import backhaul, chain, params, progress, results, runtime, scenario
+from . import (backhaul, chain, params, progress, recording, results, runtime,
+               scenario)
 from .options import OptionError, check_out_dir, parse_taps
 from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
                            pusch_receiver, scene_echo, srs_config, td_echo)
 
-def time_domain_front(ofdm_source):
+def time_domain_front(ofdm_source, record_path=None):
     """echo_front for chain.build: the radar echo through the time domain,
     ofdm_source (ofdm_mod of the grid) -> td_echo -> ofdm_demod (FFT window after the CP:
     the TF model of SPEC 3 exactly); the reference echo (S = 1, no noise) is scene_echo's
-    second output, as in nrsar-sim (its noisy output goes to a null sink)."""
+    second output, as in nrsar-sim (its noisy output goes to a null sink). record_path:
+    the received samples (td_echo's output) also go to this file (--record)."""
     def front(tb, opts, sc, grid):
         num, geo, scn = sc.num, sc.geo, sc.scene
         echo = td_echo(num, geo, scn, opts.snr_db, opts.seed + 1, opts.echo_taps,
                        path=sc.trajectory)
         demod = ofdm_demod(num)
         tb.connect(ofdm_source, echo, demod)
+        if record_path is not None:
+            front.sink = recording.file_sink_of(record_path)
+            tb.connect(echo, front.sink)
         ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1, sc.trajectory)
         tb.connect(grid, ref)
         tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
@@ -207,6 +213,27 @@ def backhaul_results(num, enc, bs, chunks, payload, out_path, repetitions=1):
     }
 
 
+def record_meta(opts, sc, tmp, sink, dmrs, payload):
+    """The SigMF meta of nrsar-isac's radar recording (docs/recording.md): td_echo's output
+    (echo and noise) as the radio receives it, the PUSCH grid named by its DMRS and its
+    payload's SHA-256 and path; --record-gap's overflows dropped."""
+    sink.close()
+    gaps = recording.parse_gaps(opts.record_gap or [])
+    recording.finish(tmp, sc.symbols * (sc.num.cp_samples + sc.num.fft_size), gaps)
+    return recording.build_meta(
+        opts, sc, tmp, recorder="nrsar-isac (gr-nrsar)",
+        hw="none: simulated by gr-nrsar (pusch_encoder -> nr_isac_tx -> ofdm_mod -> td_echo "
+           "with noise)",
+        description=f"simulated ISAC flight, preset {opts.preset}, {opts.modulation} PUSCH "
+                    f"with DMRS {opts.dmrs}, LDPC {opts.ldpc_alist() or 'none'}, SNR per RE "
+                    f"{opts.snr_db:g} dB",
+        snr_db=opts.snr_db, dmrs=[int(x) for x in dmrs.symbols],
+        payload=(opts.payload, payload),
+        echo={"model": "td_echo", "taps": opts.echo_taps, "noise": "td_echo",
+              "noise_seed": opts.seed + 1},
+        gaps=recording.file_gaps(gaps))
+
+
 def check_link(opts, num):
     """The backhaul's rules that need the numerology (before any block is built)."""
     df = num.subcarrier_spacing_hz
@@ -239,20 +266,32 @@ def run(opts):
                           f"{len(chunks) * opts.repetitions} slots, the aperture has {slots} "
                           f"(all but its last): shorten the file or lengthen --aperture-s")
     mod = ofdm_mod(num)
-    if opts.radar_domain == "time":
-        front = time_domain_front(mod)
-        graph = chain.build(tb, opts, sc, tx=tx, echo_front=front)
-        graph["radar_demod"] = front.demod
-    else:
-        graph = chain.build(tb, opts, sc, tx=tx)
-    tb.connect(graph["head"], mod)
-    bs = build_base_station(tb, num, opts, dmrs, mod)
-    start = time.perf_counter()
-    # progress (stderr, if enabled): the aperture's symbols through the radar filter
-    with progress.polling("symbols", symbols, lambda: graph["filter"].nitems_written(0)):
-        runtime.run(tb)
-    runtime_s = time.perf_counter() - start
+    with contextlib.ExitStack() as stack:
+        if opts.record is not None:  # the radar receiver's samples as SigMF (--record)
+            recording.check_recordable(opts, sc)
+            tmp, data_path, meta_path = stack.enter_context(recording.data_file(opts.record))
+        if opts.radar_domain == "time":
+            front = time_domain_front(mod, tmp if opts.record is not None else None)
+            graph = chain.build(tb, opts, sc, tx=tx, echo_front=front)
+            graph["radar_demod"] = front.demod
+        else:
+            graph = chain.build(tb, opts, sc, tx=tx)
+        tb.connect(graph["head"], mod)
+        bs = build_base_station(tb, num, opts, dmrs, mod)
+        start = time.perf_counter()
+        # progress (stderr, if enabled): the aperture's symbols through the radar filter
+        with progress.polling("symbols", symbols, lambda: graph["filter"].nitems_written(0)):
+            runtime.run(tb)
+        runtime_s = time.perf_counter() - start
+        if opts.record is not None:
+            meta = record_meta(opts, sc, tmp, front.sink, dmrs, payload)
     result = results.image_results(opts, graph, sc, runtime_s)
+    if opts.record is not None:
+        results.write_json(meta_path, meta)
+        result.update(recording_meta=meta_path, recording_data=data_path)
+    if opts.geotiff:
+        from . import geo  # GDAL and pyproj load only for --geotiff
+        result.update(geo.write_geotiffs(opts, result, sc.geo.height_m))
     result.update(backhaul_results(num, enc, bs, chunks, payload,
                                    os.path.join(opts.out, "decoded.bin"), opts.repetitions))
     bs_times = {name: bs[name].pc_work_time_total() / 1e9

@@ -246,6 +246,30 @@ def check_map_options(opts):
         raise OptionError("--geotiff needs the image: --images = 'none' keeps none")
     if getattr(opts, "record", None) is not None and not opts.record.strip():
         raise OptionError("--record = '' must name a folder")
+    if getattr(opts, "record_gap", None):
+        if opts.record is None:
+            raise OptionError(f"--record-gap = {opts.record_gap[0]!r} needs --record DIR")
+        parse_gaps(opts.record_gap)
+
+
+def parse_gaps(texts):
+    """['SAMPLE:COUNT', ...] -> sorted [(sample, count)] of non-overlapping gaps."""
+    gaps = []
+    for text in texts:
+        try:
+            sample, count = (int(w) for w in text.split(":"))
+        except ValueError:
+            raise OptionError(f"--record-gap = {text!r} must be SAMPLE:COUNT (whole "
+                              f"numbers)") from None
+        if sample < 0 or count < 1:
+            raise OptionError(f"--record-gap = {text!r} needs SAMPLE >= 0 and COUNT >= 1")
+        gaps.append((sample, count))
+    gaps.sort()
+    for (s0, c0), (s1, _) in zip(gaps, gaps[1:]):
+        if s1 <= s0 + c0:
+            raise OptionError(f"--record-gap = '{s1}:...' must start after the gap "
+                              f"'{s0}:{c0}' ends (gaps are separated by received samples)")
+    return gaps
 
 
 def check_flight_options(opts):
@@ -369,6 +393,10 @@ class SimOptions(_Options):
         "folder: the time-domain echo (ofdm_mod -> td_echo, with noise) as SigMF "
         "flight.sigmf-data / flight.sigmf-meta (docs/recording.md; point targets only)",
         metavar="DIR")
+    record_gap: typing.Optional[typing.List[str]] = option(
+        None, "with --record: an overflow the recording suffers, COUNT samples lost from "
+        "sample SAMPLE of the flight on (repeat the flag for more gaps; SigMF annotations)",
+        metavar="SAMPLE:COUNT")
     geotiff: bool = option(False, "also write the focused image as GeoTIFFs (power in dB, "
                            "complex) in the UTM zone of --origin (docs/recording.md)")
     geotiff_grid: str = option("ground", "pixel grid of the GeoTIFF: ground range "
@@ -456,10 +484,9 @@ class IsacOptions(SimOptions):
 
     def check(self):
         super().check()
-        for name in ("record", "geotiff"):
-            if getattr(self, name):
-                raise OptionError(f"{flag_of(name)} is not in nrsar-isac yet (nrsar-sim "
-                                  f"has it; docs/recording.md)")
+        if self.record is not None and self.radar_domain != "time":
+            raise OptionError(f"--record = {self.record!r} needs --radar-domain time (the "
+                              f"recording is the time-domain echo)")
         if self.mode != "data":
             raise OptionError(f"--mode = {self.mode!r} must be data (the grid is the PUSCH)")
         if not os.path.isfile(self.payload):
@@ -554,7 +581,7 @@ class SoakOptions(SimOptions):
 # numerology, geometry, scene, grid and seed from the meta, never from flags.
 RECORDED_FIELDS = ("preset", "geometry", "aperture_s", "scene", "target", "snr_db",
                    "modulation", "mode", "seed", "record", "trajectory", "motion",
-                   "motion_seed", "nav", "nav_error")
+                   "motion_seed", "nav", "nav_error", "record_gap")
 
 
 class _ProcessRules(_Options):

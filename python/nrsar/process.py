@@ -64,11 +64,20 @@ def recording_front(rec):
     in nrsar-sim."""
     def front(tb, opts, sc, grid):
         num = sc.num
+        lost = sum(count for _, count in rec.gaps)
         source = blocks.file_source(gr.sizeof_gr_complex, rec.data_path, False,
                                     rec.hardware_delay_samples,
-                                    rec.symbols * rec.symbol_samples)
-        demod = ofdm_demod(num)
-        tb.connect(source, demod)
+                                    rec.symbols * rec.symbol_samples - lost)
+        if rec.gaps:  # the overflows stamped as a radio's source does; lost symbols -> zeros
+            stamper = recording.rx_time_stamper(
+                num.sample_rate_hz(),
+                [(start - rec.hardware_delay_samples, count) for start, count in rec.gaps])
+            demod = ofdm_demod(num, -1, 1.0)
+            tb.connect(source, stamper, demod)
+            tb.rx_time_stamper = stamper  # a Python block lives as long as its object
+        else:
+            demod = ofdm_demod(num)
+            tb.connect(source, demod)
         ref = scene_echo(num, sc.geo, sc.scene, math.inf, opts.seed + 1)
         tb.connect(grid, ref)
         tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
@@ -79,10 +88,6 @@ def recording_front(rec):
 def run(opts):
     """nrsar-process's JSON dict of one recording (validated ProcessOptions)."""
     rec = recording.read(opts.recording)
-    if rec.gaps:
-        raise ValueError(f"{rec.meta_path}: {len(rec.gaps)} overflow gaps (annotations, "
-                         f"first at sample {rec.gaps[0][0]}): nrsar-process does not refill "
-                         f"lost samples yet")
     sim_opts = sim_options_of(opts, rec)
     sc = scenario_of(sim_opts, rec)
     check_out_dir(sim_opts.out)
@@ -95,7 +100,8 @@ def run(opts):
     demod = graph["echo"]
     result.update(recording_meta=rec.meta_path, recording_data=rec.data_path,
                   recording_samples=rec.samples, recording_datetime=rec.datetime,
-                  samples_read=int(demod.nitems_read(0)))
+                  samples_read=int(demod.nitems_read(0)), overflows=len(rec.gaps),
+                  lost_samples=sum(count for _, count in rec.gaps))
     if sim_opts.geotiff:
         from . import geo
         result.update(geo.write_geotiffs(sim_opts, result, sc.geo.height_m))

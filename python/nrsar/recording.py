@@ -28,11 +28,13 @@ import math
 import os
 import typing
 
+import numpy as np
+import pmt
 from gnuradio import blocks, gr
 
 from . import params, results
 from .nrsar_python import ofdm_mod, td_echo
-from .options import OptionError, check_out_dir, parse_origin
+from .options import OptionError, check_out_dir, parse_gaps, parse_origin
 
 SIGMF_VERSION = "1.0.0"
 EXTENSION = {"name": "nrsar", "version": "1.0.0", "optional": False}
@@ -114,7 +116,8 @@ def build_meta(opts, sc, data_path, *, recorder, hw, description, snr_db=None, e
     }
     captures = [{"core:sample_start": 0, "core:frequency": rf_centre_hz(num, geo),
                  "core:datetime": start.strftime("%Y-%m-%dT%H:%M:%S.%fZ")}]
-    aperture = sc.symbols * sym_len  # one aperture of the geometry's duration
+    # one aperture of the geometry's duration, less what the overflows lost
+    aperture = sc.symbols * sym_len - sum(lost for _, lost in gaps)
     annotations = [{"core:sample_start": delay, "core:sample_count": aperture,
                     "core:label": "aperture 0", "nrsar:aperture": 0}]
     for sample, lost in gaps:
@@ -136,13 +139,50 @@ def flight_text(opts, file_field, model_field, seed_offset):
     return f"{model} seed {opts.motion_seed + seed_offset}"
 
 
-def check_recordable(opts, sc):
-    """--record's rules that need the scenario (before the run): a writable folder, and
-    point targets (td_echo echoes point targets, not a scene file's maps)."""
+def check_recordable(opts, sc, folder=None, flag="--record"):
+    """--record's rules that need the scenario (before the run): a writable folder (folder,
+    default opts.record), and point targets (td_echo echoes point targets, not a scene
+    file's maps)."""
+    folder = opts.record if folder is None else folder
     if sc.scene_file is not None:
-        raise OptionError(f"--record = {opts.record!r} needs point targets: td_echo has no "
+        raise OptionError(f"{flag} = {folder!r} needs point targets: td_echo has no "
                           f"reflectivity maps (--scene {opts.scene!r} is a scene file)")
-    check_out_dir(opts.record, "--record")
+    check_out_dir(folder, flag)
+    flight = sc.symbols * (sc.num.cp_samples + sc.num.fft_size)
+    for sample, count in parse_gaps(opts.record_gap or []):
+        if sample + count >= flight:
+            raise OptionError(f"--record-gap = '{sample}:{count}' must end before the "
+                              f"flight's last sample {flight - 1} (a received sample "
+                              f"follows every overflow)")
+
+
+def file_gaps(gaps):
+    """[(flight sample, lost)] -> [(file sample of the first sample after the gap, lost)]:
+    where a radio's recording marks each overflow."""
+    out, before = [], 0
+    for sample, lost in gaps:
+        out.append((sample - before, lost))
+        before += lost
+    return out
+
+
+def drop_gaps(path, gaps, chunk=1 << 22):
+    """Rewrites the cf32 file at path without the samples of the gaps [(flight sample,
+    lost)], streaming (what the radio would have delivered)."""
+    keep, pos = [], 0
+    for sample, lost in gaps:
+        keep.append((pos, sample))
+        pos = sample + lost
+    keep.append((pos, os.path.getsize(path) // SAMPLE_BYTES))
+    with open(path, "rb") as src, open(path + ".gaps", "wb") as dst:
+        for first, end in keep:
+            src.seek(first * SAMPLE_BYTES)
+            left = (end - first) * SAMPLE_BYTES
+            while left > 0:
+                block = src.read(min(chunk, left))
+                dst.write(block)
+                left -= len(block)
+    os.replace(path + ".gaps", path)
 
 
 def model_warnings(sc, taps=32):
@@ -173,6 +213,35 @@ class Recorder:
 
 
 @contextlib.contextmanager
+def data_file(folder, name=DEFAULT_NAME):
+    """Yields (temporary path, data path, meta path) of a recording in folder: the graph
+    writes the flight into the temporary path, `finish` checks it, the caller builds the
+    meta on it (build_meta hashes it); on leaving, the data file is renamed into place, on
+    an exception nothing is left. Write the meta after the with-block."""
+    data_path = os.path.join(folder, name + ".sigmf-data")
+    meta_path = os.path.join(folder, name + ".sigmf-meta")
+    with results.atomic(data_path) as tmp:
+        yield tmp, os.path.abspath(data_path), os.path.abspath(meta_path)
+
+
+def finish(tmp, samples, gaps):
+    """After the graph ran: checks that tmp holds the flight's `samples` and drops the
+    samples of the gaps [(flight sample, lost)] (the radio's overflows)."""
+    got = os.path.getsize(tmp)
+    if got != samples * SAMPLE_BYTES:
+        raise RuntimeError(f"--record: the recording holds {got} bytes, the flight "
+                           f"{samples * SAMPLE_BYTES} (the graph stopped early)")
+    if gaps:
+        drop_gaps(tmp, gaps)
+
+
+def file_sink_of(tmp):
+    sink = blocks.file_sink(gr.sizeof_gr_complex, tmp, False)
+    sink.set_unbuffered(False)
+    return sink
+
+
+@contextlib.contextmanager
 def recorder(tb, opts, sc, grid, tf_echo, folder, name=DEFAULT_NAME):
     """The recording a radio would have made of nrsar-sim's flight, wired into tb: the
     transmit grid -> ofdm_mod -> td_echo (noise-free) plus the simulation's own noise draw in
@@ -180,19 +249,19 @@ def recorder(tb, opts, sc, grid, tf_echo, folder, name=DEFAULT_NAME):
     out1 H): its noise Z = Y - H S, through ofdm_mod, is white with scene_echo's variance in
     every FFT window on the N used subcarriers (band-limited, as behind a radio's channel
     filter; the CP a copy, as for the signal), so the recording and the simulated image hold
-    the same draw. Run the graph inside the with-block; on success the data file is renamed
-    into place and the meta written; on an exception neither exists."""
+    the same draw. --record-gap drops samples as an overflow would. Run the graph inside the
+    with-block; on success the data file is renamed into place and the meta written; on an
+    exception neither exists."""
     num = sc.num
-    data_path = os.path.join(folder, name + ".sigmf-data")
-    meta_path = os.path.join(folder, name + ".sigmf-meta")
-    with results.atomic(data_path) as tmp:
+    samples = sc.symbols * (num.cp_samples + num.fft_size)
+    gaps = parse_gaps(opts.record_gap or [])
+    with data_file(folder, name) as (tmp, data_path, meta_path):
         n = num.num_subcarriers
         echo = td_echo(num, sc.geo, sc.scene, math.inf, opts.seed + 1, path=sc.trajectory)
         clean = blocks.multiply_vcc(n)  # H S
         noise = blocks.sub_cc(n)        # Z = Y - H S
         received = blocks.add_cc()
-        sink = blocks.file_sink(gr.sizeof_gr_complex, tmp, False)
-        sink.set_unbuffered(False)
+        sink = file_sink_of(tmp)
         tb.connect(grid, ofdm_mod(num), echo, (received, 0))
         tb.connect((tf_echo, 1), (clean, 0))
         tb.connect(grid, (clean, 1))
@@ -200,15 +269,10 @@ def recorder(tb, opts, sc, grid, tf_echo, folder, name=DEFAULT_NAME):
         tb.connect(clean, (noise, 1))
         tb.connect(noise, ofdm_mod(num), (received, 1))
         tb.connect(received, sink)
-        rec = Recorder(meta_path=os.path.abspath(meta_path),
-                       data_path=os.path.abspath(data_path), echo=echo, sink=sink)
+        rec = Recorder(meta_path=meta_path, data_path=data_path, echo=echo, sink=sink)
         yield rec
         sink.close()
-        want = sc.symbols * (num.cp_samples + num.fft_size) * SAMPLE_BYTES
-        got = os.path.getsize(tmp)
-        if got != want:
-            raise RuntimeError(f"--record: the recording holds {got} bytes, the flight "
-                               f"{want} (the graph stopped early)")
+        finish(tmp, samples, gaps)
         meta = build_meta(
             opts, sc, tmp, recorder="nrsar-sim (gr-nrsar)",
             hw="none: simulated by gr-nrsar (ofdm_mod -> td_echo, plus scene_echo's noise "
@@ -218,7 +282,8 @@ def recorder(tb, opts, sc, grid, tf_echo, folder, name=DEFAULT_NAME):
                         f"{opts.snr_db:g} dB",
             snr_db=opts.snr_db,
             echo={"model": "td_echo", "taps": echo.taps(), "noise": "scene_echo",
-                  "noise_seed": opts.seed + 1})
+                  "noise_seed": opts.seed + 1},
+            gaps=file_gaps(gaps))
     results.write_json(meta_path, meta)
 
 
@@ -246,7 +311,7 @@ class Recording:
     hardware_delay_samples: int  # samples before symbol 0's cyclic prefix
     origin: typing.Optional[str]  # 'LAT,LON,HEADING_DEG' or None
     snr_db: typing.Optional[float]
-    gaps: list                   # (sample index, lost samples) of each overflow
+    gaps: list                   # (file sample after the gap, lost samples) of each overflow
     datetime: str
 
 
@@ -422,10 +487,21 @@ def read(meta_path):
     gaps = []
     for i, a in enumerate(m.get(meta, "annotations", list, "the meta's")):
         where = f"annotations[{i}]"
-        m.get(a, "core:sample_start", int, where)
+        start = m.get(a, "core:sample_start", int, where)
         if a.get("core:label") == "overflow":
-            gaps.append((int(a["core:sample_start"]),
-                         m.get(a, "nrsar:lost_samples", int, where)))
+            lost = m.get(a, "nrsar:lost_samples", int, where)
+            if lost < 1:
+                m.fail(f"{where} nrsar:lost_samples", f"= {lost} must be at least 1")
+            if gaps and start <= gaps[-1][0]:
+                m.fail(f"{where} core:sample_start", f"= {start} must follow the previous "
+                       f"overflow's {gaps[-1][0]}")
+            gaps.append((start, lost))
+    lost_total = sum(lost for _, lost in gaps)
+    aperture_end = delay + symbols * sym_len - lost_total  # file samples of the aperture
+    for start, lost in gaps:
+        if not delay <= start < aperture_end:
+            m.fail("annotations overflow core:sample_start", f"= {start} must lie in the "
+                   f"aperture's samples [{delay}, {aperture_end}) of the data file")
 
     data_path = meta_path[:-len(".sigmf-meta")] + ".sigmf-data"
     try:
@@ -438,14 +514,123 @@ def read(meta_path):
                          f"{DATATYPE} samples ({SAMPLE_BYTES} bytes each): the last sample is "
                          f"truncated")
     samples = size // SAMPLE_BYTES
-    need = delay + symbols * sym_len
+    need = aperture_end
     if samples < need:
+        lost_text = f", less {lost_total} lost in overflows" if lost_total else ""
         raise ValueError(f"{os.path.basename(data_path)}: holds {samples} samples, the meta "
                          f"says {need} (nrsar:symbols {symbols} x nrsar:symbol_samples "
-                         f"{sym_len} after a hardware delay of {delay}): the data file is "
-                         f"shorter than the meta")
+                         f"{sym_len} after a hardware delay of {delay}{lost_text}): the data "
+                         f"file is shorter than the meta")
     return Recording(meta_path=meta_path, data_path=data_path, meta=meta, preset=preset,
                      num=num, geo=geo, scene=scn, srs=srs, modulation=modulation, mode=mode,
                      grid_seed=seed, symbols=symbols, symbol_samples=sym_len, samples=samples,
                      hardware_delay_samples=delay, origin=origin_text, snr_db=snr_db,
                      gaps=gaps, datetime=when)
+
+
+class rx_time_stamper(gr.sync_block):
+    """Passes the recorded samples through and tags them with `rx_time` where a radio's
+    source would (docs/recording.md, "Gaps"): the first sample at t0, and the first sample
+    after each overflow at t0 + (its file index + the samples lost so far) / fs, so that
+    ofdm_demod's rx_time alignment (tx_start_time = t0) puts the lost symbols back as zeros.
+    gaps: [(stream index of the first sample after the gap, lost samples)]."""
+
+    def __init__(self, fs, gaps, t0=1.0):
+        gr.sync_block.__init__(self, "rx_time_stamper", [np.complex64], [np.complex64])
+        stamps, lost = {0: 0}, 0
+        for index, count in gaps:
+            lost += count
+            stamps[index] = lost
+        self.stamps = sorted((index, (t0 * fs + index + lost) / fs)
+                             for index, lost in stamps.items())
+        self.key = pmt.intern("rx_time")
+        self.next = 0
+
+    def work(self, input_items, output_items):
+        n = len(output_items[0])
+        output_items[0][:] = input_items[0][:n]
+        end = self.nitems_written(0) + n
+        while self.next < len(self.stamps) and self.stamps[self.next][0] < end:
+            index, t = self.stamps[self.next]
+            whole = math.floor(t)
+            self.add_item_tag(0, index, self.key, pmt.make_tuple(
+                pmt.from_uint64(int(whole)), pmt.from_double(t - whole)))
+            self.next += 1
+        return n
+
+
+class sigmf_sink(gr.sync_block):
+    """A radio's receive stream recorded as SigMF (the ISAC radio graphs' `record_dir`,
+    docs/recording.md): the samples go to FOLDER/NAME.sigmf-data (a temporary name until the
+    flowgraph stops), the `rx_time` tags a USRP source puts on its first sample and after
+    every overflow become `overflow` annotations (the samples lost: the stamp's time less
+    the samples received since the first stamp), and at stop() the meta is written with the
+    `nrsar` fields of opts (SimOptions or IsacOptions of the graph's radar), the hardware
+    delay (samples before symbol 0's CP: the RX lead plus the TX -> RX latency), the DMRS
+    positions and the backhaul payload file. Without rx_time tags the recording has no
+    gaps (a source that does not stamp cannot say)."""
+
+    def __init__(self, folder, opts, hardware_delay_s=0.0, hw="", dmrs=None,
+                 payload_path=None, recorder="gr-nrsar sigmf_sink", name=DEFAULT_NAME):
+        gr.sync_block.__init__(self, "sigmf_sink", [np.complex64], None)
+        from . import scenario
+        opts.validate()
+        self.opts, self.sc = opts, scenario.of(opts)
+        check_recordable(opts, self.sc, folder, "record_dir")
+        if not (math.isfinite(hardware_delay_s) and hardware_delay_s >= 0):
+            raise OptionError(f"hardware_delay_s = {hardware_delay_s!r} must be finite and "
+                              f">= 0")
+        self.hardware_delay_s, self.hw, self.recorder = hardware_delay_s, hw, recorder
+        self.dmrs = None if dmrs is None else [int(s) for s in dmrs]
+        self.payload_path = payload_path
+        self.fs = self.sc.num.sample_rate_hz()
+        self._stack = contextlib.ExitStack()
+        self.tmp, self.data_path, self.meta_path = self._stack.enter_context(
+            data_file(folder, name))
+        self._file = open(self.tmp, "wb")
+        self.key = pmt.intern("rx_time")
+        self.first = None  # (whole s, fraction) of the first stamp
+        self.gaps, self.lost = [], 0
+        self.started = datetime.datetime.now(datetime.timezone.utc)
+
+    def work(self, input_items, output_items):
+        x = input_items[0]
+        n0 = self.nitems_read(0)
+        for t in self.get_tags_in_window(0, 0, len(x), self.key):
+            value = t.value
+            if not (pmt.is_tuple(value) and pmt.length(value) >= 2):
+                continue
+            full = pmt.to_uint64(pmt.tuple_ref(value, 0)) \
+                if pmt.is_uint64(pmt.tuple_ref(value, 0)) else pmt.to_long(pmt.tuple_ref(value, 0))
+            frac = pmt.to_double(pmt.tuple_ref(value, 1))
+            if self.first is None:
+                self.first = (full, frac, t.offset)
+                continue
+            # samples since the first stamp by the clock, against those received
+            by_clock = round(((full - self.first[0]) + (frac - self.first[1])) * self.fs)
+            gap = by_clock - (t.offset - self.first[2]) - self.lost
+            if gap > 0:
+                self.gaps.append((int(t.offset), int(gap)))
+                self.lost += gap
+        x.tofile(self._file)
+        return len(x)
+
+    def stop(self):
+        self._file.close()
+        try:
+            payload = None
+            if self.payload_path:
+                with open(self.payload_path, "rb") as f:
+                    payload = (self.payload_path, f.read())
+            meta = build_meta(
+                self.opts, self.sc, self.tmp, recorder=self.recorder, hw=self.hw,
+                description=f"radio recording, preset {self.opts.preset}, "
+                            f"{self.opts.modulation}",
+                snr_db=None, gaps=self.gaps, dmrs=self.dmrs, payload=payload,
+                hardware_delay_s=self.hardware_delay_s, start=self.started)
+            self._stack.close()  # the data file under its name
+            results.write_json(self.meta_path, meta)
+        except Exception as err:  # the flowgraph stops anyway: say why there is no recording
+            gr.logger("sigmf_sink").error(f"no recording written: {err}")
+            self._stack.__exit__(type(err), err, None)
+        return True

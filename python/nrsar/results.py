@@ -238,6 +238,15 @@ def image_results(opts, chain, sc, runtime_s):
     af = chain["autofocus"]
     af_rms = af.phase_rms_rad() if af is not None else math.nan
     result["autofocus_phase_rms_rad"] = af_rms if math.isfinite(af_rms) else None
+    # symbols a radio's overflow lost, zeroed by ofdm_demod (docs/recording.md, "Gaps")
+    demod = chain.get("radar_demod", chain["echo"])  # nrsar-isac's echo is td_echo
+    lost = demod.lost_symbols() if hasattr(demod, "lost_symbols") else 0
+    result["lost_symbols"] = int(lost)
+    if lost:
+        result["warnings"].append(
+            f"{lost} of {sc.symbols} symbols lost (radio overflows), zeroed in the aperture: "
+            f"the point target's peak falls by {-20 * math.log10(1 - lost / sc.symbols):.3g} "
+            f"dB (1 - L/M)")
     metrics["nmse_minus_theory_band_db"] = metrics.get("nmse_db", math.nan) - metrics.get(
         "nmse_theory_band_db", math.nan)
     if ground:

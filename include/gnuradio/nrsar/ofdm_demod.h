@@ -42,8 +42,10 @@ namespace nrsar {
  * Samples before that (or before the next whole symbol when the stamp falls inside a
  * symbol) are dropped; the first output vector after a stamp is the symbol its time says,
  * tagged `symbol` (uint64 index), and every slot start is tagged `symbol` and `slot`.
- * Samples before the first stamp are dropped (their time is unknown). Dropped samples and
- * symbols lost to a late start or an overflow are counted (getters) and logged.
+ * Samples before the first stamp are dropped (their time is unknown). Symbols lost to a
+ * late start or an overflow are output as zero vectors (output item k stays symbol k, so a
+ * radar's reference grid and slow time go on; the image loses their share), counted and
+ * logged, as are the dropped samples.
  */
 class NRSAR_API ofdm_demod : virtual public gr::block
 {
@@ -75,7 +77,7 @@ public:
     virtual bool aligned() const = 0;
     //! Symbol index of the next output vector (alignment on; else the output count).
     virtual std::uint64_t next_symbol() const = 0;
-    //! Symbols never output: the receiver started after them or lost samples (overflow).
+    //! Symbols output as zeros: the receiver started after them or lost samples (overflow).
     virtual std::uint64_t lost_symbols() const = 0;
     //! Input samples dropped by the alignment (before TX start, partial symbols, no stamp yet).
     virtual std::uint64_t dropped_samples() const = 0;

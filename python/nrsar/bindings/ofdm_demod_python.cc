@@ -55,7 +55,7 @@ void bind_ofdm_demod(py::module& m)
         .def("next_symbol", &ofdm_demod::next_symbol, "Symbol index of the next output vector.")
         .def("lost_symbols",
              &ofdm_demod::lost_symbols,
-             "Symbols never output (late receiver start, overflow).")
+             "Symbols output as zeros (late receiver start, overflow).")
         .def("dropped_samples",
              &ofdm_demod::dropped_samples,
              "Input samples dropped by the rx_time alignment.")

@@ -1,0 +1,229 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""Overflow gaps in a recording (docs/recording.md, "Gaps"): a radio that overflows drops
+samples; ofdm_demod's rx_time alignment re-aligns to the symbol grid and outputs the lost
+symbols as zeros, so the aperture goes on with those pulses missing. Gaps of 1, 100 and
+10000 samples are cut out of nrsar-sim's recording (numpy, as a radio would lose them, with
+the SigMF overflow annotation), nrsar-process forms each image, and:
+
+- lost_symbols = ceil((p + g) / L) - floor(p / L) for a gap of g samples from flight sample
+  p (the symbol in progress is dropped whole);
+- the range-compressed data are the gap-free run's with exactly those pulses zeroed;
+- the coherent peak of the point target falls by (1 - L / M): PEL rises by
+  -20 log10(1 - L / M); the NMSE rises with every lost pulse.
+"""
+
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+from gnuradio import gr_unittest
+from gnuradio.nrsar import chain, process
+from gnuradio.nrsar.options import ProcessOptions, SimOptions
+
+APPS = os.environ.get("NRSAR_APPS_DIR") or os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "apps")
+
+C = 299792458.0
+# sdr20, 0.05 s = 1200 symbols of L = 1280 samples, one target; QPSK at 40 dB (WF) keeps the
+# gap-free NMSE low (about -22 dB: the 84 Hz band holds 15 dB more noise than the target's own
+# 3 Hz) so that one lost pulse shows.
+FLIGHT = ["--preset", "sdr20", "--aperture-s", "0.05", "--target", "300,1", "--snr-db", "40",
+          "--modulation", "qpsk"]
+L_SYM, M = 1280, 1200
+# (first lost flight sample, lost samples): on a symbol boundary, across one, inside one
+GAPS = {1: (600 * L_SYM, 1), 100: (300 * L_SYM - 50, 100), 10000: (900 * L_SYM + 7, 10000)}
+
+
+def lost_pulses(p, g):
+    """The symbols a gap of g samples from flight sample p costs (independent of the code:
+    the symbol holding sample p is incomplete, the first whole one starts at or after p + g)."""
+    return list(range(p // L_SYM, -(-(p + g) // L_SYM)))
+
+
+def write_gapped(meta, data, p, g, folder):
+    """The recording a radio that lost samples p .. p + g - 1 would have written: the samples
+    cut out, an overflow annotation at the first sample after the gap."""
+    os.makedirs(folder)
+    np.concatenate([data[:p], data[p + g:]]).tofile(os.path.join(folder, "flight.sigmf-data"))
+    meta = json.loads(json.dumps(meta))
+    meta["annotations"][0]["core:sample_count"] -= g
+    meta["annotations"].append({"core:sample_start": p, "core:sample_count": 0,
+                                "core:label": "overflow", "nrsar:lost_samples": g})
+    path = os.path.join(folder, "flight.sigmf-meta")
+    with open(path, "w") as f:
+        json.dump(meta, f)
+    return path
+
+
+class qa_gaps(gr_unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="qa_gaps_")
+        rec = os.path.join(cls.dir, "rec")
+        opts = SimOptions.parse(FLIGHT + ["--record", rec, "--out", os.path.join(cls.dir, "sim")])
+        cls.sim = chain.simulate(opts)
+        cls.meta_path = os.path.join(rec, "flight.sigmf-meta")
+        with open(cls.meta_path) as f:
+            cls.meta = json.load(f)
+        cls.data = np.fromfile(os.path.join(rec, "flight.sigmf-data"), np.complex64)
+        cls.runs = {0: cls.process(cls.meta_path, "p0")}
+        for g, (p, count) in GAPS.items():
+            path = write_gapped(cls.meta, cls.data, p, count, os.path.join(cls.dir, f"g{g}"))
+            cls.runs[g] = cls.process(path, f"p{g}")
+
+    @classmethod
+    def process(cls, meta_path, name):
+        opts = ProcessOptions.parse([meta_path, "--out", os.path.join(cls.dir, name)])
+        result = process.run(opts)
+        result["rc"] = np.load(result["range_compressed_npy"])
+        return result
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def test_001_lost_symbols_counted(self):
+        self.assertEqual(self.runs[0]["lost_symbols"], 0)
+        for g, (p, count) in GAPS.items():
+            r = self.runs[g]
+            self.assertEqual(r["lost_symbols"], len(lost_pulses(p, count)), g)
+            self.assertEqual((r["overflows"], r["lost_samples"]), (1, count))
+            self.assertEqual(r["samples_read"], M * L_SYM - count)
+            self.assertEqual(r["symbols"], M)
+            self.assertTrue(any("symbols lost" in w for w in r["warnings"]), r["warnings"])
+        # 1 sample on a boundary: 1 symbol; 100 across one: 2; 10000: 8 (7.8 symbols)
+        self.assertEqual([self.runs[g]["lost_symbols"] for g in (1, 100, 10000)], [1, 2, 8])
+
+    def test_002_lost_pulses_zeroed_in_place(self):
+        """The aperture goes on: the gap-free run's range-compressed pulses, the lost ones
+        zero, every other one where it was."""
+        base = self.runs[0]["rc"]
+        scale = np.max(np.abs(base))
+        for g, (p, count) in GAPS.items():
+            want = base.copy()
+            want[lost_pulses(p, count)] = 0
+            got = self.runs[g]["rc"]
+            self.assertEqual(got.shape, base.shape)
+            np.testing.assert_allclose(got, want, rtol=0, atol=1e-5 * scale)
+
+    def test_003_image_cost(self):
+        """The coherent peak falls by (1 - L / M): each of the M pulses adds one M-th of the
+        point target's peak when the processed band holds its history, so the calibration
+        c_hat = <ref, img> / <ref, ref> falls by L / M and PEL rises by -20 log10(1 - L / M)
+        (the noise moves c_hat by about 1e-4 dB here; the tolerance 2 % + 1e-3 dB). The
+        NMSE rises with every lost pulse (the calibrated error gains the lost echo's part
+        orthogonal to the reference)."""
+        sim0 = self.runs[0]
+        nmse = [sim0["nmse_db"]]
+        for g in (1, 100, 10000):
+            p, count = GAPS[g]
+            lost = len(lost_pulses(p, count))
+            r = self.runs[g]
+            want = -20 * math.log10(1 - lost / M)
+            print(f"\ngap {count}: {lost} pulses lost; PEL {r['pel_db'] - sim0['pel_db']:+.4f} dB "
+                  f"(1 - L/M: {want:+.4f}); NMSE {sim0['nmse_db']:.2f} -> {r['nmse_db']:.2f} dB")
+            self.assertAlmostEqual(r["pel_db"] - sim0["pel_db"], want, delta=0.02 * want + 1e-3)
+            nmse.append(r["nmse_db"])
+        self.assertEqual(nmse, sorted(nmse))
+        self.assertGreater(nmse[1], nmse[0] + 0.5)  # one pulse of 1200 shows at -22 dB
+
+    def test_004_record_gap_flag(self):
+        """nrsar-sim --record-gap writes what the numpy cut above writes."""
+        p, count = GAPS[100]
+        rec = os.path.join(self.dir, "flag")
+        out = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-sim")] + FLIGHT +
+                             ["--record", rec, "--record-gap", f"{p}:{count}", "--images",
+                              "none", "--out", os.path.join(self.dir, "flag-out")],
+                             capture_output=True, text=True, timeout=600)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        got = np.fromfile(os.path.join(rec, "flight.sigmf-data"), np.complex64)
+        np.testing.assert_array_equal(got, np.concatenate([self.data[:p],
+                                                           self.data[p + count:]]))
+        with open(os.path.join(rec, "flight.sigmf-meta")) as f:
+            meta = json.load(f)
+        self.assertEqual([a for a in meta["annotations"] if a["core:label"] == "overflow"],
+                         [{"core:sample_start": p, "core:sample_count": 0,
+                           "core:label": "overflow", "nrsar:lost_samples": count}])
+        self.assertEqual(meta["annotations"][0]["core:sample_count"], M * L_SYM - count)
+
+    def test_005_bad_gaps(self):
+        """Bad gaps are one line naming the flag or the field, exit 2."""
+        def sim(args):
+            return subprocess.run([sys.executable, os.path.join(APPS, "nrsar-sim")] + FLIGHT +
+                                  args + ["--out", os.path.join(self.dir, "bad")],
+                                  capture_output=True, text=True, timeout=600)
+        for args, text in ((["--record-gap", "5:1"], "--record-gap = '5:1' needs --record"),
+                           (["--record", self.dir + "/b", "--record-gap", "5"],
+                            "must be SAMPLE:COUNT"),
+                           (["--record", self.dir + "/b", "--record-gap", "5:0"],
+                            "needs SAMPLE >= 0 and COUNT >= 1"),
+                           (["--record", self.dir + "/b", "--record-gap", "5:10",
+                             "--record-gap", "9:1"], "must start after the gap '5:10' ends"),
+                           (["--record", self.dir + "/b", "--record-gap", f"{M * L_SYM - 5}:5"],
+                            "must end before the flight's last sample")):
+            out = sim(args)
+            self.assertEqual(out.returncode, 2, (args, out.stderr))
+            self.assertIn(text, out.stderr)
+            self.assertNotIn("Traceback", out.stderr)
+        meta = json.loads(json.dumps(self.meta))
+        meta["annotations"].append({"core:sample_start": 5, "core:sample_count": 0,
+                                    "core:label": "overflow", "nrsar:lost_samples": 0})
+        folder = os.path.join(self.dir, "bad-meta")
+        os.makedirs(folder)
+        shutil.copy(os.path.join(os.path.dirname(self.meta_path), "flight.sigmf-data"), folder)
+        with open(os.path.join(folder, "flight.sigmf-meta"), "w") as f:
+            json.dump(meta, f)
+        out = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-process"),
+                              os.path.join(folder, "flight.sigmf-meta"), "--out",
+                              os.path.join(self.dir, "bad-out")],
+                             capture_output=True, text=True, timeout=600)
+        self.assertEqual(out.returncode, 2, out.stderr)
+        self.assertIn("nrsar:lost_samples = 0 must be at least 1", out.stderr)
+
+    def test_006_radio_recorder(self):
+        """recording.sigmf_sink, the radio graphs' recorder: a stream with a USRP source's
+        rx_time tags (first sample, first after a 10000-sample overflow) is recorded with the
+        overflow annotation the numpy cut has, and nrsar-process forms the same image."""
+        from gnuradio import blocks, gr
+        import pmt
+        from gnuradio.nrsar import recording
+        p, count = GAPS[10000]
+        x = np.concatenate([self.data[:p], self.data[p + count:]])
+        fs = 30.72e6
+
+        def stamp(offset, t):
+            whole = math.floor(t)
+            return gr.tag_utils.python_to_tag((offset, pmt.intern("rx_time"), pmt.make_tuple(
+                pmt.from_uint64(whole), pmt.from_double(t - whole))))
+        t0 = 7.25
+        src = blocks.vector_source_c(x.tolist(), False, 1,
+                                     [stamp(0, t0), stamp(p, t0 + (p + count) / fs)])
+        folder = os.path.join(self.dir, "radio")
+        opts = SimOptions.parse(FLIGHT)
+        sink = recording.sigmf_sink(folder, opts, hw="test stream", dmrs=None)
+        tb = gr.top_block()
+        tb.connect(src, sink)
+        tb.run()
+        rec = recording.read(os.path.join(folder, "flight.sigmf-meta"))
+        self.assertEqual(rec.gaps, [(p, count)])
+        self.assertIsNone(rec.snr_db)  # a radio does not know it
+        np.testing.assert_array_equal(np.fromfile(rec.data_path, np.complex64), x)
+        r = process.run(ProcessOptions.parse([rec.meta_path, "--snr-db", "40", "--out",
+                                              os.path.join(self.dir, "radio-out")]))
+        self.assertEqual(r["lost_symbols"], self.runs[10000]["lost_symbols"])
+        self.assertAlmostEqual(r["nmse_db"], self.runs[10000]["nmse_db"], delta=1e-6)
+
+
+if __name__ == "__main__":
+    gr_unittest.run(qa_gaps)
