@@ -248,6 +248,30 @@ def check_map_options(opts):
         raise OptionError("--record = '' must name a folder")
 
 
+def check_split(opts):
+    """The rules of --split zmq: the address is tcp://HOST:PORT (loopback unless
+    --split-bind-any) or ipc://PATH, the key file readable."""
+    addr = opts.split_address
+    if addr.startswith("ipc://") and len(addr) > len("ipc://"):
+        pass
+    elif addr.startswith("tcp://") and ":" in addr[len("tcp://"):]:
+        host, _, port = addr[len("tcp://"):].rpartition(":")
+        if port != "*" and not (port.isdigit() and 1 <= int(port) <= 65535):
+            raise OptionError(f"--split-address = {addr!r}: port {port!r} must be * or "
+                              f"1..65535")
+        if host.strip("[]") in ("*", "0.0.0.0", "::", "") and not opts.split_bind_any:
+            raise OptionError(f"--split-address = {addr!r} binds every interface: give a "
+                              f"host address (default 127.0.0.1) or --split-bind-any")
+    else:
+        raise OptionError(f"--split-address = {addr!r} must be tcp://HOST:PORT or "
+                          f"ipc://PATH")
+    if opts.split_key is not None:
+        from . import link
+        link.read_key(opts.split_key)
+    if opts.record is not None:
+        raise OptionError("--record with --split zmq: record in a one-graph run")
+
+
 # The pulse modes of the transmit grid: (tx mode, SRS period in slots)
 MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
 
@@ -335,6 +359,37 @@ class SimOptions(_Options):
         "point below the track at y = 0 and the heading of the flight [deg clockwise from "
         "true north]; the scene (x > 0) lies to the right of the heading",
         metavar="LAT,LON,HEADING_DEG")
+    # The UAV / ground split over gr-zeromq (docs/scale.md; python/nrsar/split.py)
+    split: str = option("none", "run the chain as two processes, the UAV's graph (up to the "
+                        "cut) and the ground's (the focuser), joined by gr-zeromq; each line "
+                        "signed with --split-key and numbered", choices=["none", "zmq"])
+    split_at: str = option("presum", "where the chain is cut: after the presummer (the "
+                           "reduced stream; range when there is none) or after the range "
+                           "IFFT", choices=["presum", "range"])
+    split_pattern: str = option("push", "gr-zeromq pattern: push (PUSH/PULL, one ground) or "
+                                "pub (PUB/SUB, several grounds may listen)",
+                                choices=["push", "pub"])
+    split_address: str = option("tcp://127.0.0.1:*", "address the UAV binds (the ground "
+                                "connects): loopback by default, port * = any free one; "
+                                "all interfaces (*, 0.0.0.0, ::) only with --split-bind-any")
+    split_bind_any: bool = option(False, "allow --split-address on all interfaces (anyone who "
+                                  "reaches the port may connect: the key check rejects "
+                                  "their lines, it does not hide ours)")
+    split_key: typing.Optional[str] = option(
+        None, "shared key file of the link (>= 32 bytes, mode 0600); default: a random key "
+        "for this run, shared by its two processes", metavar="FILE")
+    split_queue_lines: int = option(1024, "UAV link queue [lines]: when full, new lines are "
+                                    "dropped and counted (the radio path never waits; "
+                                    "without --split-line-rate the simulation waits up to "
+                                    "--split-idle-s first)",
+                                    at_least=1, at_most=10**6)
+    split_hwm: int = option(16, "ZMQ high-water mark of each side [messages]", at_least=1,
+                            at_most=10**6)
+    split_idle_s: float = option(10.0, "the ground ends the stream (zero-filled) after this "
+                                 "long without a valid line [s]", above=0.0, at_most=3600.0)
+    split_line_rate: float = option(0.0, "UAV lines per second at the cut (throttle; 0 = as "
+                                    "fast as the CPU: a simulation has no radio clock)",
+                                    at_least=0.0, at_most=1e9)
 
     def check(self):
         check_map_options(self)
@@ -342,6 +397,8 @@ class SimOptions(_Options):
             raise OptionError("--geotiff needs --origin LAT,LON,HEADING_DEG (where the frame "
                               "lies on the map)")
         self.check_processing()
+        if self.split != "none":
+            check_split(self)
 
     def check_processing(self):
         """The rules between the receive-side fields (ProcessOptions keeps them too)."""
@@ -392,8 +449,8 @@ class IsacOptions(SimOptions):
 
     def check(self):
         super().check()
-        for name in ("record", "geotiff"):
-            if getattr(self, name):
+        for name in ("record", "geotiff", "split"):
+            if getattr(self, name) not in (None, False, "none"):
                 raise OptionError(f"{flag_of(name)} is not in nrsar-isac yet (nrsar-sim "
                                   f"has it; docs/recording.md)")
         if self.mode != "data":
@@ -453,6 +510,8 @@ class SoakOptions(SimOptions):
                               f"without end, and kept images would grow with it")
         if self.record is not None:
             raise OptionError("--record is nrsar-sim's: a soak streams without end")
+        if self.split != "none":
+            raise OptionError("--split is nrsar-sim's: a soak measures one process")
 
 
 # The fields of SimOptions a recording supplies (docs/recording.md): nrsar-process takes the
@@ -487,7 +546,7 @@ def _process_fields():
             "recording's nrsar:snr_db)", at_least=-200.0, at_most=300.0)),
     ]
     for f in dataclasses.fields(SimOptions):
-        if f.name in RECORDED_FIELDS:
+        if f.name in RECORDED_FIELDS or f.name.startswith("split"):
             continue
         if f.default_factory is not dataclasses.MISSING:
             field = dataclasses.field(default_factory=f.default_factory, metadata=f.metadata)
