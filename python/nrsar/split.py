@@ -43,28 +43,24 @@ LINGER_S = 5.0
 
 
 def cut_layout(opts, sc):
-    """(crop, focuser config, lines at the cut, ground-side part of the data path). The
-    data path is receive_path's tuple; the UAV keeps the blocks up to the cut."""
+    """(crop, focuser config) of the options, as imaging_chain has them."""
     nfft = scenario.fft_size_of(opts, sc.num.num_subcarriers)
     crop, guard = chain.range_crop(opts, sc, nfft)
-    cfg = chain.focuser_config_of(opts, sc, guard)
-    pulses = sc.symbols // sc.pulse_symbols
-    if opts.split_at == "presum" and opts.presum != "none":
-        lines = cfg.lines_per_aperture  # pulses / D
-    elif opts.presum_domain == "tf" and opts.presum != "none":
-        lines = cfg.lines_per_aperture  # the IFFT follows the presummer: D x fewer lines
-    else:
-        lines = pulses
-    return crop, cfg, lines
+    return crop, chain.focuser_config_of(opts, sc, guard)
 
 
-def split_path(path, rif, pre, opts):
-    """(UAV blocks, ground blocks) of a receive path tuple: the UAV keeps up to the
-    presummer or the range IFFT, whichever --split-at names (and always the IFFT)."""
+def split_path(opts, sc, path, rif, pre):
+    """(UAV blocks, ground blocks, lines crossing the link) of a receive path tuple: the UAV
+    keeps up to the presummer or the range IFFT, whichever --split-at names (and always the
+    IFFT). Behind a presummer the link carries its outputs: one per D pulses, less the last
+    ones whose window would reach past the end (docs/blocks/cheby_presum.md)."""
     last = path.index(rif)
     if opts.split_at == "presum" and pre is not None:
         last = max(last, path.index(pre))
-    return path[:last + 1], path[last + 1:]
+    lines = sc.symbols // sc.pulse_symbols
+    if pre is not None and pre in path[:last + 1]:
+        lines = (lines - 1 - pre.lookahead()) // opts.presum_factor() + 1
+    return path[:last + 1], path[last + 1:], lines
 
 
 def _connect(tb, blocks_in_order):
@@ -75,7 +71,7 @@ def _connect(tb, blocks_in_order):
 def uav_graph(tb, opts, sc, key):
     """The UAV's top block (module doc). Returns its blocks by name."""
     n = sc.num.num_subcarriers
-    crop, cfg, lines = cut_layout(opts, sc)
+    crop, cfg = cut_layout(opts, sc)
     tx = chain.make_transmitter(opts, sc)
     head = blocks.head(gr.sizeof_gr_complex * n, sc.symbols)
     echo = chain.make_echo(opts, sc)
@@ -85,7 +81,7 @@ def uav_graph(tb, opts, sc, key):
     tb.connect((echo, 0), (tff, 0))
     tb.connect(head, (tff, 1))
     entry, rif, _, pre, paths = chain.receive_path(opts, sc, crop, cfg, focuser=False)
-    uav_part, _ = split_path(paths[0], rif, pre, opts)
+    uav_part, _, lines = split_path(opts, sc, paths[0], rif, pre)
     chain.connect_pulses(tb, tff, entry, sc)
     _connect(tb, uav_part)
     bins = rif.num_bins()
@@ -110,9 +106,9 @@ def ground_graph(tb, opts, sc, key, address):
     the UAV: same crop, same axes)."""
     n = sc.num.num_subcarriers
     keep = opts.images != "none"
-    crop, cfg, lines = cut_layout(opts, sc)
+    crop, cfg = cut_layout(opts, sc)
     entry, rif, foc, pre, paths = chain.receive_path(opts, sc, crop, cfg)
-    _, ground_part = split_path(paths[0], rif, pre, opts)
+    _, ground_part, lines = split_path(opts, sc, paths[0], rif, pre)
     bins = rif.num_bins()
     downlink = link.ground_link(bins, key, address, opts.split_pattern, lines,
                                 opts.split_idle_s, opts.split_hwm)
@@ -204,6 +200,7 @@ def run_ground(opts, key, address, conn):
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
         sc = scenario.of(opts)
+        check_out_dir(opts.out)
         tb = gr.top_block("nrsar-ground")
         g = ground_graph(tb, opts, sc, key, address)
         conn.send({"started": True})
