@@ -51,7 +51,7 @@ from gnuradio import gr
 
 MAGIC = b"NRSARLN1"
 HEADER = struct.Struct("<8sQQIII")
-TAG_BYTES = 512
+TAG_BYTES = 192
 MAC_BYTES = 32
 FLAG_END = 1
 KEY_MIN_BYTES = 32

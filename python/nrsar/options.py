@@ -528,9 +528,25 @@ class _ProcessRules(_Options):
             raise OptionError(f"RECORDING = {self.recording!r} must name a .sigmf-meta file")
         check_map_options(self)
         SimOptions.check_processing(self)
+        if self.dask is not None:
+            check_dask(self)
 
     def presum_factor(self):
         return SimOptions.presum_factor(self)
+
+
+def check_dask(opts):
+    """--dask is local:N (N workers) or tcp:// / tls://HOST:PORT, with a strip to cut."""
+    spec = opts.dask
+    if spec.startswith("local:"):
+        n = spec[len("local:"):]
+        if not n.isdigit() or not 1 <= int(n) <= 256:
+            raise OptionError(f"--dask = {spec!r}: local:N needs N within 1..256")
+    elif not (spec.startswith(("tcp://", "tls://")) and ":" in spec.split("://", 1)[1]):
+        raise OptionError(f"--dask = {spec!r} must be local:N or tcp://HOST:PORT")
+    if opts.strip_aperture_s is None:
+        raise OptionError(f"--dask = {spec!r} needs --strip-aperture-s (the apertures the "
+                          f"strip is cut into)")
 
 
 def _process_fields():
@@ -544,6 +560,20 @@ def _process_fields():
         ("snr_db", typing.Optional[float], option(
             None, "SNR per RE [dB] for the Wiener filter and the theory (default: the "
             "recording's nrsar:snr_db)", at_least=-200.0, at_most=300.0)),
+        ("strip_aperture_s", typing.Optional[float], option(
+            None, "process the recording as a strip of apertures of this length [s], each "
+            "with the focuser's overlap, stitched into strip_image.npy (docs/scale.md)",
+            above=0.0, at_most=3600.0)),
+        ("dask", typing.Optional[str], option(
+            None, "run the strip's apertures as Dask tasks: local:N (N worker processes on "
+            "127.0.0.1) or tcp://HOST:PORT (a scheduler); always TLS with certificates "
+            "(local: a self-signed set made for the run)", metavar="local:N|tcp://HOST:PORT")),
+        ("dask_tls_ca", typing.Optional[str], option(None, "CA certificate of a remote "
+                                                     "--dask scheduler", metavar="PEM")),
+        ("dask_tls_cert", typing.Optional[str], option(None, "client certificate for a "
+                                                       "remote --dask", metavar="PEM")),
+        ("dask_tls_key", typing.Optional[str], option(None, "client key for a remote --dask",
+                                                      metavar="PEM")),
     ]
     for f in dataclasses.fields(SimOptions):
         if f.name in RECORDED_FIELDS or f.name.startswith("split"):
