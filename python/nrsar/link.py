@@ -190,7 +190,7 @@ class line_framer(gr.sync_block):
     """UAV side: signs every input line (a vector of `bins` complex64) into a frame and puts
     it into `queue` without ever waiting (wait_s > 0: a simulation without a radio clock
     waits up to wait_s for room, as one graph would). After `lines` lines (0: endless) it
-    queues the end frame (flags FLAG_END, seq = lines) and closes the queue."""
+    queues the end frame (flags FLAG_END, seq = lines) and closes the queue; so does the end of its input."""
 
     def __init__(self, bins, key, queue, lines=0, session=None, wait_s=0.0):
         gr.sync_block.__init__(self, "line_framer", [(np.complex64, bins)], [])
@@ -220,6 +220,11 @@ class line_framer(gr.sync_block):
         if self.lines and base + n >= self.lines:
             self.finish()
         return len(x)
+
+    def stop(self):
+        # GNU Radio calls stop() when this block's input has ended: the end of the stream
+        self.finish()
+        return True
 
     def finish(self):
         """Queues the end frame (seq = the lines framed) and closes the queue, once."""
