@@ -135,13 +135,20 @@ def connect(opts):
     import distributed
     sec = security_of(opts)
     if opts.dask.startswith("local:"):
-        cluster = distributed.LocalCluster(
-            n_workers=int(opts.dask[len("local:"):]), threads_per_worker=1, processes=True,
-            protocol="tls://", host="127.0.0.1", security=sec, dashboard_address=None,
-            silence_logs=logging.ERROR)
+        cluster = local_cluster(int(opts.dask[len("local:"):]), sec)
         return distributed.Client(cluster, security=sec), cluster
     address = "tls://" + opts.dask.split("://", 1)[1]
     return distributed.Client(address, security=sec, timeout="10s"), None
+
+
+def local_cluster(workers, security):
+    """A LocalCluster of single-threaded worker processes on 127.0.0.1 over TLS; its HTTP
+    server (plain HTTP) on loopback only, without the dashboard."""
+    import distributed
+    return distributed.LocalCluster(
+        n_workers=workers, threads_per_worker=1, processes=True, protocol="tls://",
+        host="127.0.0.1", security=security, dashboard_address="127.0.0.1:0",
+        scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)
 
 
 def run_slices(opts, meta_path, slices, client=None):
