@@ -30,6 +30,7 @@ refused). `write_certificates(folder)` writes a self-signed set for a scheduler 
 started by hand (docs/scale.md).
 """
 
+import contextlib
 import dataclasses
 import logging
 import os
@@ -129,16 +130,19 @@ def security_of(opts):
                     require_encryption=True)
 
 
+@contextlib.contextmanager
 def connect(opts):
-    """(client, cluster or None) of --dask: local:N starts N single-threaded worker
-    processes on 127.0.0.1 over TLS; tcp:// or tls://HOST:PORT connects over TLS."""
+    """The client of --dask (a context: closed, with its local cluster, on leaving):
+    local:N starts N single-threaded worker processes on 127.0.0.1 over TLS; tcp:// or
+    tls://HOST:PORT connects over TLS."""
     import distributed
     sec = security_of(opts)
-    if opts.dask.startswith("local:"):
-        cluster = local_cluster(int(opts.dask[len("local:"):]), sec)
-        return distributed.Client(cluster, security=sec), cluster
-    address = "tls://" + opts.dask.split("://", 1)[1]
-    return distributed.Client(address, security=sec, timeout="10s"), None
+    with contextlib.ExitStack() as stack:
+        if opts.dask.startswith("local:"):
+            target = stack.enter_context(local_cluster(int(opts.dask[len("local:"):]), sec))
+        else:
+            target = "tls://" + opts.dask.split("://", 1)[1]
+        yield stack.enter_context(distributed.Client(target, security=sec, timeout="30s"))
 
 
 def local_cluster(workers, security):
@@ -191,17 +195,10 @@ def run(opts):
     slices = layout(opts, rec)
     os.makedirs(opts.out, exist_ok=True)
     start = time.perf_counter()
-    client = cluster = None
-    try:
-        if opts.dask:
-            client, cluster = connect(opts)
+    with contextlib.ExitStack() as stack:
+        client = stack.enter_context(connect(opts)) if opts.dask else None
         done = run_slices(opts, rec.meta_path, slices, client)
         workers = len(client.scheduler_info()["workers"]) if client else 1
-    finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
     ok = [r for r in done.values() if not isinstance(r, str)]
     bins = ok[0]["image"].shape[1] if ok else 0
     image, failed = stitch(slices, done, bins)

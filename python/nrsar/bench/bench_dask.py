@@ -48,9 +48,8 @@ def run(quick=False):
         rows = []
         for workers in (1, 2, 4):
             start = time.perf_counter()
-            client, cluster = dp.connect(opts.replace(dask=f"local:{workers}"))
-            startup = time.perf_counter() - start
-            try:
+            with dp.connect(opts.replace(dask=f"local:{workers}")) as client:
+                startup = time.perf_counter() - start
                 dp.run_slices(opts, meta, slices[:workers], client)  # warm every worker
                 start = time.perf_counter()
                 dp.run_slices(opts, meta, slices, client)
@@ -59,9 +58,6 @@ def run(quick=False):
                 start = time.perf_counter()
                 client.gather(client.map(_noop, range(n), pure=False))
                 overhead = (time.perf_counter() - start) / n
-            finally:
-                client.close()
-                cluster.close()
             rows.append(benchutil.row(
                 f"strip of {len(slices)} apertures, dask local:{workers} (TLS)", rate,
                 "one process", serial_rate, unit="apertures/s", workers=workers,
