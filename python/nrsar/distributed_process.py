@@ -34,6 +34,7 @@ import contextlib
 import dataclasses
 import logging
 import os
+import tempfile
 import time
 
 import numpy as np
@@ -145,14 +146,19 @@ def connect(opts):
         yield stack.enter_context(distributed.Client(target, security=sec, timeout="30s"))
 
 
+@contextlib.contextmanager
 def local_cluster(workers, security):
-    """A LocalCluster of single-threaded worker processes on 127.0.0.1 over TLS; its HTTP
-    server (plain HTTP) on loopback only, without the dashboard."""
+    """A LocalCluster of single-threaded worker processes on 127.0.0.1 over TLS (a
+    context); its HTTP server (plain HTTP) on loopback only, without the dashboard; the
+    workers' scratch space in a folder of its own (not the shared dask-worker-space)."""
     import distributed
-    return distributed.LocalCluster(
-        n_workers=workers, threads_per_worker=1, processes=True, protocol="tls://",
-        host="127.0.0.1", security=security, dashboard_address="127.0.0.1:0",
-        scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR)
+    with tempfile.TemporaryDirectory(prefix="nrsar-dask-") as scratch, \
+            distributed.LocalCluster(
+                n_workers=workers, threads_per_worker=1, processes=True, protocol="tls://",
+                host="127.0.0.1", security=security, dashboard_address="127.0.0.1:0",
+                scheduler_kwargs={"dashboard": False}, silence_logs=logging.ERROR,
+                local_directory=scratch) as cluster:
+        yield cluster
 
 
 def run_slices(opts, meta_path, slices, client=None):

@@ -10,6 +10,7 @@ strip; a worker killed mid-run costs a retry; a slice with non-finite samples is
 with its aperture index while the other completes; a client without the certificate is
 refused by the scheduler."""
 
+import faulthandler
 import os
 import shutil
 import signal
@@ -37,6 +38,8 @@ class qa_distributed_process(gr_unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
+        # a cluster that hangs fails the test with every thread's traceback, bounded
+        faulthandler.dump_traceback_later(900, exit=True)
         cls.dir = tempfile.mkdtemp(prefix="qa_distributed_process_")
         rec = os.path.join(cls.dir, "rec")
         sim = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-sim")] + FLIGHT +
@@ -50,6 +53,7 @@ class qa_distributed_process(gr_unittest.TestCase):
 
     @classmethod
     def tearDownClass(cls):
+        faulthandler.cancel_dump_traceback_later()
         shutil.rmtree(cls.dir, ignore_errors=True)
 
     @classmethod
