@@ -386,7 +386,8 @@ class SimOptions(_Options):
     split_hwm: int = option(16, "ZMQ high-water mark of each side [messages]", at_least=1,
                             at_most=10**6)
     split_idle_s: float = option(10.0, "the ground ends the stream (zero-filled) after this "
-                                 "long without a valid line [s]", above=0.0, at_most=3600.0)
+                                 "long without a valid line, the UAV closes its link this "
+                                 "long after its last line [s]", above=0.0, at_most=3600.0)
     split_line_rate: float = option(0.0, "UAV lines per second at the cut (throttle; 0 = as "
                                     "fast as the CPU: a simulation has no radio clock)",
                                     at_least=0.0, at_most=1e9)

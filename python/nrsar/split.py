@@ -38,8 +38,6 @@ from .options import check_out_dir
 
 # how often the parent and the graphs' watchers look (bounded waits everywhere)
 POLL_S = 0.05
-# the UAV keeps its link open this long after the radio path ended, to drain the queue
-LINGER_S = 5.0
 
 
 def cut_layout(opts, sc):
@@ -156,7 +154,7 @@ def _start(tb):
 
 def run_uav(opts, key, conn):
     """The UAV process: builds its graph, sends {"address"}, runs until the radio path has
-    ended and the link drained (or LINGER_S passed), sends its report."""
+    ended and the link drained (or --split-idle-s passed), sends its report."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent stops its children
     try:
         sc = scenario.of(opts)
@@ -171,10 +169,10 @@ def run_uav(opts, key, conn):
             # the radio path ended short of the expected lines: end the stream anyway
             if framer.nitems_read(0) != seen:
                 seen, since = framer.nitems_read(0), time.monotonic()
-            elif time.monotonic() - since > LINGER_S:
+            elif time.monotonic() - since > opts.split_idle_s:
                 framer.finish()
         radio_s = time.perf_counter() - start
-        waiter.join(LINGER_S)  # the link drains (or no ground is there to take it)
+        waiter.join(opts.split_idle_s)  # the link drains (or no ground takes it)
         drained = not waiter.is_alive()
         if not drained:
             tb.stop()

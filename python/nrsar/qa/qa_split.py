@@ -104,14 +104,16 @@ class qa_split(gr_unittest.TestCase):
                 self.assertEqual(two["split_uav"]["lines"], 298 if at == "presum" else 1200)
 
     def test_003_ground_killed_and_restarted(self):
-        # 1200 lines at 400 lines/s: 3 s of flight; the first ground is killed after about
-        # 1 s, the second starts 0.5 s later and zero-fills what it missed
+        # 1200 lines at 400 lines/s: 3 s of flight; the first ground (up before the UAV)
+        # is killed after about 1 s, the second starts 0.5 s later and zero-fills what it
+        # missed; the UAV keeps its link open for --split-idle-s after its last line
         opts = self.opts("restart", split="zmq", split_at="range", split_line_rate=400.0,
-                         split_idle_s=5.0)
+                         split_idle_s=20.0,
+                         split_address=f"tcp://127.0.0.1:{free_port()}")
         one = chain.simulate(self.opts("restart_one"))
         key = link.new_key()
+        ground1 = split.start_ground(opts, key, opts.split_address)
         uav, address = split.start_uav(opts, key)
-        ground1 = split.start_ground(opts, key, address)
         time.sleep(1.0)
         os.kill(ground1.proc.pid, signal.SIGKILL)
         ground1.proc.join(10)
@@ -182,7 +184,7 @@ class qa_split(gr_unittest.TestCase):
     def test_005_uav_without_ground_does_not_block(self):
         # no ground ever: the radio path runs to its end, the queue drops and counts
         opts = self.opts("alone", split="zmq", split_at="range", split_queue_lines=8,
-                         split_line_rate=4000.0, images="none")
+                         split_line_rate=4000.0, split_idle_s=2.0, images="none")
         uav, _ = split.start_uav(opts, link.new_key())
         try:
             rep = uav.receive("report")["report"]
