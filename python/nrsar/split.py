@@ -266,6 +266,16 @@ def start_ground(opts, key, address):
     return ground
 
 
+def finish(uav, ground):
+    """(the UAV's report, the ground's {"result", "report"}) once both halves are done;
+    both processes stopped in any case."""
+    try:
+        return uav.receive("report")["report"], ground.receive("images")
+    finally:
+        uav.stop()
+        ground.stop()
+
+
 def merge(result, uav_report, ground_report):
     """nrsar-sim's JSON of a split run: the ground's images and metrics, the UAV's counts of
     the blocks it ran, and both sides' link reports."""
@@ -295,8 +305,7 @@ def simulate(opts):
         halves.append(uav)
         ground = start_ground(opts, key, address)
         halves.append(ground)
-        uav_report = uav.receive("report")["report"]
-        msg = ground.receive("images")
+        uav_report, msg = finish(uav, ground)
         return merge(msg["result"], uav_report, msg["report"])
     except KeyboardInterrupt:
         raise runtime.Interrupted("interrupted: the UAV and ground processes were stopped "

@@ -119,12 +119,7 @@ class qa_split(gr_unittest.TestCase):
         ground1.proc.join(10)
         time.sleep(0.5)
         ground2 = split.start_ground(opts, key, address)
-        try:
-            uav_report = uav.receive("report")["report"]
-            msg = ground2.receive("images")
-        finally:
-            uav.stop()
-            ground2.stop()
+        uav_report, msg = split.finish(uav, ground2)
         rep, res = msg["report"], msg["result"]
         lines = uav_report["lines"]
         self.assertEqual(rep["lines_received"] + rep["lines_lost"], lines)
@@ -167,12 +162,7 @@ class qa_split(gr_unittest.TestCase):
         sock.close()  # lingers until delivered
         ctx.term()
         uav, _ = split.start_uav(opts, key)
-        try:
-            uav_report = uav.receive("report")["report"]
-            msg = ground.receive("images")
-        finally:
-            uav.stop()
-            ground.stop()
+        uav_report, msg = split.finish(uav, ground)
         rep = msg["report"]
         self.assertEqual(rep["frames_rejected"], 20)
         self.assertEqual(rep["junk_bytes"], 100 + 20 * (link.frame_bytes(bins) -
