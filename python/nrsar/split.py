@@ -38,6 +38,8 @@ from .options import check_out_dir
 
 # how often the parent and the graphs' watchers look (bounded waits everywhere)
 POLL_S = 0.05
+# the longest a UAV waits for its start signal
+GO_WAIT_S = 600.0
 
 
 def cut_layout(opts, sc):
@@ -152,9 +154,10 @@ def _start(tb):
     return waiter
 
 
-def run_uav(opts, key, conn):
-    """The UAV process: builds its graph, sends {"address"}, runs until the radio path has
-    ended and the link drained (or --split-idle-s passed), sends its report."""
+def run_uav(opts, key, go, conn):
+    """The UAV process: builds its graph, sends {"address"}, waits for `go` (an Event, or
+    None: at once), runs until the radio path has ended and the link drained (or
+    --split-idle-s passed), sends its report."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent stops its children
     try:
         sc = scenario.of(opts)
@@ -162,6 +165,8 @@ def run_uav(opts, key, conn):
         g = uav_graph(tb, opts, sc, key)
         uplink = g["link"]
         conn.send({"address": uplink.address()})
+        if go is not None:
+            go.wait(GO_WAIT_S)
         start = time.perf_counter()
         waiter = _start(tb)
         framer, seen, since = uplink.framer, -1, time.monotonic()
@@ -254,9 +259,10 @@ class Half:
         self.proc.join(10)
 
 
-def start_uav(opts, key):
-    """(Half, bound address) of a UAV process."""
-    uav = Half("UAV", run_uav, opts, key)
+def start_uav(opts, key, go=None):
+    """(Half, bound address) of a UAV process; with `go` (a spawn-context Event) its radio
+    starts when the event is set."""
+    uav = Half("UAV", run_uav, opts, key, go)
     return uav, uav.receive("address")["address"]
 
 
@@ -301,10 +307,13 @@ def simulate(opts):
     key = link.read_key(opts.split_key) if opts.split_key else link.new_key()
     halves = []
     try:
-        uav, address = start_uav(opts, key)
+        # a simulation has no radio clock: its UAV starts once the ground listens
+        go = multiprocessing.get_context("spawn").Event()
+        uav, address = start_uav(opts, key, go)
         halves.append(uav)
         ground = start_ground(opts, key, address)
         halves.append(ground)
+        go.set()
         uav_report, msg = finish(uav, ground)
         return merge(msg["result"], uav_report, msg["report"])
     except KeyboardInterrupt:
