@@ -195,14 +195,16 @@ def stitch(slices, done, bins):
     return np.concatenate(parts), failed
 
 
-def run(opts):
-    """nrsar-process's JSON of a strip (--strip-aperture-s, optionally --dask)."""
+def run(opts, client=None):
+    """nrsar-process's JSON of a strip (--strip-aperture-s, optionally --dask; client: a
+    connected distributed.Client to use instead)."""
     rec = recording.read(opts.recording)
     slices = layout(opts, rec)
     os.makedirs(opts.out, exist_ok=True)
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
-        client = stack.enter_context(connect(opts)) if opts.dask else None
+        if client is None and opts.dask:
+            client = stack.enter_context(connect(opts))
         done = run_slices(opts, rec.meta_path, slices, client)
         workers = len(client.scheduler_info()["workers"]) if client else 1
     ok = [r for r in done.values() if not isinstance(r, str)]

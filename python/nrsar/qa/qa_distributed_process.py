@@ -10,6 +10,7 @@ strip; a worker killed mid-run costs a retry; a slice with non-finite samples is
 with its aperture index while the other completes; a client without the certificate is
 refused by the scheduler."""
 
+import contextlib
 import faulthandler
 import os
 import shutil
@@ -50,9 +51,14 @@ class qa_distributed_process(gr_unittest.TestCase):
         cls.meta = os.path.join(rec, "flight.sigmf-meta")
         cls.serial = dp.run(cls.opts("serial"))
         cls.serial_image = np.load(cls.serial["strip_image_npy"])
+        # one local cluster (TLS, 2 workers) for the class, made as nrsar-process --dask
+        # local:2 makes it
+        cls.stack = contextlib.ExitStack()
+        cls.client = cls.stack.enter_context(dp.connect(cls.opts("c", dask="local:2")))
 
     @classmethod
     def tearDownClass(cls):
+        cls.stack.close()
         faulthandler.cancel_dump_traceback_later()
         shutil.rmtree(cls.dir, ignore_errors=True)
 
@@ -65,7 +71,7 @@ class qa_distributed_process(gr_unittest.TestCase):
         self.assertEqual(self.serial["strip_apertures"], 2)
         self.assertEqual(self.serial_image.shape[0], 2400)
         self.assertEqual(self.serial["strip_slices"], [[0, 1200], [1200, 1200]])
-        res = dp.run(self.opts("dask", dask="local:2"))
+        res = dp.run(self.opts("dask", dask="local:2"), self.client)
         self.assertEqual(res["dask_workers"], 2)
         self.assertEqual(res["strip_failed"], [])
         np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.serial_image)
@@ -84,7 +90,7 @@ class qa_distributed_process(gr_unittest.TestCase):
         data[at:at + 10] = np.nan
         data.flush()
         del data
-        res = dp.run(self.opts("corrupt_out", meta=meta, dask="local:2"))
+        res = dp.run(self.opts("corrupt_out", meta=meta, dask="local:2"), self.client)
         self.assertEqual([f["aperture"] for f in res["strip_failed"]], [1])
         self.assertRegex(res["strip_failed"][0]["error"], r"aperture 1: \d+ non-finite")
         image = np.load(res["strip_image_npy"])
@@ -92,25 +98,21 @@ class qa_distributed_process(gr_unittest.TestCase):
         self.assertEqual(np.count_nonzero(image[1200:]), 0)
 
     def test_003_worker_killed_costs_a_retry(self):
-        import distributed
-        opts = self.opts("killed")
-        sec = distributed.security.Security.temporary()
-        with dp.local_cluster(2, sec) as cluster, \
-                distributed.Client(cluster, security=sec) as client:
-            pids = client.run(os.getpid)
-            slices = dp.layout(opts, recording.read(self.meta))
-            out = {}
-            runner = threading.Thread(
-                target=lambda: out.update(dp.run_slices(opts, self.meta, slices, client)))
-            runner.start()
-            deadline = time.monotonic() + 120
-            while not any(client.processing().values()) and time.monotonic() < deadline:
-                time.sleep(0.05)
-            busy = [w for w, tasks in client.processing().items() if tasks]
-            self.assertTrue(busy)
-            os.kill(pids[busy[0]], signal.SIGKILL)  # its task runs again elsewhere
-            runner.join(300)
-            self.assertFalse(runner.is_alive())
+        opts, client = self.opts("killed"), self.client
+        pids = client.run(os.getpid)
+        slices = dp.layout(opts, recording.read(self.meta))
+        out = {}
+        runner = threading.Thread(
+            target=lambda: out.update(dp.run_slices(opts, self.meta, slices, client)))
+        runner.start()
+        deadline = time.monotonic() + 120
+        while not any(client.processing().values()) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        busy = [w for w, tasks in client.processing().items() if tasks]
+        self.assertTrue(busy)
+        os.kill(pids[busy[0]], signal.SIGKILL)  # its task runs again elsewhere
+        runner.join(300)
+        self.assertFalse(runner.is_alive())
         image, failed = dp.stitch(slices, out, self.serial_image.shape[1])
         self.assertEqual(failed, [])
         np.testing.assert_array_equal(image, self.serial_image)
@@ -118,21 +120,17 @@ class qa_distributed_process(gr_unittest.TestCase):
     def test_004_tls_refuses_a_client_without_certificate(self):
         import distributed
         from distributed.security import Security
-        sec = Security.temporary()
-        with dp.local_cluster(1, sec) as cluster:
-            address = cluster.scheduler_address
-            self.assertTrue(address.startswith("tls://127.0.0.1:"))
-            # no certificate (the client cannot even speak TLS), and a certificate of
-            # another CA: the scheduler's handshake refuses it (the client times out)
-            other = Security.temporary()
-            for security in (None, Security(tls_ca_file=sec.tls_ca_file,
-                                            tls_client_cert=other.tls_client_cert,
-                                            tls_client_key=other.tls_client_key,
-                                            require_encryption=True)):
-                with self.assertRaises((OSError, TypeError)):
-                    distributed.Client(address, security=security, timeout="5s")
-            with distributed.Client(address, security=sec, timeout="10s") as client:
-                self.assertEqual(client.submit(sum, [1, 2]).result(), 3)
+        address = self.client.scheduler.address
+        self.assertTrue(address.startswith("tls://127.0.0.1:"))
+        # no certificate (the client cannot even speak TLS), and a certificate of another
+        # CA: the scheduler's handshake refuses it (the client times out)
+        ca = self.client.security.tls_ca_file
+        other = Security.temporary()
+        for security in (None, Security(tls_ca_file=ca, tls_client_cert=other.tls_client_cert,
+                                        tls_client_key=other.tls_client_key,
+                                        require_encryption=True)):
+            with self.assertRaises((OSError, TypeError)):
+                distributed.Client(address, security=security, timeout="5s")
         with self.assertRaisesRegex(OptionError, "needs --dask-tls-ca"):
             dp.security_of(self.opts("o", dask="tcp://127.0.0.1:8786"))
         for spec in ("local:0", "local:x", "udp://h:1", "tcp://host"):
