@@ -17,7 +17,7 @@ DEB_PACKAGES := build-essential cmake ccache pkg-config git \
 	gnuradio gnuradio-dev gr-radar libvolk2-dev libfftw3-dev pybind11-dev \
 	python3-dev python3-numpy python3-matplotlib python3-yaml python3-pygccxml castxml \
 	libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth zlib1g-dev clang libclang-rt-14-dev \
-	python3-soapysdr python3-gdal python3-pyproj $(GRC_PACKAGES)
+	python3-soapysdr python3-gdal python3-pyproj python3-distributed $(GRC_PACKAGES)
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(PREFIX) \
 	-DPython_EXECUTABLE=$(PYTHON) -DPYTHON_EXECUTABLE=$(PYTHON) -DENABLE_DOXYGEN=OFF

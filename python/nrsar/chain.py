@@ -135,6 +135,86 @@ def check_memory(rif, foc, symbols, keep, limit_bytes=None):
             f"--presum cheby, a shorter --aperture-s or --images none")
 
 
+def receive_path(opts, sc, crop, cfg, nav, focuser=True):
+    """The blocks of one branch after its tf_filter: (block taking the filtered TF pulses,
+    range IFFT, focuser, presummer or None, [the path as one tuple to connect]). nav: the
+    path the presummer compensates and the focuser images along (the data branch: the
+    navigation; the reference branch: the truth). focuser=False: the path ends before the
+    focuser (None; the split UAV's graph)."""
+    num, geo, scn = sc.num, sc.geo, sc.scene
+    n = num.num_subcarriers
+    nfft = fft_size_of(opts, n)
+    decim = opts.presum_factor()
+    rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
+    if not focuser:
+        foc = None
+    elif opts.focuser in ("bp", "ffbp"):
+        foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                         rif.range_bin_m(), bp_config_of(opts, cfg), nav)
+    else:
+        foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                         rif.range_bin_m(), cfg, nav)
+    tail = (foc,) if focuser else ()
+    if decim == 1:
+        return rif, rif, foc, None, [(rif,) + tail]
+    method = params.PRESUM_METHODS[opts.presum]
+    if opts.presum_domain == "tf":  # presum the TF pulses, range-compress D x fewer
+        pre = cheby_presum(num, geo, scn, n, cfg=presum_config(
+            method=method, decim=decim, domain=presum_domain.TF,
+            symbols_per_pulse=sc.pulse_symbols), nav=nav)
+        return pre, rif, foc, pre, [(pre, rif) + tail]
+    pre = cheby_presum(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
+                       rif.range_bin_m(), presum_config(
+                           method=method, decim=decim, domain=presum_domain.RANGE,
+                           symbols_per_pulse=sc.pulse_symbols), nav)
+    return rif, rif, foc, pre, [(rif, pre) + tail]
+
+
+def data_filter(opts, n):
+    """The data branch's tf_filter of the options."""
+    tff = tf_filter(n, params.make_filter(opts.filter), opts.snr_db, opts.estimate_snr)
+    tff.set_constant_modulus_path(opts.cm_path == "on")
+    tff.set_threads(opts.filter_threads)
+    return tff
+
+
+def reference_filter(opts, n):
+    """(tf_filter, all-ones grid) of the reference branch: the same chain fed with S = 1 and
+    Z = 0 (SPEC 8), the reference echo filtered against an all-ones grid, so the filter's
+    scale (WF's 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's
+    randomness."""
+    return (tf_filter(n, params.make_filter(opts.filter), opts.snr_db, False),
+            blocks.vector_source_c([1.0 + 0.0j] * n, True, n))
+
+
+def connect_pulses(graph, source, sink, sc):
+    """source -> sink, keeping only the pulse symbols in pilot-only imaging."""
+    if sc.pulse_symbols == 1:
+        graph.connect(source, sink)
+    else:
+        # Pilot-only imaging: the pulses are the SRS symbols, one every spp symbols at
+        # symbol_in_slot of every SRS slot; both branches keep exactly those. (The focuser
+        # takes pulse p at p spp Tsym: the symbol_in_slot Tsym offset, 13 x 41.7 us = 2.7 cm
+        # of track, is below a tenth of a resolution cell.)
+        n = sc.num.num_subcarriers
+        graph.connect(source,
+                      blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, sc.pulse_symbols,
+                                         sc.srs.symbol_in_slot),
+                      sink)
+
+
+def make_probe(opts, sc, foc, cfg, reference):
+    """nmse_probe behind focuser foc. One aperture with zeros around it (linear correlation
+    unless overlap_lines = 0): the probe normalises its lines to full correlation windows of
+    the processed band (SPEC 8)."""
+    return nmse_probe(sc.num, sc.geo, sc.scene,
+                      constellation(params.make_modulation(opts.modulation)).points(),
+                      params.make_filter(opts.filter), opts.snr_db, foc.num_output_bins(),
+                      probe_config(reference_input=reference, symbols_per_aperture=sc.symbols,
+                                   band_lo_hz=foc.band_lo_hz(), band_hi_hz=foc.band_hi_hz(),
+                                   zero_padded=cfg.overlap_lines != 0))
+
+
 class imaging_chain(gr.hier_block2):
     """The receive side of SPEC 3-8 for one options object (module doc).
 
@@ -146,45 +226,19 @@ class imaging_chain(gr.hier_block2):
 
     def __init__(self, opts, sc=None, keep_images=True, reference=True):
         sc = scenario.of(opts) if sc is None else sc
-        num, geo, scn = sc.num, sc.geo, sc.scene
-        n = num.num_subcarriers
-        filter_type = params.make_filter(opts.filter)
+        n = sc.num.num_subcarriers
         nfft = fft_size_of(opts, n)
         crop, guard = range_crop(opts, sc, nfft)
         cfg = focuser_config_of(opts, sc, guard)
-        decim = opts.presum_factor()
-
-        def range_and_focus(nav):
-            """(block taking the filtered TF pulses, range IFFT, focuser, presummer); nav: the
-            path the focuser images along"""
-            rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
-            if opts.focuser in ("bp", "ffbp"):
-                foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
-                                 rif.range_bin_m(), bp_config_of(opts, cfg), nav)
-            else:
-                foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
-                                 rif.range_bin_m(), cfg, nav)
-            if decim == 1:
-                return rif, rif, foc, None, [(rif, foc)]
-            method = params.PRESUM_METHODS[opts.presum]
-            if opts.presum_domain == "tf":  # presum the TF pulses, range-compress D x fewer
-                pre = cheby_presum(num, geo, scn, n, cfg=presum_config(
-                    method=method, decim=decim, domain=presum_domain.TF,
-                    symbols_per_pulse=sc.pulse_symbols), nav=nav)
-                return pre, rif, foc, pre, [(pre, rif, foc)]
-            pre = cheby_presum(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
-                               rif.range_bin_m(), presum_config(
-                                   method=method, decim=decim, domain=presum_domain.RANGE,
-                                   symbols_per_pulse=sc.pulse_symbols), nav)
-            return rif, rif, foc, pre, [(rif, pre, foc)]
 
         # The data branch images along the navigation, the reference branch (the same
         # flight's noise-free echo) along the truth: PEL and NMSE measure the data, the noise
         # and what the navigation gets wrong (docs/flight.md).
-        entry, rif, foc, pre, paths = range_and_focus(sc.navigation)
+        entry, rif, foc, pre, paths = receive_path(opts, sc, crop, cfg, sc.navigation)
         branches = [(entry, paths)]
         if reference:
-            entry_ref, rif_ref, foc_ref, _, paths_ref = range_and_focus(sc.trajectory)
+            entry_ref, rif_ref, foc_ref, _, paths_ref = receive_path(opts, sc, crop, cfg,
+                                                                     sc.trajectory)
             branches.append((entry_ref, paths_ref))
         k = foc.num_output_bins()  # the image's bins (the crop minus the guard bins)
         vec = gr.sizeof_gr_complex
@@ -198,43 +252,18 @@ class imaging_chain(gr.hier_block2):
         for _, path in branches:
             for blocks_in_path in path:
                 self.connect(*blocks_in_path)
-        tff = tf_filter(n, filter_type, opts.snr_db, opts.estimate_snr)
-        tff.set_constant_modulus_path(opts.cm_path == "on")
-        tff.set_threads(opts.filter_threads)
-        # One aperture with zeros around it (linear correlation unless overlap_lines = 0):
-        # the probe normalises its lines to full correlation windows of the processed band
-        # (SPEC 8).
-        probe = nmse_probe(num, geo, scn,
-                           constellation(params.make_modulation(opts.modulation)).points(),
-                           filter_type, opts.snr_db, k, probe_config(
-                               reference_input=reference, symbols_per_aperture=sc.symbols,
-                               band_lo_hz=foc.band_lo_hz(), band_hi_hz=foc.band_hi_hz(),
-                               zero_padded=cfg.overlap_lines != 0))
+        tff = data_filter(opts, n)
+        probe = make_probe(opts, sc, foc, cfg, reference)
         self.connect((self, 0), (tff, 0))
         self.connect((self, 1), (tff, 1))
         filters = [tff]
         if reference:
-            # The reference branch is the same chain fed with S = 1 and Z = 0 (SPEC 8): the
-            # reference echo, filtered against an all-ones grid, so the filter's scale (WF's
-            # 1 / (1 + 1/SNR)) is common to both branches and PEL measures the data's
-            # randomness.
-            ones = blocks.vector_source_c([1.0 + 0.0j] * n, True, n)
-            tff_ref = tf_filter(n, filter_type, opts.snr_db, False)
+            tff_ref, ones = reference_filter(opts, n)
             self.connect((self, 2), (tff_ref, 0))
             self.connect(ones, (tff_ref, 1))
             filters.append(tff_ref)
         for source, (sink, _) in zip(filters, branches):
-            if sc.pulse_symbols == 1:
-                self.connect(source, sink)
-            else:
-                # Pilot-only imaging: the pulses are the SRS symbols, one every spp symbols
-                # at symbol_in_slot of every SRS slot; both branches keep exactly those. (The
-                # focuser takes pulse p at p spp Tsym: the symbol_in_slot Tsym offset, 13 x
-                # 41.7 us = 2.7 cm of track, is below a tenth of a resolution cell.)
-                self.connect(source,
-                             blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, sc.pulse_symbols,
-                                                sc.srs.symbol_in_slot),
-                             sink)
+            connect_pulses(self, source, sink, sc)
         check_memory(rif, foc, sc.symbols, keep_images)
         # Autofocus on the data branch only: the reference branch is the calibration
         # standard (SPEC 8, the noise-free echo's image), so NMSE and PEL measure how close
@@ -379,5 +408,9 @@ def simulate_graph(opts, keep_reference=False):
 
 
 def simulate(opts):
-    """nrsar-sim's JSON dict of one run (simulate_graph)."""
+    """nrsar-sim's JSON dict of one run (simulate_graph; --split zmq: split.simulate, the
+    UAV and the ground in two processes)."""
+    if opts.split != "none":
+        from . import split  # split builds on this module
+        return split.simulate(opts)
     return simulate_graph(opts)[0]

@@ -286,6 +286,30 @@ def check_flight_options(opts):
             raise OptionError(f"{flag_of(path_flag)} = {path!r} is not a readable file")
 
 
+def check_split(opts):
+    """The rules of --split zmq: the address is tcp://HOST:PORT (loopback unless
+    --split-bind-any) or ipc://PATH, the key file readable."""
+    addr = opts.split_address
+    if addr.startswith("ipc://") and len(addr) > len("ipc://"):
+        pass
+    elif addr.startswith("tcp://") and ":" in addr[len("tcp://"):]:
+        host, _, port = addr[len("tcp://"):].rpartition(":")
+        if port != "*" and not (port.isdigit() and 1 <= int(port) <= 65535):
+            raise OptionError(f"--split-address = {addr!r}: port {port!r} must be * or "
+                              f"1..65535")
+        if host.strip("[]") in ("*", "0.0.0.0", "::", "") and not opts.split_bind_any:
+            raise OptionError(f"--split-address = {addr!r} binds every interface: give a "
+                              f"host address (default 127.0.0.1) or --split-bind-any")
+    else:
+        raise OptionError(f"--split-address = {addr!r} must be tcp://HOST:PORT or "
+                          f"ipc://PATH")
+    if opts.split_key is not None:
+        from . import link
+        link.read_key(opts.split_key)
+    if opts.record is not None:
+        raise OptionError("--record with --split zmq: record in a one-graph run")
+
+
 # The pulse modes of the transmit grid: (tx mode, SRS period in slots)
 MODES = {"data": ("data", None), "srs2": ("srs", 2), "srs20": ("srs", 20)}
 
@@ -407,6 +431,38 @@ class SimOptions(_Options):
         "point below the track at y = 0 and the heading of the flight [deg clockwise from "
         "true north]; the scene (x > 0) lies to the right of the heading",
         metavar="LAT,LON,HEADING_DEG")
+    # The UAV / ground split over gr-zeromq (docs/scale.md; python/nrsar/split.py)
+    split: str = option("none", "run the chain as two processes, the UAV's graph (up to the "
+                        "cut) and the ground's (the focuser), joined by gr-zeromq; each line "
+                        "signed with --split-key and numbered", choices=["none", "zmq"])
+    split_at: str = option("presum", "where the chain is cut: after the presummer (the "
+                           "reduced stream; range when there is none) or after the range "
+                           "IFFT", choices=["presum", "range"])
+    split_pattern: str = option("push", "gr-zeromq pattern: push (PUSH/PULL, one ground) or "
+                                "pub (PUB/SUB, several grounds may listen)",
+                                choices=["push", "pub"])
+    split_address: str = option("tcp://127.0.0.1:*", "address the UAV binds (the ground "
+                                "connects): loopback by default, port * = any free one; "
+                                "all interfaces (*, 0.0.0.0, ::) only with --split-bind-any")
+    split_bind_any: bool = option(False, "allow --split-address on all interfaces (anyone who "
+                                  "reaches the port may connect: the key check rejects "
+                                  "their lines, it does not hide ours)")
+    split_key: typing.Optional[str] = option(
+        None, "shared key file of the link (>= 32 bytes, mode 0600); default: a random key "
+        "for this run, shared by its two processes", metavar="FILE")
+    split_queue_lines: int = option(1024, "UAV link queue [lines]: when full, new lines are "
+                                    "dropped and counted (the radio path never waits; "
+                                    "without --split-line-rate the simulation waits up to "
+                                    "--split-idle-s first)",
+                                    at_least=1, at_most=10**6)
+    split_hwm: int = option(16, "ZMQ high-water mark of each side [messages]", at_least=1,
+                            at_most=10**6)
+    split_idle_s: float = option(10.0, "the ground ends the stream (zero-filled) after this "
+                                 "long without a valid line, the UAV closes its link this "
+                                 "long after its last line [s]", above=0.0, at_most=3600.0)
+    split_line_rate: float = option(0.0, "UAV lines per second at the cut (throttle; 0 = as "
+                                    "fast as the CPU: a simulation has no radio clock)",
+                                    at_least=0.0, at_most=1e9)
 
     def check(self):
         check_map_options(self)
@@ -415,6 +471,8 @@ class SimOptions(_Options):
             raise OptionError("--geotiff needs --origin LAT,LON,HEADING_DEG (where the frame "
                               "lies on the map)")
         self.check_processing()
+        if self.split != "none":
+            check_split(self)
 
     def check_processing(self):
         """The rules between the receive-side fields (ProcessOptions keeps them too)."""
@@ -487,6 +545,9 @@ class IsacOptions(SimOptions):
         if self.record is not None and self.radar_domain != "time":
             raise OptionError(f"--record = {self.record!r} needs --radar-domain time (the "
                               f"recording is the time-domain echo)")
+        if self.split != "none":
+            raise OptionError(f"--split = {self.split!r} is nrsar-sim's (nrsar-isac runs one "
+                              f"graph)")
         if self.mode != "data":
             raise OptionError(f"--mode = {self.mode!r} must be data (the grid is the PUSCH)")
         if not os.path.isfile(self.payload):
@@ -575,6 +636,8 @@ class SoakOptions(SimOptions):
             if getattr(self, path) is not None or getattr(self, model) != "none":
                 raise OptionError(f"{flag_of(path)} / {flag_of(model)}: a soak streams "
                                   f"without end, a flight path covers one aperture")
+        if self.split != "none":
+            raise OptionError("--split is nrsar-sim's: a soak measures one process")
 
 
 # The fields of SimOptions a recording supplies (docs/recording.md): nrsar-process takes the
@@ -592,9 +655,25 @@ class _ProcessRules(_Options):
             raise OptionError(f"RECORDING = {self.recording!r} must name a .sigmf-meta file")
         check_map_options(self)
         SimOptions.check_processing(self)
+        if self.dask is not None:
+            check_dask(self)
 
     def presum_factor(self):
         return SimOptions.presum_factor(self)
+
+
+def check_dask(opts):
+    """--dask is local:N (N workers) or tcp:// / tls://HOST:PORT, with a strip to cut."""
+    spec = opts.dask
+    if spec.startswith("local:"):
+        n = spec[len("local:"):]
+        if not n.isdigit() or not 1 <= int(n) <= 256:
+            raise OptionError(f"--dask = {spec!r}: local:N needs N within 1..256")
+    elif not (spec.startswith(("tcp://", "tls://")) and ":" in spec.split("://", 1)[1]):
+        raise OptionError(f"--dask = {spec!r} must be local:N or tcp://HOST:PORT")
+    if opts.strip_aperture_s is None:
+        raise OptionError(f"--dask = {spec!r} needs --strip-aperture-s (the apertures the "
+                          f"strip is cut into)")
 
 
 def _process_fields():
@@ -608,9 +687,23 @@ def _process_fields():
         ("snr_db", typing.Optional[float], option(
             None, "SNR per RE [dB] for the Wiener filter and the theory (default: the "
             "recording's nrsar:snr_db)", at_least=-200.0, at_most=300.0)),
+        ("strip_aperture_s", typing.Optional[float], option(
+            None, "process the recording as a strip of apertures of this length [s], each "
+            "with the focuser's overlap, stitched into strip_image.npy (docs/scale.md)",
+            above=0.0, at_most=3600.0)),
+        ("dask", typing.Optional[str], option(
+            None, "run the strip's apertures as Dask tasks: local:N (N worker processes on "
+            "127.0.0.1) or tcp://HOST:PORT (a scheduler); always TLS with certificates "
+            "(local: a self-signed set made for the run)", metavar="local:N|tcp://HOST:PORT")),
+        ("dask_tls_ca", typing.Optional[str], option(None, "CA certificate of a remote "
+                                                     "--dask scheduler", metavar="PEM")),
+        ("dask_tls_cert", typing.Optional[str], option(None, "client certificate for a "
+                                                       "remote --dask", metavar="PEM")),
+        ("dask_tls_key", typing.Optional[str], option(None, "client key for a remote --dask",
+                                                      metavar="PEM")),
     ]
     for f in dataclasses.fields(SimOptions):
-        if f.name in RECORDED_FIELDS:
+        if f.name in RECORDED_FIELDS or f.name.startswith("split"):
             continue
         if f.default_factory is not dataclasses.MISSING:
             field = dataclasses.field(default_factory=f.default_factory, metadata=f.metadata)

@@ -86,7 +86,11 @@ def recording_front(rec):
 
 
 def run(opts):
-    """nrsar-process's JSON dict of one recording (validated ProcessOptions)."""
+    """nrsar-process's JSON dict of one recording (validated ProcessOptions; a strip:
+    distributed_process.run)."""
+    if opts.strip_aperture_s is not None:
+        from . import distributed_process  # builds on this module
+        return distributed_process.run(opts)
     rec = recording.read(opts.recording)
     sim_opts = sim_options_of(opts, rec)
     sc = scenario_of(sim_opts, rec)

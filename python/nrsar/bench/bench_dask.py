@@ -1,0 +1,67 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""nrsar-process --dask on 1, 2 and 4 local workers against the same strip in one process
+(distributed_process.py), and Dask's own cost per task against a task's compute time.
+
+A recording of sdr20, two targets, 0.2 s (quick: 0.1 s) cut into apertures of 0.05 s (1200
+symbols each). Rates are apertures per second of wall time, the cluster already started
+(its start-up is a row of its own); TLS on, as nrsar-process runs it. Per-task overhead: the
+wall time of 200 empty tasks through the same cluster, divided by 200. docs/scale.md turns
+these into a projection for 100 workers.
+"""
+
+import os
+import shutil
+import statistics
+import tempfile
+import time
+
+from gnuradio.nrsar import chain, distributed_process as dp, recording
+from gnuradio.nrsar.bench import benchutil
+from gnuradio.nrsar.options import ProcessOptions, SimOptions
+
+
+def _noop(x):
+    return x
+
+
+def run(quick=False):
+    folder = tempfile.mkdtemp(prefix="nrsar_bench_dask_")
+    try:
+        chain.simulate(SimOptions(preset="sdr20", aperture_s=0.1 if quick else 0.2,
+                                  target=["300,1", "290,-2"], snr_db=5.0, images="none",
+                                  record=os.path.join(folder, "rec"),
+                                  out=os.path.join(folder, "sim")))
+        meta = os.path.join(folder, "rec", "flight.sigmf-meta")
+        opts = ProcessOptions(recording=meta, strip_aperture_s=0.05,
+                              out=os.path.join(folder, "out")).validate()
+        slices = dp.layout(opts, recording.read(meta))
+        dp.run_slices(opts, meta, slices[:1])  # FFT plans, imports: not part of the rate
+        start = time.perf_counter()
+        serial = dp.run_slices(opts, meta, slices)
+        serial_rate = len(slices) / (time.perf_counter() - start)
+        compute = statistics.median(r["compute_s"] for r in serial.values())
+        rows = []
+        for workers in (1, 2, 4):
+            start = time.perf_counter()
+            with dp.connect(opts.replace(dask=f"local:{workers}")) as client:
+                startup = time.perf_counter() - start
+                dp.run_slices(opts, meta, slices[:workers], client)  # warm every worker
+                start = time.perf_counter()
+                dp.run_slices(opts, meta, slices, client)
+                rate = len(slices) / (time.perf_counter() - start)
+                n = 200
+                start = time.perf_counter()
+                client.gather(client.map(_noop, range(n), pure=False))
+                overhead = (time.perf_counter() - start) / n
+            rows.append(benchutil.row(
+                f"strip of {len(slices)} apertures, dask local:{workers} (TLS)", rate,
+                "one process", serial_rate, unit="apertures/s", workers=workers,
+                cluster_start_s=startup, task_overhead_s=overhead, task_compute_s=compute))
+        return rows
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
