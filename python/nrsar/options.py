@@ -308,6 +308,9 @@ def check_split(opts):
         link.read_key(opts.split_key)
     if opts.record is not None:
         raise OptionError("--record with --split zmq: record in a one-graph run")
+    if opts.autofocus != "none":
+        raise OptionError(f"--autofocus = {opts.autofocus!r} with --split zmq: the ground "
+                          f"graph has no autofocus yet (run it in one graph)")
 
 
 # The pulse modes of the transmit grid: (tx mode, SRS period in slots)
