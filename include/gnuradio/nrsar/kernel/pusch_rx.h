@@ -81,7 +81,6 @@ public:
 private:
     numerology d_num;
     dmrs_config d_dmrs;
-    constellation d_const;
     soft_demapper d_demapper;
     transport_block_codec d_codec;
     unsigned d_window;
