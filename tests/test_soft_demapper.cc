@@ -57,6 +57,47 @@ TEST(soft_demapper, matches_bruteforce_maxlog)
     }
 }
 
+TEST(soft_demapper, far_outside_and_hard_decision_error_match_bruteforce)
+{
+    // symbols up to 3x beyond the outer points (every clamp of the closed form active) and
+    // the summed squared distance to the nearest point, against a double-precision search
+    for (auto mod : { modulation::QPSK, modulation::QAM16, modulation::QAM64, modulation::QAM256 }) {
+        const constellation c(mod);
+        const soft_demapper d(mod);
+        const unsigned k = c.bits_per_symbol();
+        const int n = 301; // not a multiple of 8: a SIMD path and its tail
+        const auto noise = nrsar_test::gaussian_samples(n, 5);
+        std::vector<gr_complex> y(n);
+        for (int i = 0; i < n; i++)
+            y[i] = 1.5f * noise[i];
+        std::vector<float> nv(n, 0.02f), llr(n * k);
+        double sq_err = -1.0;
+        d.demap(y.data(), nv.data(), n, llr.data(), &sq_err);
+        double ref_err = 0.0;
+        for (int i = 0; i < n; i++) {
+            const std::complex<double> yi(y[i].real(), y[i].imag());
+            double nearest = std::numeric_limits<double>::infinity();
+            for (unsigned j = 0; j < k; j++) {
+                double m0 = std::numeric_limits<double>::infinity(), m1 = m0;
+                for (unsigned p = 0; p < c.size(); p++) {
+                    const std::complex<double> s(c.points()[p].real(), c.points()[p].imag());
+                    const double dist = std::norm(yi - s);
+                    nearest = std::min(nearest, dist);
+                    if ((p >> (k - 1 - j)) & 1u)
+                        m1 = std::min(m1, dist);
+                    else
+                        m0 = std::min(m0, dist);
+                }
+                const double ref = (m1 - m0) / nv[i];
+                EXPECT_NEAR(llr[i * k + j], ref, 1e-3 * (1.0 + std::abs(ref)))
+                    << "mod " << static_cast<int>(mod) << " sym " << i << " bit " << j;
+            }
+            ref_err += nearest;
+        }
+        EXPECT_NEAR(sq_err, ref_err, 1e-5 * (1.0 + ref_err)) << "mod " << static_cast<int>(mod);
+    }
+}
+
 TEST(soft_demapper, hard_decision_of_llr_signs_is_the_mapper)
 {
     const constellation c(modulation::QAM256);

@@ -55,6 +55,12 @@ pusch_rx::pusch_rx(const pusch_config& cfg)
     d_llr.resize(d_data_res * d_demapper.bits_per_symbol());
 }
 
+void pusch_rx::set_threads(unsigned threads)
+{
+    d_codec.set_threads(threads);
+    d_threads = threads;
+}
+
 pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, gr_complex* eq)
 {
     pusch_slot_result res;
