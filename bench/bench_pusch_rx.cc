@@ -54,13 +54,14 @@ std::vector<gr_complex> make_slot(const pusch_config& cfg)
 }
 
 // Paper numerology, 256-QAM (qam256 MCS 27), pusch2, a random payload at 50 dB SNR.
-void run_rx(benchmark::State& state, pusch_coding coding)
+void run_rx(benchmark::State& state, pusch_coding coding, unsigned threads = 1)
 {
     pusch_config cfg;
     cfg.num = numerology::preset("paper");
     cfg.coding = coding;
     const auto y = make_slot(cfg);
     kernel::pusch_rx rx(cfg);
+    rx.set_threads(threads);
     bool ok = true;
     for (auto _ : state) {
         const auto r = rx.process(y.data(), 0);
@@ -84,6 +85,13 @@ static void BM_pusch_rx_nr_ldpc(benchmark::State& state)
     run_rx(state, pusch_coding::NR_LDPC);
 }
 BENCHMARK(BM_pusch_rx_nr_ldpc)->Unit(benchmark::kMillisecond);
+
+// The same with the code blocks split over 2 threads (CPU time: the caller's thread only).
+static void BM_pusch_rx_nr_ldpc_2threads(benchmark::State& state)
+{
+    run_rx(state, pusch_coding::NR_LDPC, 2);
+}
+BENCHMARK(BM_pusch_rx_nr_ldpc_2threads)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The max-log demapper alone (3333 x 12 symbols of 256-QAM per iteration).
 static void BM_soft_demapper(benchmark::State& state)

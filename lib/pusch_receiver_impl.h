@@ -77,6 +77,12 @@ public:
         return d_decodes ? d_iterations_sum / double(d_decodes) : 0.0;
     }
     std::uint64_t harq_combined_ok() const override { return d_harq_ok; }
+    void set_threads(unsigned threads) override
+    {
+        gr::thread::scoped_lock guard(d_setlock);
+        d_rx.set_threads(threads);
+    }
+    unsigned threads() const override { return d_rx.threads(); }
 };
 
 } // namespace nrsar

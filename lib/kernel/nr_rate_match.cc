@@ -65,8 +65,11 @@ std::vector<std::size_t> nr_code_block_e(std::size_t G, unsigned C, unsigned qm,
 
 namespace {
 
-// Circular-buffer position of each of the E selected bits, e_k = d[pos[k]].
-std::vector<std::size_t> selected_positions(const nr_rate_match_params& p, std::size_t e)
+// Bit selection (38.212 5.4.2.1) and interleaving (5.4.2.2) in one walk: the selected bits
+// e_k, k = i rows + j, are read from the circular buffer from k0 on, skipping the fillers,
+// and e_k is f[i + j Qm]. Calls visit(circular position, f index) for k = 0, 1, ..., E - 1.
+template <class Visit>
+void for_each_selected(const nr_rate_match_params& p, std::size_t e, Visit visit)
 {
     p.validate();
     if (e % p.qm != 0)
@@ -74,36 +77,31 @@ std::vector<std::size_t> selected_positions(const nr_rate_match_params& p, std::
     const std::size_t ncb = p.n_cb(), fb = p.filler_begin(), fe = p.filler_end();
     if (e > 0 && ncb <= fe - fb)
         throw_param("n_ref", p.n_ref, "leaves no bit outside the fillers");
-    std::vector<std::size_t> pos(e);
+    const std::size_t rows = e / p.qm; // E / Qm
     std::size_t j = p.k0();
-    for (std::size_t k = 0; k < e;) {
-        if (j >= ncb)
-            j = 0;
-        if (j < fb || j >= fe)
-            pos[k++] = j;
-        j++;
-    }
-    return pos;
+    for (unsigned i = 0; i < p.qm; i++)
+        for (std::size_t row = 0; row < rows; row++, j++) {
+            if (j >= ncb)
+                j = 0;
+            if (j >= fb && j < fe) {
+                j = fe;
+                if (j >= ncb)
+                    j = 0;
+            }
+            visit(j, i + row * p.qm);
+        }
 }
 
 } // namespace
 
 void nr_rate_match(const std::uint8_t* d, const nr_rate_match_params& p, std::size_t e, std::uint8_t* f)
 {
-    const std::vector<std::size_t> pos = selected_positions(p, e);
-    const std::size_t rows = e / p.qm; // E / Qm
-    for (std::size_t j = 0; j < rows; j++)
-        for (unsigned i = 0; i < p.qm; i++)
-            f[i + j * p.qm] = d[pos[i * rows + j]];
+    for_each_selected(p, e, [&](std::size_t j, std::size_t out) { f[out] = d[j]; });
 }
 
 void nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::size_t e, float* d_llr)
 {
-    const std::vector<std::size_t> pos = selected_positions(p, e);
-    const std::size_t rows = e / p.qm;
-    for (std::size_t j = 0; j < rows; j++)
-        for (unsigned i = 0; i < p.qm; i++)
-            d_llr[pos[i * rows + j]] += f_llr[i + j * p.qm];
+    for_each_selected(p, e, [&](std::size_t j, std::size_t in) { d_llr[j] += f_llr[in]; });
     std::fill(d_llr + p.filler_begin(), d_llr + p.filler_end(), std::numeric_limits<float>::infinity());
 }
 

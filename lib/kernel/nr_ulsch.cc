@@ -39,8 +39,9 @@ nr_ulsch::nr_ulsch(std::size_t tbs,
       d_seg(segmentation_of(tbs, code_rate)),
       d_E(nr_code_block_e(g, d_seg.C, qm, n_layers)),
       d_enc(d_seg.base_graph, d_seg.Zc),
-      d_dec(d_seg.base_graph, d_seg.Zc, max_iterations)
+      d_max_iterations(max_iterations)
 {
+    d_dec.emplace_back(d_seg.base_graph, d_seg.Zc, max_iterations);
     nr_rate_match_params p;
     p.base_graph = d_seg.base_graph;
     p.zc = d_seg.Zc;
@@ -53,7 +54,12 @@ nr_ulsch::nr_ulsch(std::size_t tbs,
     d_d.resize(d_enc.n());
     d_c.resize(d_seg.K);
     d_soft.assign(std::size_t{ d_seg.C } * d_enc.n(), 0.0f);
-    d_llr.resize(*std::max_element(d_E.begin(), d_E.end()));
+    d_llr.emplace_back(*std::max_element(d_E.begin(), d_E.end()));
+    d_e_begin.assign(d_seg.C, 0);
+    for (unsigned r = 1; r < d_seg.C; r++)
+        d_e_begin[r] = d_e_begin[r - 1] + d_E[r - 1];
+    d_cb_iterations.assign(d_seg.C, 0);
+    d_cb_parity.assign(d_seg.C, 0);
     d_scr.resize(d_G);
 }
 
@@ -90,6 +96,18 @@ void nr_ulsch::encode(const std::uint8_t* a, unsigned rv, std::uint32_t c_init, 
         out[i] ^= d_scr[i];
 }
 
+void nr_ulsch::set_threads(unsigned threads)
+{
+    check_range("threads", threads, 1u, 2u);
+    while (d_dec.size() < threads) {
+        d_dec.emplace_back(d_seg.base_graph, d_seg.Zc, d_max_iterations);
+        d_llr.emplace_back(d_llr[0].size());
+    }
+    d_threads = threads;
+    if (threads == 1)
+        d_worker.stop();
+}
+
 nr_ulsch_result
 nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combine, std::uint8_t* a)
 {
@@ -106,20 +124,31 @@ nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combi
     nr_ulsch_result res;
     res.code_blocks = d_seg.C;
     const std::size_t N = d_enc.n();
-    std::size_t pos = 0;
+    // code blocks [begin, end) with the decoder and scratch of thread `part`
+    const split_worker::job blocks = [&](std::size_t begin, std::size_t end, unsigned part) {
+        float* e_llr = d_llr[part].data();
+        for (std::size_t r = begin; r < end; r++) {
+            const std::size_t pos = d_e_begin[r];
+            for (std::size_t k = 0; k < d_E[r]; k++) { // descramble: c = 1 flips the bit
+                const float v = llr[pos + k];
+                e_llr[k] = d_scr[pos + k] ? -v : v;
+            }
+            float* soft = d_soft.data() + r * N;
+            nr_rate_recover(e_llr, p, d_E[r], soft);
+            const auto dr = d_dec[part].decode(soft, d_cb.data() + r * d_seg.K);
+            d_cb_iterations[r] = dr.iterations;
+            d_cb_parity[r] = dr.parity_ok ? 1 : 0;
+        }
+    };
+    if (d_threads == 2 && d_seg.C >= 2)
+        d_worker.run(d_seg.C, blocks);
+    else
+        blocks(0, d_seg.C, 0);
     unsigned iterations = 0;
     res.parity_ok = true;
     for (unsigned r = 0; r < d_seg.C; r++) {
-        for (std::size_t k = 0; k < d_E[r]; k++) { // descramble: c = 1 flips the bit
-            const float v = llr[pos + k];
-            d_llr[k] = d_scr[pos + k] ? -v : v;
-        }
-        pos += d_E[r];
-        float* soft = d_soft.data() + r * N;
-        nr_rate_recover(d_llr.data(), p, d_E[r], soft);
-        const auto dr = d_dec.decode(soft, d_cb.data() + std::size_t{ r } * d_seg.K);
-        iterations += dr.iterations;
-        res.parity_ok = res.parity_ok && dr.parity_ok;
+        iterations += d_cb_iterations[r];
+        res.parity_ok = res.parity_ok && d_cb_parity[r];
     }
     const auto ok = std::make_unique<bool[]>(d_seg.C);
     nr_desegment(d_cb.data(), d_seg, d_tb.data(), ok.get());

@@ -31,7 +31,6 @@ const dmrs_config& checked_dmrs(const numerology& num, const dmrs_config& dmrs)
 pusch_rx::pusch_rx(const pusch_config& cfg)
     : d_num(cfg.num),
       d_dmrs(checked_dmrs(cfg.num, cfg.dmrs)),
-      d_const(cfg.mod),
       d_demapper(cfg.mod),
       d_codec(cfg),
       d_window(cfg.freq_window),
@@ -53,7 +52,13 @@ pusch_rx::pusch_rx(const pusch_config& cfg)
     d_h.resize(n);
     d_x.resize(d_data_res);
     d_nv.resize(d_data_res);
-    d_llr.resize(d_data_res * d_const.bits_per_symbol());
+    d_llr.resize(d_data_res * d_demapper.bits_per_symbol());
+}
+
+void pusch_rx::set_threads(unsigned threads)
+{
+    d_codec.set_threads(threads);
+    d_threads = threads;
 }
 
 pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, gr_complex* eq)
@@ -153,27 +158,30 @@ pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, 
         }
         gr_complex* x = d_x.data() + s * n;
         float* nv = d_nv.data() + s * n;
+        const float s2 = static_cast<float>(sigma2);
         for (unsigned k = 0; k < n; k++) {
-            const float g = std::max(std::norm(d_h[k]), 1e-20f);
-            x[k] = y[k] * std::conj(d_h[k]) / g;
-            nv[k] = static_cast<float>(sigma2) / g;
-            if (!std::isfinite(x[k].real()) || !std::isfinite(x[k].imag()) ||
-                !std::isfinite(nv[k])) {
+            const float hr = d_h[k].real(), hi = d_h[k].imag();
+            const float g = std::max(hr * hr + hi * hi, 1e-20f);
+            const float inv = 1.0f / g; // one division per RE: y conj(h) / |h|^2
+            const float yr = y[k].real(), yi = y[k].imag();
+            float xr = (yr * hr + yi * hi) * inv, xi = (yi * hr - yr * hi) * inv;
+            float v = s2 * inv;
+            if (!std::isfinite(xr) || !std::isfinite(xi) || !std::isfinite(v)) {
                 // overflow on garbage input: an erasure (LLRs ~ 0), never NaN downstream
                 // (found by fuzz_transport_block: NaN reached the hard slicer)
-                x[k] = gr_complex(0.0f, 0.0f);
-                nv[k] = 1e30f;
+                xr = xi = 0.0f;
+                v = 1e30f;
             }
+            x[k] = gr_complex(xr, xi);
+            nv[k] = v;
             gain += g;
-            const gr_complex p = d_const.map(d_const.demap(x[k]));
-            evm += std::norm(x[k] - p);
         }
     }
+    // the EVM comes with the LLRs: distance of each RE to its nearest point
+    d_demapper.demap(d_x.data(), d_nv.data(), d_data_res, d_llr.data(), &evm);
     const double nre = static_cast<double>(d_data_res);
     res.snr_db = 10.0 * std::log10(std::max(gain / nre / sigma2, 1e-30));
     res.evm_db = 10.0 * std::log10(std::max(evm / nre, 1e-30));
-
-    d_demapper.demap(d_x.data(), d_nv.data(), d_data_res, d_llr.data());
     // The TB's transmissions: repetitions consecutive slots from a multiple of repetitions;
     // each is combined with the ones before it until the TB decodes (HARQ).
     const unsigned pos = static_cast<unsigned>(slot % d_cfg.repetitions);

@@ -8,9 +8,10 @@
 #include "param_check.h"
 #include <gnuradio/nrsar/kernel/constellation.h>
 #include <gnuradio/nrsar/kernel/soft_demapper.h>
+#include "soft_demapper_impl.h"
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <stdexcept>
 
 namespace gr {
 namespace nrsar {
@@ -30,111 +31,121 @@ soft_demapper::soft_demapper(modulation mod) : d_mod(mod)
                     "has no soft demapper (QPSK, QAM16, QAM64, QAM256 only)");
     const constellation c(mod);
     d_bits = c.bits_per_symbol();
-    d_axis = d_bits / 2;
-    d_levels = 1u << d_axis;
-    d_level.assign(d_levels, 0.0f);
-    d_level_bits.assign(d_levels, 0);
-    // Read the in-phase PAM from the mapper itself: index bits b(0), b(2), ... (even
-    // positions, b(0) = MSB of the index) with the odd bits 0.
-    for (unsigned a = 0; a < d_levels; a++) {
+    const unsigned na = d_bits / 2;
+    const unsigned levels = 1u << na;
+    // Read the in-phase PAM from the mapper itself (index bits b(0), b(2), ... at the even
+    // positions, b(0) = MSB, odd bits 0) and check that it is the fold of demap_detail.
+    std::vector<float> level(levels);
+    for (unsigned a = 0; a < levels; a++) {
         unsigned index = 0;
-        for (unsigned j = 0; j < d_axis; j++)
-            if (a & (1u << (d_axis - 1 - j)))
+        for (unsigned j = 0; j < na; j++)
+            if (a & (1u << (na - 1 - j)))
                 index |= 1u << (d_bits - 1 - 2 * j);
-        d_level[a] = c.map(index).real();
-        d_level_bits[a] = a;
+        level[a] = c.map(index).real();
     }
-    // Levels in increasing order, their axis bits, and per (position, bit): the nearest
-    // positions left / right whose bit differs (-1: none).
-    std::vector<unsigned> order(d_levels);
-    for (unsigned a = 0; a < d_levels; a++)
-        order[a] = a;
-    std::sort(order.begin(), order.end(), [this](unsigned x, unsigned y) {
-        return d_level[x] < d_level[y];
-    });
-    d_sorted.resize(d_levels);
-    d_sorted_bits.resize(d_levels);
-    for (unsigned p = 0; p < d_levels; p++) {
-        d_sorted[p] = d_level[order[p]];
-        d_sorted_bits[p] = order[p];
-    }
-    d_step = d_sorted[1] - d_sorted[0];
-    d_flip.assign(static_cast<std::size_t>(d_levels) * 2 * d_axis, -1);
-    for (unsigned p = 0; p < d_levels; p++)
-        for (unsigned j = 0; j < d_axis; j++) {
-            const unsigned shift = d_axis - 1 - j;
-            const unsigned bit = (d_sorted_bits[p] >> shift) & 1u;
-            for (int q = static_cast<int>(p) - 1; q >= 0; q--)
-                if (((d_sorted_bits[static_cast<unsigned>(q)] >> shift) & 1u) != bit) {
-                    d_flip[(p * d_axis + j) * 2] = static_cast<std::int8_t>(q);
-                    break;
-                }
-            for (unsigned q = p + 1; q < d_levels; q++)
-                if (((d_sorted_bits[q] >> shift) & 1u) != bit) {
-                    d_flip[(p * d_axis + j) * 2 + 1] = static_cast<std::int8_t>(q);
-                    break;
-                }
+    float outer = 0.0f;
+    for (float v : level)
+        outer = std::max(outer, std::abs(v));
+    const float unit = outer / static_cast<float>(levels - 1); // half the level spacing
+    d_na = na;
+    d_top = static_cast<float>(levels - 1);
+    d_half = static_cast<float>(levels / 2);
+    d_to_unit = 1.0f / unit;
+    d_unit2 = unit * unit;
+    for (unsigned a = 0; a < levels; a++) {
+        const float x = level[a] / unit;
+        const long xi = std::lround(x);
+        unsigned bits = x < 0 ? 1u : 0u;
+        long u = std::labs(xi), t = levels / 2;
+        for (unsigned j = 1; j < na; j++, t /= 2) {
+            bits = (bits << 1) | (u > t ? 1u : 0u);
+            u = std::labs(u - t);
         }
+        if (std::abs(x - static_cast<float>(xi)) > 1e-4f || (xi & 1) == 0 || bits != a)
+            throw std::logic_error("soft_demapper: the constellation is not the 38.211 "
+                                   "Gray-mapped square QAM");
+    }
+    d_simd = demap_detail::avx2_available();
 }
 
-template <bool PerSymbol>
-void soft_demapper::demap_impl(const gr_complex* y,
-                               const float* nv,
-                               std::size_t nsym,
-                               float* llr) const
+demap_detail::axis_shape soft_demapper::shape() const
 {
-    // Exact max-log with a slicer: the levels are equally spaced, so the nearest level p of
-    // the axis value v is one rounding. For bit j the nearest level with the other bit value
-    // is the closest one left or right of p whose bit j differs (no level lies between p and
-    // v): d_flip holds their positions, so each bit costs two distances instead of a scan over
-    // all levels (256-QAM: 16.3 M symbols/s against 10-12 M for the full scan, bench_pusch_rx
-    // on the shared 2-core machine; same values, see test_soft_demapper).
-    const unsigned na = d_axis;
-    const int last = static_cast<int>(d_levels) - 1;
-    const float lo = d_sorted[0];
-    const float inv_step = 1.0f / d_step;
+    return demap_detail::axis_shape{ d_na, d_top, d_half, d_to_unit, d_unit2 };
+}
+
+namespace {
+inline float clampf(float v, float lo, float hi) { return std::min(std::max(v, lo), hi); }
+// nearest odd integer (ties up)
+inline float odd_round(float u) { return 2.0f * std::floor(0.5f * u) + 1.0f; }
+} // namespace
+
+void soft_demapper::demap_generic(const gr_complex* y,
+                                  const float* nv,
+                                  bool per_symbol,
+                                  std::size_t nsym,
+                                  float* llr,
+                                  double* sq_err) const
+{
+    const demap_detail::axis_shape s = shape();
     for (std::size_t i = 0; i < nsym; i++) {
-        const float inv = 1.0f / (PerSymbol ? nv[i] : nv[0]);
+        const float scale = s.unit2 / (per_symbol ? nv[i] : nv[0]);
         float* out = llr + i * d_bits;
+        float e = 0.0f;
         for (unsigned axis = 0; axis < 2; axis++) {
-            const float v = axis == 0 ? y[i].real() : y[i].imag();
-            float t = std::nearbyint((v - lo) * inv_step);
-            if (!(t > 0.0f)) // also catches NaN (the LLRs then come out NaN, never UB)
-                t = 0.0f;
-            t = std::min(t, static_cast<float>(last));
-            const auto p = static_cast<unsigned>(t);
-            const float dp = v - d_sorted[p];
-            const float d2p = dp * dp;
-            const unsigned bits = d_sorted_bits[p];
-            const std::int8_t* flip = d_flip.data() + static_cast<std::size_t>(p) * 2 * na;
-            for (unsigned j = 0; j < na; j++) {
-                float other = std::numeric_limits<float>::infinity();
-                for (unsigned side = 0; side < 2; side++) {
-                    const int q = flip[2 * j + side];
-                    if (q >= 0) {
-                        const float d = v - d_sorted[static_cast<unsigned>(q)];
-                        other = std::min(other, d * d);
-                    }
-                }
-                const bool one = (bits >> (na - 1 - j)) & 1u;
-                // axis bit j is b(2 j + axis); L = (min over b = 1) - (min over b = 0)
-                out[2 * j + axis] = (one ? d2p - other : other - d2p) * inv;
+            const float x = (axis == 0 ? y[i].real() : y[i].imag()) * s.to_unit;
+            const float a = std::abs(x);
+            // b(axis): nearest level of the other sign at distance |x| + 1
+            const float dn = a - clampf(odd_round(a), 1.0f, s.top);
+            const float l0 = (a + 1.0f) * (a + 1.0f) - dn * dn;
+            out[axis] = std::copysign(l0, x) * scale;
+            e += dn * dn;
+            float u = a, t = s.half;
+            for (unsigned j = 1; j < s.na; j++) {
+                const float r = odd_round(u);
+                const float din = u - clampf(r, 1.0f, t - 1.0f);
+                const float dout = u - clampf(r, t + 1.0f, 2.0f * t - 1.0f);
+                out[2 * j + axis] = (dout * dout - din * din) * scale;
+                u = std::abs(u - t);
+                t *= 0.5f;
             }
         }
+        if (sq_err)
+            *sq_err += static_cast<double>(e * s.unit2);
     }
+}
+
+void soft_demapper::run(const gr_complex* y,
+                        const float* nv,
+                        bool per_symbol,
+                        std::size_t nsym,
+                        float* llr,
+                        double* sq_err) const
+{
+    if (sq_err)
+        *sq_err = 0.0;
+    std::size_t done = 0;
+    if (d_simd)
+        done = demap_detail::demap_avx2(shape(), y, nv, per_symbol, nsym, llr, sq_err);
+    demap_generic(y + done,
+                  per_symbol ? nv + done : nv,
+                  per_symbol,
+                  nsym - done,
+                  llr + done * d_bits,
+                  sq_err);
 }
 
 void soft_demapper::demap(const gr_complex* y,
                           const float* noise_var,
                           std::size_t nsym,
-                          float* llr) const
+                          float* llr,
+                          double* sq_err) const
 {
-    demap_impl<true>(y, noise_var, nsym, llr);
+    run(y, noise_var, true, nsym, llr, sq_err);
 }
 
 void soft_demapper::demap(const gr_complex* y, float noise_var, std::size_t nsym, float* llr) const
 {
-    demap_impl<false>(y, &noise_var, nsym, llr);
+    run(y, &noise_var, false, nsym, llr, nullptr);
 }
 
 } // namespace kernel

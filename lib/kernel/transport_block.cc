@@ -234,6 +234,13 @@ void transport_block_codec::encode(const std::uint8_t* tb,
         out[i] ^= scr[i];
 }
 
+void transport_block_codec::set_threads(unsigned threads)
+{
+    check_range("threads", threads, 1u, 2u);
+    if (d_ulsch)
+        d_ulsch->set_threads(threads);
+}
+
 tb_result transport_block_codec::decode(const float* llr,
                                         unsigned rv,
                                         std::uint64_t slot,

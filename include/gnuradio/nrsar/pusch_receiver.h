@@ -62,6 +62,9 @@ public:
     virtual double ldpc_iterations_mean() const = 0;
     //! TBs that decoded only after combining two or more transmissions
     virtual std::uint64_t harq_combined_ok() const = 0;
+    //! Threads per slot: 1 or 2 (the code blocks decoded on two; same output). Set before start.
+    virtual void set_threads(unsigned threads) = 0;
+    virtual unsigned threads() const = 0;
 };
 
 } // namespace nrsar

@@ -52,7 +52,10 @@ void bind_pusch_receiver(py::module& m)
         .def("ldpc_iterations_mean", &pusch_receiver::ldpc_iterations_mean,
              "LDPC iterations per code block, mean over every decoding so far")
         .def("harq_combined_ok", &pusch_receiver::harq_combined_ok,
-             "TBs that decoded only after combining two or more transmissions");
+             "TBs that decoded only after combining two or more transmissions")
+        .def("set_threads", &pusch_receiver::set_threads, py::arg("threads"),
+             "Threads per slot, 1 or 2 (code blocks decoded on two); set before start")
+        .def("threads", &pusch_receiver::threads, "Threads per slot.");
 
     py::class_<soft_demapper>(m, "soft_demapper", "Max-log LLRs of the 38.211 QAM constellations")
         .def(py::init<gr::nrsar::modulation>(), py::arg("mod") = gr::nrsar::modulation::QAM256)

@@ -13,8 +13,10 @@
 #include <gnuradio/nrsar/kernel/nr_ldpc.h>
 #include <gnuradio/nrsar/kernel/nr_ldpc_decoder.h>
 #include <gnuradio/nrsar/kernel/nr_segmentation.h>
+#include <gnuradio/nrsar/kernel/split_worker.h>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace gr {
@@ -82,6 +84,13 @@ public:
     nr_ulsch_result
     decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combine, std::uint8_t* a);
 
+    /*!
+     * Threads of decode(): 1, or 2 (code blocks [0, C/2) on the caller, [C/2, C) on a
+     * kernel::split_worker thread, each half with its own decoder). Same results.
+     */
+    void set_threads(unsigned threads);
+    unsigned threads() const { return d_threads; }
+
 private:
     std::size_t d_A, d_G;
     unsigned d_qm;
@@ -90,9 +99,16 @@ private:
     nr_segmentation d_seg;
     std::vector<std::size_t> d_E;
     nr_ldpc_encoder d_enc;
-    nr_ldpc_decoder d_dec;
+    unsigned d_max_iterations;
+    std::vector<nr_ldpc_decoder> d_dec; // one per thread
     std::vector<std::uint8_t> d_tb, d_cb, d_d, d_c, d_scr;
-    std::vector<float> d_soft, d_llr; // C x N soft buffers, one descrambled block's E LLRs
+    std::vector<float> d_soft;            // C x N soft buffers
+    std::vector<std::vector<float>> d_llr; // per thread: one descrambled block's E LLRs
+    std::vector<std::size_t> d_e_begin;    // first LLR of each block in the slot
+    std::vector<unsigned> d_cb_iterations;  // per block, of the last decode
+    std::vector<std::uint8_t> d_cb_parity;  // per block, of the last decode
+    unsigned d_threads = 1;
+    split_worker d_worker;
     std::uint32_t d_scr_c_init = 0;   // c_init of d_scr, the G scrambling bits
     bool d_scr_valid = false;
 

@@ -78,12 +78,16 @@ public:
      */
     pusch_slot_result process(const gr_complex* grid, std::uint64_t slot, gr_complex* eq = nullptr);
 
+    //! Threads of process(): 1 or 2 (the code blocks are decoded on two; same results).
+    void set_threads(unsigned threads);
+    unsigned threads() const { return d_threads; }
+
 private:
     numerology d_num;
     dmrs_config d_dmrs;
-    constellation d_const;
     soft_demapper d_demapper;
     transport_block_codec d_codec;
+    unsigned d_threads = 1;
     unsigned d_window;
     std::size_t d_data_res;
     std::vector<unsigned> d_data_symbols;

@@ -135,6 +135,9 @@ public:
      */
     tb_result decode(const float* llr, unsigned rv, std::uint64_t slot, bool combine);
 
+    //! Threads of decode() (1 or 2: nr_ulsch::set_threads; NONE decodes on one).
+    void set_threads(unsigned threads);
+
 private:
     pusch_config d_cfg;
     std::size_t d_G, d_A;
