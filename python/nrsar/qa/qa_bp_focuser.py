@@ -27,27 +27,13 @@ except ImportError:
     sys.path.append(os.path.join(dirname, "..", "bindings"))
     from gnuradio import nrsar
 
-from gnuradio.nrsar.focus_scenario import (C, LAM, V, H, N_SUB, NFFT, RHO, K, R_FIRST, NUM, T,
-                                          SPP, geometry)
+from gnuradio.nrsar.focus_scenario import (LAM, V, H, N_SUB, NFFT, RHO, K, R_FIRST, NUM, T,
+                                          SPP, geometry, echo_along)
 from gnuradio.nrsar.theory import numpy_bp
 
 M = 200                        # pulses per aperture (0.5 s, 25 m of track)
 FC_R = (N_SUB - 1) / (2 * NFFT)  # range spectrum centre [cycles/bin]
 X_T, Y_T = 800.0, 12.53        # closest approach 1000 m = bin 30; between two lines
-
-
-def echo_from(antenna, targets):
-    """Exact range-compressed echo (eq. 29) seen from the antenna positions (pulses x 3)."""
-    k = np.arange(K)
-    n = np.arange(N_SUB)
-    out = np.zeros((len(antenna), K), complex)
-    for x, y, a in targets:
-        r = np.sqrt((x - antenna[:, 0]) ** 2 + (y - antenna[:, 1]) ** 2 + antenna[:, 2] ** 2)
-        kq = (r - R_FIRST) / RHO
-        prof = np.exp(2j * np.pi * (k[None, :, None] - kq[:, None, None]) * n[None, None, :]
-                      / NFFT).sum(-1) / np.sqrt(N_SUB)
-        out += a * prof * np.exp(-4j * np.pi * np.mod(r / LAM, 1.0))[:, None]
-    return out
 
 
 def ideal_antenna(n):
@@ -95,7 +81,7 @@ class qa_bp_focuser(gr_unittest.TestCase):
 
     def test_001_matches_numpy_and_focuses_at_the_target(self):
         ant = ideal_antenna(M)
-        data = echo_from(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
+        data = echo_along(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
         img, tags, blk = focus(data)
         self.assertEqual(img.shape, (M, K))
         dy = V * T
@@ -137,7 +123,7 @@ class qa_bp_focuser(gr_unittest.TestCase):
         ant = np.array(nav.positions(list(np.arange(M) * T)))
         sway = np.abs(ant - ideal_antenna(M))[:, [0, 2]].max()
         self.assertGreater(sway, 0.05)  # centimetres of unknown path: radians of phase
-        data = echo_from(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
+        data = echo_along(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
         img, _, blk = focus(data, nav=nav)
         dy = V * T
         y0 = blk.line_shift() * dy
@@ -169,7 +155,7 @@ class qa_bp_focuser(gr_unittest.TestCase):
         # azimuth axis advances by M v T; each aperture's image is its pulses' alone.
         n = 2 * M + M // 2
         ant = ideal_antenna(n)
-        data = echo_from(ant, [(X_T, Y_T + 25.0, 1.0)]).astype(np.complex64)
+        data = echo_along(ant, [(X_T, Y_T + 25.0, 1.0)]).astype(np.complex64)
         img, tags, blk = focus(data)
         self.assertEqual(img.shape, (3 * M, K))
         self.assertEqual(blk.apertures(), 3)
@@ -194,7 +180,7 @@ class qa_bp_focuser(gr_unittest.TestCase):
 
     def test_005_ground_grid(self):
         ant = ideal_antenna(M)
-        data = echo_from(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
+        data = echo_along(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
         cfg = nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=M,
                               grid=nrsar.image_grid.GROUND)
         img, tags, blk = focus(data, cfg=cfg)
@@ -227,7 +213,7 @@ class qa_bp_focuser(gr_unittest.TestCase):
         # (-44 dB at os = 8; kernel test), measured away from the window's ends.
         nav = nrsar.trajectory.motion(geometry(M * T), nrsar.motion_model.GUSTY, 3, M * T + 0.1)
         ant = np.array(nav.positions(list(np.arange(M) * T)))
-        data = echo_from(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
+        data = echo_along(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
         exact, _, _ = focus(data, nav=nav)
         for os_, sub in ((8.0, 25), (4.0, 40)):
             cfg = nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=M,
