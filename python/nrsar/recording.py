@@ -595,7 +595,6 @@ class sigmf_sink(gr.sync_block):
 
     def work(self, input_items, output_items):
         x = input_items[0]
-        n0 = self.nitems_read(0)
         for t in self.get_tags_in_window(0, 0, len(x), self.key):
             value = t.value
             if not (pmt.is_tuple(value) and pmt.length(value) >= 2):

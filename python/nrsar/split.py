@@ -304,7 +304,7 @@ def merge(result, uav_report, ground_report):
 
 def simulate(opts):
     """nrsar-sim --split zmq: the JSON dict of one run, its halves in two processes."""
-    sc = scenario.of(opts.validate())
+    scenario.of(opts.validate())  # a bad scenario is refused before the processes start
     check_out_dir(opts.out)
     key = link.read_key(opts.split_key) if opts.split_key else link.new_key()
     halves = []

@@ -142,7 +142,7 @@ def run(seed, make_plot=None):
         mask = ~np.isnan(true_phi)
         t_d, u = detrended(true_phi, mask)
         e_d, _ = detrended(est, mask)
-        row[f"phase_true_rms_rad"] = float(np.sqrt(np.nanmean(t_d ** 2)))
+        row["phase_true_rms_rad"] = float(np.sqrt(np.nanmean(t_d ** 2)))
         row[f"phase_{name}_rms_rad"] = float(af.phase_rms_rad())
         row[f"phase_{name}_err_rms_rad"] = float(np.sqrt(np.nanmean((e_d - t_d) ** 2)))
         if make_plot is not None:
@@ -173,7 +173,7 @@ def main(argv=None):
         ax.plot(u[order], e[order], ".", ms=4, label=f"estimated, {name}")
     ax.set_xlabel("azimuth DFT bin of the image (Doppler x M T)")
     ax.set_ylabel("phase error [rad], constant and slope removed")
-    ax.set_title(f"gnss navigation error, seed 1: BP from navigation, then autofocus", fontsize=10)
+    ax.set_title("gnss navigation error, seed 1: BP from navigation, then autofocus", fontsize=10)
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()
