@@ -140,9 +140,7 @@ int autofocus_impl::drain(gr_complex* out, int noutput, int produced)
 
 void autofocus_impl::forecast(int, gr_vector_int& ninput_items_required)
 {
-    // The last input item is held back until the upstream is done (flush, as the focusers).
-    const bool done = detail() && detail()->input(0)->done();
-    ninput_items_required[0] = done ? 1 : 2;
+    ninput_items_required[0] = items_until_flush(detail());
 }
 
 int autofocus_impl::general_work(int noutput_items,

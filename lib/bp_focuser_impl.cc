@@ -255,9 +255,7 @@ int bp_focuser_impl::drain(gr_complex* out, int noutput, int produced)
 
 void bp_focuser_impl::forecast(int, gr_vector_int& ninput_items_required)
 {
-    // The last input item is held back until the upstream is done (flush, as rd_focuser).
-    const bool done = detail() && detail()->input(0)->done();
-    ninput_items_required[0] = done ? 1 : 2;
+    ninput_items_required[0] = items_until_flush(detail());
 }
 
 int bp_focuser_impl::general_work(int noutput_items,

@@ -42,6 +42,16 @@ inline bool input_ended(const gr::block_detail_sptr& detail, int navail)
     return reader->done() && reader->items_available() == navail;
 }
 
+/*!
+ * forecast()'s input items of a block that holds its last input item back until the upstream
+ * is done, so that the scheduler calls it once more at the end of the stream to flush (the
+ * focusers, autofocus): 2, or 1 once the upstream is done.
+ */
+inline int items_until_flush(const gr::block_detail_sptr& detail)
+{
+    return detail && detail->input(0)->done() ? 1 : 2;
+}
+
 //! The value of a pulse_interval tag: false unless a finite number > 0.
 inline bool parse_pulse_interval(const pmt::pmt_t& v, double& T)
 {

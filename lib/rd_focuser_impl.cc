@@ -221,10 +221,7 @@ int rd_focuser_impl::drain_rd(gr_complex* out, int noutput, int produced)
 
 void rd_focuser_impl::forecast(int, gr_vector_int& ninput_items_required)
 {
-    // One input item is always held back until the upstream is done, so that the
-    // scheduler calls us once more at the end of the stream to flush the last apertures.
-    const bool done = detail() && detail()->input(0)->done();
-    ninput_items_required[0] = done ? 1 : 2;
+    ninput_items_required[0] = items_until_flush(detail());
 }
 
 int rd_focuser_impl::general_work(int noutput_items,

@@ -145,7 +145,7 @@ def ground_graph(tb, opts, sc, key, address):
             "range_ifft": rif_ref, "presum": pre if pre in ground_part else None,
             "focuser": foc, "focuser_ref": foc_ref, "probe": probe, "range_sink": range_sink,
             "image_sink": image_sink, "reference_sink": reference_sink,
-            "link": downlink}
+            "autofocus": None, "link": downlink}
 
 
 def _start(tb):
