@@ -62,6 +62,19 @@ inline bool parse_pulse_interval(const pmt::pmt_t& v, double& T)
     return true;
 }
 
+//! The line count of an azimuth_axis tag (first [m], spacing [m], lines): false when the
+//! value is not such a tuple (the count's range is the caller's rule).
+inline bool parse_azimuth_lines(const pmt::pmt_t& v, uint64_t& lines)
+{
+    if (!(pmt::is_tuple(v) && pmt::length(v) >= 3))
+        return false;
+    const pmt::pmt_t m = pmt::tuple_ref(v, 2);
+    if (!(pmt::is_integer(m) || pmt::is_uint64(m)))
+        return false;
+    lines = pmt::to_uint64(m);
+    return true;
+}
+
 //! The tuple (first [m], spacing [m], bins) of a range_axis tag: false when malformed.
 inline bool parse_range_axis(const pmt::pmt_t& v, double& first, double& step, uint64_t& k)
 {

@@ -185,9 +185,8 @@ int image_sink_impl::work(int noutput_items,
                     d_index = pmt::to_uint64(tag.value);
             } else if (pmt::eq(tag.key, tags::azimuth_axis_key())) {
                 const pmt::pmt_t& v = tag.value;
-                if (pmt::is_tuple(v) && pmt::length(v) >= 3 &&
-                    (pmt::is_integer(pmt::tuple_ref(v, 2)) || pmt::is_uint64(pmt::tuple_ref(v, 2)))) {
-                    const std::uint64_t m = pmt::to_uint64(pmt::tuple_ref(v, 2));
+                std::uint64_t m = 0;
+                if (parse_azimuth_lines(v, m)) {
                     if (m >= 1 && m <= (1u << 30) && m > d_lines) {
                         d_expected = static_cast<unsigned>(m);
                         d_azimuth_axis = v;
