@@ -206,13 +206,19 @@ def connect_pulses(graph, source, sink, sc):
 def make_probe(opts, sc, foc, cfg, reference):
     """nmse_probe behind focuser foc. One aperture with zeros around it (linear correlation
     unless overlap_lines = 0): the probe normalises its lines to full correlation windows of
-    the processed band (SPEC 8)."""
+    the processed band (SPEC 8). Back-projection has no processed band: every pixel
+    correlates all the aperture's pulses along its own history, so its window is full and
+    its band the target's own (docs/blocks/bp_focuser.md, "NMSE")."""
+    band, zero_padded = (foc.band_lo_hz(), foc.band_hi_hz()), cfg.overlap_lines != 0
+    if isinstance(foc, bp_focuser):
+        ext = params.compute_extent(sc.geo, params.make_scene(sc.scene.targets[:1]))
+        band, zero_padded = (ext.min_doppler_hz, ext.max_doppler_hz), False
     return nmse_probe(sc.num, sc.geo, sc.scene,
                       constellation(params.make_modulation(opts.modulation)).points(),
                       params.make_filter(opts.filter), opts.snr_db, foc.num_output_bins(),
                       probe_config(reference_input=reference, symbols_per_aperture=sc.symbols,
-                                   band_lo_hz=foc.band_lo_hz(), band_hi_hz=foc.band_hi_hz(),
-                                   zero_padded=cfg.overlap_lines != 0))
+                                   band_lo_hz=band[0], band_hi_hz=band[1],
+                                   zero_padded=zero_padded))
 
 
 class imaging_chain(gr.hier_block2):

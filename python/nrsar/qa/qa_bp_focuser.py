@@ -13,6 +13,7 @@ position and the peak sqrt(N M) of a target seen by all M pulses, and rd_focuser
 """
 
 import math
+import tempfile
 
 import numpy as np
 import pmt
@@ -29,7 +30,9 @@ except ImportError:
 
 from gnuradio.nrsar.focus_scenario import (LAM, V, H, N_SUB, NFFT, RHO, K, R_FIRST, NUM, T,
                                           SPP, geometry, echo_along)
-from gnuradio.nrsar.theory import numpy_bp
+from gnuradio.nrsar import chain
+from gnuradio.nrsar.options import SimOptions
+from gnuradio.nrsar.theory import nmse_theory_db, numpy_bp
 
 M = 200                        # pulses per aperture (0.5 s, 25 m of track)
 FC_R = (N_SUB - 1) / (2 * NFFT)  # range spectrum centre [cycles/bin]
@@ -225,6 +228,53 @@ class qa_bp_focuser(gr_unittest.TestCase):
                 self.assertAlmostEqual(a, b, delta=0.25)
         with self.assertRaisesRegex(ValueError, "ffbp_beam_oversample = 0.5"):
             nrsar.bp_config(ffbp_beam_oversample=0.5).validate()
+
+    def test_007_chain_nmse_sits_at_spec8_theory(self):
+        # SPEC 8 in nrsar-sim (docs/blocks/bp_focuser.md, "NMSE"): every BP pixel correlates
+        # all N M samples of the aperture along its own range history, so its error power is
+        # the per-RE error (Var(chi) + E|g|^2 / SNR_in) |alpha|^2 / E{chi}^2 and a target on
+        # a pixel peaks at sqrt(N M) |alpha|: NMSE = the theory (theory.nmse_theory_db, numpy
+        # float64 over the 256-QAM points). Off the grid by a fraction d of a range bin the
+        # peak is the Dirichlet kernel's D_N(d) = sin(pi d) / (N sin(pi d / N)) (Nfft = N
+        # here): NMSE = theory - 20 log10 D_N(d). rd_focuser's phase-only compression over
+        # its processed band B_p sits 10 log10(B_p / B_t) above, B_t the target's own Doppler
+        # band over the aperture (eq. (8) at the aperture's ends). 1 s aperture, so that the
+        # estimate holds about 49 range bins x B_t Ta = 47 independent pixels per bin (a
+        # 0.1 dB scatter); the presummer's passband (75 Hz) holds every pixel's history
+        # (|f| < 47 Hz), and every pixel of the crop lies above the height.
+        n_sub, v, height, ta, fc = 512, 50.0, 1000.0, 1.0, 3.5e9
+        lam, rho = 299792458.0 / fc, 299792458.0 / (2 * n_sub * 30e3)
+
+        def run(focuser, filt, snr_db, bins, out):
+            x = math.sqrt((bins * rho) ** 2 - height ** 2)
+            return chain.simulate(SimOptions.parse([
+                "--preset", "small", "--aperture-s", str(ta), "--target", f"{x!r},25",
+                "--presum", "cheby", "--decim", "8", "--range-margin-m", "235",
+                "--focuser", focuser, "--filter", filt, "--snr-db", str(snr_db),
+                "--images", "none", "--out", out]))
+
+        out = tempfile.mkdtemp(prefix="qa_bp_nmse_")
+        runs = {}
+        for filt, snr_db, bins in (("wf", 10.0, 127), ("wf", -10.0, 127), ("rf", 20.0, 127.5)):
+            r = run("bp", filt, snr_db, bins, f"{out}/{filt}{snr_db}")
+            d = bins - math.floor(bins)
+            peak = math.sin(math.pi * d) / (n_sub * math.sin(math.pi * d / n_sub)) if d else 1.0
+            expected = nmse_theory_db("qam256", filt, snr_db) - 20 * math.log10(peak)
+            print(f"bp {filt} {snr_db:g} dB, target at bin {bins}: NMSE {r['nmse_db']:.2f} dB, "
+                  f"expected {expected:.2f} dB")
+            self.assertAlmostEqual(r["nmse_db"], expected, delta=0.3)
+            self.assertAlmostEqual(r["nmse_theory_band_db"], r["nmse_theory_db"], places=9)
+            runs[filt, snr_db] = r
+        rd = run("rd", "wf", 10.0, 127, f"{out}/rd")
+        r0 = 127 * rho
+        y0, y1 = 0.0, v * ta  # the track over the aperture; the target at y = 25 m
+        b_t = 2 * v / lam * ((25 - y0) / math.hypot(r0, 25 - y0)
+                             - (25 - y1) / math.hypot(r0, 25 - y1))
+        b_p = rd["doppler_band_hz"][1] - rd["doppler_band_hz"][0]
+        gap = rd["nmse_db"] - runs["wf", 10.0]["nmse_db"]
+        print(f"rd - bp: {gap:.2f} dB, 10 log10(B_p / B_t) = 10 log10({b_p:.1f} / {b_t:.1f}) = "
+              f"{10 * math.log10(b_p / b_t):.2f} dB")
+        self.assertAlmostEqual(gap, 10 * math.log10(b_p / b_t), delta=0.3)
 
 
 if __name__ == "__main__":
