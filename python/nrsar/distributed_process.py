@@ -76,6 +76,11 @@ def layout(opts, rec):
     overlap-save: its before / after overlap spans a target's energy in the scene band,
     18128 / 18373 lines around a 1200-line aperture at sdr20, 0.05 s (docs/scale.md), so a
     task would read 30 times its aperture."""
+    if rec.trajectory is not None or rec.navigation is not None or opts.nav is not None:
+        raise OptionError(f"--strip-aperture-s = {opts.strip_aperture_s:g} images along the "
+                          f"straight track: {rec.meta_path} names a flown path "
+                          f"(nrsar:trajectory / nrsar:navigation) or --nav is given, whose "
+                          f"time axis the strip's apertures would have to cut too")
     sim_opts = process.sim_options_of(opts, rec)
     step = (process.scenario_of(sim_opts, rec).pulse_symbols *
             sim_opts.presum_factor())  # symbols per image line

@@ -690,6 +690,9 @@ def _process_fields():
         ("snr_db", typing.Optional[float], option(
             None, "SNR per RE [dB] for the Wiener filter and the theory (default: the "
             "recording's nrsar:snr_db)", at_least=-200.0, at_most=300.0)),
+        ("nav", typing.Optional[str], option(
+            None, "image along this navigation (a CSV file like nrsar-sim's --nav) instead of "
+            "the recording's nrsar:navigation", metavar="FILE")),
         ("strip_aperture_s", typing.Optional[float], option(
             None, "process the recording as a strip of apertures of this length [s], each "
             "with the focuser's overlap, stitched into strip_image.npy (docs/scale.md)",

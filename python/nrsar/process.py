@@ -9,8 +9,10 @@
     nr_isac_tx(recorded seed) -> head ----------+   (transmit grid regenerated)
                        +-> scene_echo (recorded scene, S = 1 reference echo) -> reference
 
-The recording (recording.read) supplies the numerology, geometry, scene, grid and seed; the
-options (ProcessOptions) are nrsar-sim's receive-side ones. The graph streams: the samples
+The recording (recording.read) supplies the numerology, geometry, scene, grid and seed, and
+the flight: the echo flew nrsar:trajectory, the processing images along nrsar:navigation
+(--nav FILE replaces it), as nrsar-sim did; the options (ProcessOptions) are nrsar-sim's
+receive-side ones. The graph streams: the samples
 are read from the file as the chain consumes them (with --images none nothing grows with
 the recording). The JSON has nrsar-sim's keys, plus the recording's.
 """
@@ -21,7 +23,7 @@ import time
 
 from gnuradio import blocks, gr
 
-from . import chain, params, progress, recording, results, runtime
+from . import chain, params, progress, recording, results, runtime, scenario
 from .nrsar_python import ofdm_demod, scene_echo
 from .options import MODES, OptionError, SimOptions, check_out_dir
 from .scenario import Scenario, fft_size_of
@@ -47,21 +49,27 @@ def sim_options_of(opts, rec):
 
 
 def scenario_of(sim_opts, rec):
-    """The Scenario of the recording (its numerology, geometry, scene and SRS layout)."""
+    """The Scenario of the recording (its numerology, geometry, scene, SRS layout and
+    flight: the truth of nrsar:trajectory, the navigation of nrsar:navigation or --nav)."""
     num, geo = rec.num, rec.geo
     mode = MODES[rec.mode][0]
     pulse_symbols = params.symbols_per_pulse(mode, num, rec.srs)
     fft_size_of(sim_opts, num.num_subcarriers)
     warnings = list(params.check_scenario(num, geo, rec.scene, pulse_symbols))
+    truth = rec.trajectory
+    nav = rec.navigation if rec.navigation is not None else truth
+    if sim_opts.nav is not None:  # --nav replaces the recorded navigation
+        nav = scenario._flagged("--nav", sim_opts.nav, params.make_navigation, truth,
+                                sim_opts.nav, geo=geo)
     return Scenario(num=num, geo=geo, scene=rec.scene, scene_file=None, tx_mode=mode,
                     srs=rec.srs, pulse_symbols=pulse_symbols, symbols=rec.symbols,
-                    warnings=warnings)
+                    warnings=warnings, trajectory=truth, navigation=nav)
 
 
 def recording_front(rec):
     """echo_front for chain.build: the recorded samples (after the hardware delay) ->
-    ofdm_demod; the reference echo is scene_echo's S = 1 output on the regenerated grid, as
-    in nrsar-sim."""
+    ofdm_demod; the reference echo is scene_echo's S = 1 output on the regenerated grid,
+    flying the recorded truth, as in nrsar-sim."""
     def front(tb, opts, sc, grid):
         num = sc.num
         lost = sum(count for _, count in rec.gaps)
@@ -78,7 +86,7 @@ def recording_front(rec):
         else:
             demod = ofdm_demod(num)
             tb.connect(source, demod)
-        ref = scene_echo(num, sc.geo, sc.scene, math.inf, opts.seed + 1)
+        ref = scene_echo(num, sc.geo, sc.scene, math.inf, opts.seed + 1, sc.trajectory)
         tb.connect(grid, ref)
         tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
         return demod, demod, (ref, 1)

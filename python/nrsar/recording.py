@@ -313,6 +313,8 @@ class Recording:
     snr_db: typing.Optional[float]
     gaps: list                   # (file sample after the gap, lost samples) of each overflow
     datetime: str
+    trajectory: typing.Any = None  # the true path of nrsar:trajectory; None: the straight track
+    navigation: typing.Any = None  # the path of nrsar:navigation; None: the truth
 
 
 class _Meta:
@@ -371,6 +373,43 @@ def _scene_of(m, glob):
         return params.make_scene([(x, y, rcs, math.radians(ph)) for x, y, rcs, ph in rows])
     except ValueError as err:
         m.fail("global nrsar:scene", f"is invalid: {err}")
+
+
+def _flight_path(m, glob, key, models, make):
+    """The path the meta's key names (flight_text): None for null, a seeded model for
+    'MODEL seed N', else the CSV file at that path, built by make(spec, seed). Errors name
+    the key and the text."""
+    text = m.get(glob, key, str, "global", optional=True)
+    if text is None:
+        return None
+    words = text.split()
+    model = len(words) == 3 and words[0] in models and words[0] != "none" \
+        and words[1] == "seed" and words[2].isdigit()
+    if not model and not os.path.isfile(text):
+        m.fail(f"global {key}", f"= {text!r} names no readable file (nor 'MODEL seed N', MODEL "
+               f"one of {', '.join(n for n in models if n != 'none')}): the flight's CSV "
+               f"must stay where the recording names it")
+    try:
+        return make(words[0], int(words[2])) if model else make(text, 0)
+    except ValueError as err:
+        m.fail(f"global {key}", f"= {text!r}: {err}")
+
+
+def _flight_of(m, glob, num, geo, scn, pulse_symbols):
+    """(truth, navigation) of nrsar:trajectory and nrsar:navigation (None: the straight track,
+    the truth), built as nrsar-sim's scenario.flight_of built them, the truth checked
+    against the scene as scenario.of checks it."""
+    truth = _flight_path(m, glob, "nrsar:trajectory", params.MOTIONS,
+                         lambda spec, seed: params.make_trajectory(spec, geo, seed=seed))
+    if truth is not None:
+        try:
+            params.check_scenario(num, geo, scn, truth, pulse_symbols)
+        except ValueError as err:
+            m.fail("global nrsar:trajectory", f"= {glob['nrsar:trajectory']!r}: {err}")
+    base = truth if truth is not None else params.make_trajectory("ideal", geo)
+    nav = _flight_path(m, glob, "nrsar:navigation", params.NAV_ERRORS,
+                       lambda spec, seed: params.make_navigation(base, spec, seed=seed, geo=geo))
+    return truth, nav
 
 
 def read(meta_path):
@@ -468,7 +507,8 @@ def read(meta_path):
         except ValueError as err:
             raise ValueError(f"{os.path.basename(meta_path)}: {err}") from None
     snr_db = m.get(glob, "nrsar:snr_db", float, "global", optional=True)
-    m.get(glob, "nrsar:navigation", str, "global", optional=True)
+    truth, nav = _flight_of(m, glob, num, geo, scn,
+                            params.symbols_per_pulse(MODES[mode][0], num, srs))
 
     captures = m.get(meta, "captures", list, "the meta's")
     if not captures:
@@ -525,7 +565,7 @@ def read(meta_path):
                      num=num, geo=geo, scene=scn, srs=srs, modulation=modulation, mode=mode,
                      grid_seed=seed, symbols=symbols, symbol_samples=sym_len, samples=samples,
                      hardware_delay_samples=delay, origin=origin_text, snr_db=snr_db,
-                     gaps=gaps, datetime=when)
+                     gaps=gaps, datetime=when, trajectory=truth, navigation=nav)
 
 
 class rx_time_stamper(gr.sync_block):

@@ -265,6 +265,89 @@ class qa_recording(gr_unittest.TestCase):
         self.assertEqual(stdout, "")
         self.assertEqual(os.listdir(rec), [])
 
+    def test_007_flown_path(self):
+        """A recording of a gusty flight with RTK navigation: nrsar-process flies the
+        reference echo along nrsar:trajectory and images along nrsar:navigation (cheby_presum's
+        compensation, rd_focuser's MoCo, bp_focuser's path), as nrsar-sim did: the same image
+        up to td_echo's fractional-delay error (below -80 dB, test_003); --nav FILE replaces
+        the navigation, and along the straight track the target defocuses. A meta naming a
+        path that is not there or not valid: exit 2, one line naming the key and the text."""
+        flight = ["--preset", "sdr20", "--aperture-s", "0.2", "--target", "300,5",
+                  "--snr-db", "5", "--motion", "gusty", "--nav-error", "rtk",
+                  "--presum", "cheby", "--decim", "4"]
+        rec = os.path.join(self.dir, "flown")
+        meta_path = os.path.join(rec, "flight.sigmf-meta")
+        runs = {}
+        for focuser in ("bp", "rd"):
+            record = ["--record", rec] if focuser == "bp" else []
+            sim = run_app("nrsar-sim", flight + record + [
+                "--focuser", focuser, "--json", "--out", os.path.join(self.dir, "fs" + focuser)])
+            self.assertEqual(sim.returncode, 0, sim.stderr)
+            proc = run_app("nrsar-process", [meta_path, "--focuser", focuser, "--presum",
+                                             "cheby", "--decim", "4", "--json", "--out",
+                                             os.path.join(self.dir, "fp" + focuser)])
+            self.assertEqual(proc.returncode, 0, proc.stderr)
+            runs[focuser] = json.loads(sim.stdout), json.loads(proc.stdout)
+        with open(meta_path) as f:
+            g = json.load(f)["global"]
+        self.assertEqual(g["nrsar:trajectory"], "gusty seed 0")
+        self.assertEqual(g["nrsar:navigation"], "rtk seed 1")
+        for focuser, (s, p) in runs.items():
+            for key in ("trajectory_rms_dev_m", "nav_rms_err_m", "moco", "doppler_band_hz"):
+                self.assertEqual(p[key], s[key], key)
+            self.assertGreater(p["trajectory_rms_dev_m"], 0.0)
+            self.assertGreater(p["nav_rms_err_m"], 0.0)
+            self.assertLessEqual(abs(p["nmse_db"] - s["nmse_db"]), 0.1)
+            a, b = np.load(s["image_npy"]), np.load(p["image_npy"])
+            diff_db = 10 * np.log10(np.sum(np.abs(a - b) ** 2) / np.sum(np.abs(a) ** 2))
+            print(f"flown path, {focuser}: nrsar-process vs nrsar-sim {diff_db:.1f} dB, NMSE "
+                  f"{p['nmse_db']:.4f} vs {s['nmse_db']:.4f} dB, PEL {p['pel_db']:.3f} dB")
+            self.assertLess(diff_db, -80.0)
+        # --nav: the straight track (a CSV of the ideal line) instead of the navigation
+        straight = os.path.join(self.dir, "straight.csv")
+        with open(straight, "w") as f:
+            f.write("t_s,x_m,y_m,z_m\n" + "".join(f"{i / 50!r},0.0,{i!r},1000.0\n"
+                                                   for i in range(16)))
+        proc = run_app("nrsar-process", [meta_path, "--focuser", "bp", "--presum", "cheby",
+                                         "--decim", "4", "--nav", straight, "--json", "--out",
+                                         os.path.join(self.dir, "fstraight")])
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        r, (_, nav) = json.loads(proc.stdout), runs["bp"]
+        print(f"straight track: PEL {r['pel_db']:.2f} dB (navigation {nav['pel_db']:.2f}), "
+              f"peak error {r['peak_error_m']:.2f} m ({nav['peak_error_m']:.2f}), nav error "
+              f"{r['nav_rms_err_m']:.3f} m")
+        self.assertGreater(r["nav_rms_err_m"], nav["nav_rms_err_m"])
+        self.assertGreater(r["pel_db"], nav["pel_db"] + 10.0)  # the peak's energy goes
+        # Bad flights in the meta and on the command line
+        bad_csv = os.path.join(self.dir, "backwards.csv")
+        with open(bad_csv, "w") as f:
+            f.write("t_s,x_m,y_m,z_m\n" + "".join(f"{(15 - i) / 50!r},0.0,{i!r},1000.0\n"
+                                                   for i in range(16)))
+        gone = os.path.join(self.dir, "gone", "path.csv")
+
+        def put(key, value):
+            return lambda m: m["global"].__setitem__(key, value)
+
+        for name, edit, expected in (
+                ("gone", put("nrsar:trajectory", gone),
+                 f"global nrsar:trajectory = {gone!r} names no readable file"),
+                ("backwards", put("nrsar:trajectory", bad_csv),
+                 f"global nrsar:trajectory = {bad_csv!r}: "),
+                ("model", put("nrsar:navigation", "sloppy seed 1"),
+                 "global nrsar:navigation = 'sloppy seed 1' names no readable file"),
+                ("no_nav", lambda m: m["global"].pop("nrsar:navigation"),
+                 "global nrsar:navigation is missing")):
+            with self.subTest(name):
+                self.assert_refused(self.bad_copy("flight_" + name, edit_meta=edit), expected)
+        proc = run_app("nrsar-process", [meta_path, "--nav", gone, "--out",
+                                         os.path.join(self.dir, "bad")])
+        self.assertEqual(proc.returncode, 2, proc.stderr)
+        self.assertIn(f"--nav = {gone!r} is not a readable file", proc.stderr)
+        proc = run_app("nrsar-process", [meta_path, "--strip-aperture-s", "0.05", "--out",
+                                         os.path.join(self.dir, "bad")])
+        self.assertEqual(proc.returncode, 2, proc.stderr)
+        self.assertIn("--strip-aperture-s = 0.05 images along the straight track", proc.stderr)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_recording)
