@@ -206,12 +206,18 @@ def make_trajectory(spec="ideal", geo=None, duration_s=None, seed=0, rate_hz=100
     """The true flight path: 'ideal' (geo's straight line), a motion model 'calm' / 'gusty'
     added to it (seeded, sampled at rate_hz over [0, duration_s], default geo.aperture_s),
     or a CSV file t_s,x_m,y_m,z_m[,roll_rad,pitch_rad,yaw_rad] that must cover
-    [0, duration_s]. A trajectory passes through unchanged."""
+    [0, duration_s]. A trajectory passes through unchanged. lever_arm_m: the antenna phase
+    centre's offset from the CSV's navigated point, body frame (CSV files only: the line and
+    the models are the phase centre's path)."""
+    name = str(spec).strip()
+    if any(float(v) != 0.0 for v in lever_arm_m) and (
+            isinstance(spec, trajectory) or name.lower() in ("ideal", "none", *MOTIONS)):
+        raise ValueError(f"lever_arm_m = {tuple(lever_arm_m)} needs a CSV file of the navigated "
+                         f"point, not {name!r} (the phase centre's own path)")
     if isinstance(spec, trajectory):
         return spec
     geo = make_geometry() if geo is None else geo
     span = geo.aperture_s if duration_s is None else float(duration_s)
-    name = str(spec).strip()
     if name.lower() in ("ideal", "none"):
         return trajectory.ideal(geo)
     if name.lower() in MOTIONS:

@@ -215,6 +215,43 @@ class qa_grc_options(gr_unittest.TestCase):
                     self.assertIn(str(value), [str(o) for o in p["options"]],
                                   f"{where}.{p['id']}")
 
+    def test_echo_blocks_fly_the_lever_arm(self):
+        # The echo blocks' flight path as their make: template builds it, rendered with a CSV
+        # path of constant yaw psi and a lever arm l: the phase centre is the navigated
+        # point plus Rz(psi) l (attitude_matrix with roll = pitch = 0, docs/flight.md); the
+        # straight line and the models refuse a lever arm.
+        import math
+        import tempfile
+        psi, arm = 0.3, (0.5, 0.2, -0.1)
+        path = os.path.join(tempfile.mkdtemp(prefix="qa_grc_lever_"), "yaw.csv")
+        with open(path, "w") as f:
+            f.write("t_s,x_m,y_m,z_m,roll_rad,pitch_rad,yaw_rad\n")
+            for i in range(16):
+                f.write(f"{i / 50!r},0.0,{i!r},1000.0,0.0,0.0,{psi!r}\n")
+        expected = (arm[0] * math.cos(psi) - arm[1] * math.sin(psi),
+                    50 * 0.1 + arm[0] * math.sin(psi) + arm[1] * math.cos(psi), 1000.0 + arm[2])
+        for bid in ("nrsar_scene_echo", "nrsar_td_echo", "nrsar_extended_scene_echo"):
+            blk = self.blocks[bid]
+            lever = [p for p in blk["parameters"] if p["id"] == "lever_arm"]
+            self.assertEqual(len(lever), 1, bid)
+            make = blk["templates"]["make"]
+            start = make.index("nrsar.make_trajectory(")
+            depth, end = 0, start
+            for end in range(start, len(make)):
+                depth += {"(": 1, ")": -1}.get(make[end], 0)
+                if depth == 0 and make[end] == ")":
+                    break
+            values = {"trajectory": repr(path), "geometry": "short", "motion_seed": "0",
+                      "lever_arm": repr(list(arm))}
+            call = re.sub(r"\$\{(\w+)\}", lambda m: values[m.group(1)], make[start:end + 1])
+            got = eval(call, {"nrsar": nrsar}).position(0.1)
+            for a, b in zip(got, expected):
+                self.assertAlmostEqual(a, b, places=9, msg=bid)
+            values["trajectory"] = repr("gusty")
+            with self.assertRaisesRegex(ValueError, "lever_arm_m = .* needs a CSV file"):
+                eval(re.sub(r"\$\{(\w+)\}", lambda m: values[m.group(1)],
+                            make[start:end + 1]), {"nrsar": nrsar})
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_grc_options)
