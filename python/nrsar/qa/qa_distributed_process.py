@@ -32,13 +32,15 @@ from gnuradio.nrsar.options import OptionError, ProcessOptions
 APPS = os.environ.get("NRSAR_APPS_DIR") or os.path.join(
     os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "apps")
 
-# sdr20, 0.2 s = 4800 symbols = four apertures of 0.05 s (1200 lines each) along 10 m of
-# track (2.08 mm per line); the first target at the track's centre y = 5 m focuses on line
-# 2400 + 1, at the boundary of apertures 1 and 2 (s = line_shift(), -1 here), the second
-# inside aperture 0
-FLIGHT = ["--preset", "sdr20", "--aperture-s", "0.2", "--target", "300,5", "--target",
-          "290,1.5", "--snr-db", "5"]
-M, BOUNDARY = 1200, 2400
+# sdr20 imaging on its SRS pulses (srs2: one pulse every 28 symbols, 857 Hz), 0.5 s = 428
+# lines along 25 m of track (5.8 cm per line), cut into four apertures of 0.125 s (107 lines).
+# Image row r is the flight's line r + s (s = line_shift(), -56 lines for this scene), so the
+# first target, at y = 15.5 m = line 265.7, lies on row 321.7, the boundary of apertures 2 and
+# 3, with an azimuth IRW of about 28 rows (1.6 m); the second in aperture 1. Each aperture's
+# overlap-save block (402 lines of history, 516 of look-ahead) reaches past the recording.
+FLIGHT = ["--preset", "sdr20", "--mode", "srs2", "--aperture-s", "0.5", "--target",
+          "300,15.5", "--target", "290,3", "--snr-db", "5"]
+M, BOUNDARY, STEP = 107, 321, 28  # lines per aperture, the first row of aperture 3, symbols per line
 
 
 class qa_distributed_process(gr_unittest.TestCase):
@@ -69,7 +71,7 @@ class qa_distributed_process(gr_unittest.TestCase):
 
     @classmethod
     def opts(cls, name, meta=None, **kw):
-        return ProcessOptions(recording=meta or cls.meta, strip_aperture_s=0.05,
+        return ProcessOptions(recording=meta or cls.meta, strip_aperture_s=0.125,
                               out=os.path.join(cls.dir, name), **kw).validate()
 
     @classmethod
@@ -86,42 +88,46 @@ class qa_distributed_process(gr_unittest.TestCase):
         image = np.load(res["strip_image_npy"])
         self.assertEqual(image.shape[0], 4 * M)
         np.testing.assert_array_equal(image, self.whole_image)
-        # the overlap-save blocks reach past the apertures: aperture 3's task starts
-        # mid-flight (its history), the others at the flight's start
-        firsts = [first for first, _ in res["strip_slices"]]
-        self.assertEqual(firsts[:3], [0, 0, 0])
+        # each task reads from the first line of its aperture's overlap-save block (the
+        # scene band's extent reaches back past the flight's start here: every task from 0)
         before, _ = res["strip_overlap_lines"]
         shift = res["strip_line_shift"]
-        self.assertEqual(firsts[3], 3 * M + shift - before)
+        self.assertEqual(shift, -56)
+        self.assertEqual([first for first, _ in res["strip_slices"]],
+                         [0] + [STEP * max(0, a * M + shift - before) for a in (1, 2, 3)])
         # the boundary target: its peak on the boundary, its main lobe in both apertures
         mag = np.abs(image)
-        line, col = np.unravel_index(np.argmax(mag[M:3 * M]), mag[M:3 * M].shape)
-        self.assertLessEqual(abs(M + line + shift - BOUNDARY), 2)  # row r: flight line r + s
-        self.assertGreater(mag[BOUNDARY - 1, col], 0.5 * mag[M + line, col])
-        self.assertGreater(mag[BOUNDARY, col], 0.5 * mag[M + line, col])
-        # each aperture focused alone (no overlap, the paper's circular blocks) splits it:
-        # each half holds the pulses of its own aperture only, and loses peak
+        col = int(np.argmax(mag[BOUNDARY]))
+        line = int(np.argmax(mag[2 * M:, col]))
+        peak = mag[2 * M + line, col]
+        self.assertLessEqual(abs(2 * M + line - BOUNDARY), 2)
+        self.assertGreater(mag[BOUNDARY - 1, col], 0.9 * peak)
+        self.assertGreater(mag[BOUNDARY, col], 0.9 * peak)
+        # each aperture focused alone (no overlap, the paper's circular blocks) cuts it:
+        # each aperture holds a quarter of the pulses that see it, and loses peak
         alone = np.abs(np.load(dp.run(self.opts("alone", strip_overlap_s=0.0))
                                ["strip_image_npy"]))
-        self.assertLess(alone[BOUNDARY - 3:BOUNDARY + 3, col].max(), 0.8 * mag[M + line, col])
+        self.assertLess(alone[BOUNDARY - 3:BOUNDARY + 3, col].max(), 0.8 * peak)
 
     def test_002_corrupt_slice_reported(self):
-        # NaNs written into symbol 4500 of a copy of the recording; with 300 lines of
-        # overlap only the tasks whose slice reads that symbol fail, the others equal the
-        # one-graph strip of the same overlap
+        # NaNs written into a copy of the recording just past what task 2 reads; with 50
+        # lines of overlap only task 3 reads them and fails, the others equal the one-graph
+        # strip of the same overlap
         folder = os.path.join(self.dir, "corrupt")
         shutil.copytree(os.path.dirname(self.meta), folder)
         meta = os.path.join(folder, "flight.sigmf-meta")
         rec = recording.read(meta)
-        at = rec.hardware_delay_samples + 4500 * rec.symbol_samples
+        overlap = 50 * STEP * rec.num.symbol_s()
+        task2 = dp.layout(self.opts("l", strip_overlap_s=overlap), rec).slices[2]
+        bad = task2.first + task2.symbols + 10
+        at = rec.hardware_delay_samples + bad * rec.symbol_samples
         data = np.memmap(rec.data_path, np.complex64, "r+")
         data[at:at + 10] = np.nan
         data.flush()
         del data
-        overlap = 300 * rec.num.symbol_s()
         res = dp.run(self.opts("corrupt_out", meta=meta, dask="local:2",
                                strip_overlap_s=overlap), self.client)
-        read = [a for a, (first, n) in enumerate(res["strip_slices"]) if first <= 4500 < first + n]
+        read = [a for a, (first, n) in enumerate(res["strip_slices"]) if first <= bad < first + n]
         self.assertEqual(read, [3])
         self.assertEqual([f["aperture"] for f in res["strip_failed"]], read)
         self.assertRegex(res["strip_failed"][0]["error"], r"aperture 3: \d+ non-finite")
@@ -129,10 +135,10 @@ class qa_distributed_process(gr_unittest.TestCase):
         clean = self.whole(self.opts("clean", strip_overlap_s=overlap))
         np.testing.assert_array_equal(image[:3 * M], clean[:3 * M])
         self.assertEqual(np.count_nonzero(image[3 * M:]), 0)
-        # with 300 lines the tasks 1..3 start mid-flight
-        self.assertEqual(res["strip_overlap_lines"], [300, 300])
+        # with 50 lines the tasks 1..3 start mid-flight
+        self.assertEqual(res["strip_overlap_lines"], [50, 50])
         self.assertEqual([first for first, _ in res["strip_slices"]],
-                         [0] + [a * M + res["strip_line_shift"] - 300 for a in (1, 2, 3)])
+                         [0] + [STEP * (a * M + res["strip_line_shift"] - 50) for a in (1, 2, 3)])
 
     def test_003_worker_killed_costs_a_retry(self):
         opts, client = self.opts("killed"), self.client
