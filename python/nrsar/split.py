@@ -10,7 +10,7 @@ ground's, joined by gr-zeromq (docs/scale.md).
                 -> [throttle] -> link.line_framer ~~ LineQueue ~~ link.link_source
                 -> zeromq push_sink / pub_sink  (binds --split-address)
     ground: zeromq pull_source / sub_source (connects) -> link.line_deframer
-                -> [cheby_presum] -> rd_focuser / bp_focuser -> image, nmse_probe
+                -> [cheby_presum] -> rd_focuser / bp_focuser -> [autofocus] -> image, nmse_probe
             nr_isac_tx -> head -> echo (S = 1 reference, regenerated from the seed)
                 -> tf_filter -> range_ifft -> [cheby_presum] -> focuser -> nmse_probe
 
