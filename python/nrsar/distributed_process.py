@@ -103,6 +103,10 @@ def layout(opts, rec):
                           f"{sim_opts.estimate_snr} with --strip-aperture-s: the presummer's "
                           f"compensation and the SNR estimate run on the task's own stream "
                           f"(strip tasks are built for --presum none, no --estimate-snr)")
+    if rec.gaps:
+        raise OptionError(f"--strip-aperture-s with {rec.meta_path}: its {len(rec.gaps)} "
+                          f"overflow gaps would shift a task's samples (strips of recordings "
+                          f"with gaps are not built; process it whole, without the flag)")
     step = sc.pulse_symbols * sim_opts.presum_factor()  # symbols per image line
     total = rec.symbols // step
     m = int(round(opts.strip_aperture_s / (rec.num.symbol_s() * step)))

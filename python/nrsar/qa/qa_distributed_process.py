@@ -182,6 +182,14 @@ class qa_distributed_process(gr_unittest.TestCase):
         with self.assertRaisesRegex(OptionError, "needs --strip-aperture-s"):
             ProcessOptions(recording=self.meta, dask="local:2",
                            out=os.path.join(self.dir, "o")).validate()
+        rec = recording.read(self.meta)
+        for kw in (dict(presum="cheby", decim=4), dict(estimate_snr=True)):
+            with self.assertRaisesRegex(OptionError, "strip tasks are built for --presum none"):
+                dp.layout(self.opts("o", **kw), rec)
+        for aperture_s in (0.001, 0.6):
+            with self.assertRaisesRegex(OptionError, "--strip-aperture-s = .* at most the "
+                                        "recording's 428 lines"):
+                dp.layout(self.opts("o").replace(strip_aperture_s=aperture_s), rec)
         with self.assertRaisesRegex(OptionError, "--strip-overlap-s = 0.1 needs"):
             ProcessOptions(recording=self.meta, strip_overlap_s=0.1,
                            out=os.path.join(self.dir, "o")).validate()
