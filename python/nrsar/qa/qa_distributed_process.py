@@ -160,6 +160,16 @@ class qa_distributed_process(gr_unittest.TestCase):
         self.assertEqual(failed, [])
         np.testing.assert_array_equal(image, self.whole_image)
 
+    def test_003b_back_projection_strip(self):
+        # bp_focuser images each aperture from its own pulses: a task reads its aperture
+        # alone (reading factor 1) and the strip, in one process, is one graph's
+        opts = self.opts("bp", focuser="bp")
+        res = dp.run(opts)
+        self.assertEqual(res["strip_read_factor"], 1.0)
+        self.assertEqual([s for s in res["strip_slices"]],
+                         [[a * M * STEP, M * STEP] for a in range(4)])
+        np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
+
     def test_004_tls_refuses_a_client_without_certificate(self):
         import distributed
         from distributed.security import Security
