@@ -46,7 +46,7 @@ import numpy as np
 from gnuradio import blocks, gr
 
 from . import chain, process, recording, results
-from .options import OptionError
+from .options import CERTIFICATES, OptionError, check_certificate_folder
 from .scenario import fft_size_of
 
 
@@ -285,20 +285,6 @@ def run(opts, client=None):
             "strip_lines": int(image.shape[0]), "strip_failed": failed,
             "strip_task_s": [r["compute_s"] for r in ok], "dask": opts.dask,
             "dask_workers": workers, "wall_s": time.perf_counter() - start}
-
-
-CERTIFICATES = ("ca.pem", "cert.pem", "key.pem")
-
-
-def check_certificate_folder(folder, flag="--dask-make-certs"):
-    """OptionError unless folder can take a new set: a folder (or a new one) holding none
-    of CERTIFICATES (a set is never overwritten: its cluster would lose its clients)."""
-    if not folder.strip() or (os.path.exists(folder) and not os.path.isdir(folder)):
-        raise OptionError(f"{flag} = {folder!r} must name a folder")
-    held = [n for n in CERTIFICATES if os.path.lexists(os.path.join(folder, n))]
-    if held:
-        raise OptionError(f"{flag} = {folder!r} already holds {', '.join(held)}: remove "
-                          f"them first (a set is never overwritten)")
 
 
 def write_certificates(folder):

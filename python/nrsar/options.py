@@ -655,7 +655,6 @@ class _ProcessRules(_Options):
 
     def check(self):
         if self.dask_make_certs is not None:
-            from .distributed_process import check_certificate_folder
             check_certificate_folder(self.dask_make_certs)
             if self.recording or self.dask is not None or self.strip_aperture_s is not None:
                 raise OptionError(f"--dask-make-certs = {self.dask_make_certs!r} only writes "
@@ -674,6 +673,20 @@ class _ProcessRules(_Options):
 
     def presum_factor(self):
         return SimOptions.presum_factor(self)
+
+
+CERTIFICATES = ("ca.pem", "cert.pem", "key.pem")
+
+
+def check_certificate_folder(folder, flag="--dask-make-certs"):
+    """OptionError unless folder can take a new set: a folder (or a new one) holding none
+    of CERTIFICATES (a set is never overwritten: its cluster would lose its clients)."""
+    if not folder.strip() or (os.path.exists(folder) and not os.path.isdir(folder)):
+        raise OptionError(f"{flag} = {folder!r} must name a folder")
+    held = [n for n in CERTIFICATES if os.path.lexists(os.path.join(folder, n))]
+    if held:
+        raise OptionError(f"{flag} = {folder!r} already holds {', '.join(held)}: remove "
+                          f"them first (a set is never overwritten)")
 
 
 def check_dask(opts):
