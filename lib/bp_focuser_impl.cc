@@ -73,6 +73,17 @@ bp_focuser_impl::bp_focuser_impl(const numerology& num,
     // pulse, naming the time).
     d_nav.check_covers(0.0, d_geo.aperture_s);
     configure(d_num.symbol_s() * d_cfg.symbols_per_pulse, first_range_m, d_ctor_range_bin);
+    // A strip's task starts at aperture a0 (pulse a0 M): its slow time and first line as
+    // the whole flight's run reaches them, sum for sum, so the images are bit-identical.
+    if (d_cfg.first_aperture > (std::uint64_t(1) << 32) / d_M)
+        throw_param("first_aperture", d_cfg.first_aperture,
+                    "times lines_per_aperture must stay below 2^32");
+    for (std::uint64_t a = 0; a < d_cfg.first_aperture; ++a) {
+        for (unsigned p = 0; p < d_M; ++p)
+            d_t_next += d_T;
+        d_next_y += d_M * d_geo.velocity_mps * d_T;
+    }
+    d_apertures = d_cfg.first_aperture;
     set_tag_propagation_policy(TPP_DONT);
     set_relative_rate(1.0);
     // Whole apertures come out at once (as rd_focuser).
@@ -210,6 +221,7 @@ void bp_focuser_impl::process_aperture()
     d_out_y0 = d_next_y;
     d_next_y += d_M * d_geo.velocity_mps * d_T;
     d_fill = 0;
+    ++d_apertures_imaged;
     if (d_pending) {
         d_pending = false;
         configure(d_pending_T, d_pending_first_range, d_pending_range_bin);
@@ -285,21 +297,27 @@ int bp_focuser_impl::general_work(int noutput_items,
         void ingest(const gr_complex* lines, unsigned n) { b.ingest(lines, n); }
         bool block_full() const { return b.d_fill == b.d_M; }
         // End of stream: the partial aperture from the pulses received.
-        bool flush_due() const { return b.d_fill > 0; }
+        bool flush_due() const { return b.d_fill > 0 && !b.done(); }
         void focus() { b.process_aperture(); }
         bool queues_empty() const { return b.d_out_pos >= b.d_out_len; }
-        bool wants_input() const { return produced < noutput && queues_empty(); }
+        bool wants_input() const
+        {
+            return produced < noutput && queues_empty() && !b.done();
+        }
         void drain() { produced = b.drain(out, noutput, produced); }
     } s{ *this, out, noutput_items };
     consume_each(
         focuser_stream_loop(s, tags, in, d_K, nread, navail, upstream_done, d_flush_done));
+    // cfg.apertures imaged and delivered: done (a strip's task stops its graph here)
+    if (s.produced == 0 && done() && s.queues_empty())
+        return WORK_DONE;
     return s.produced;
 }
 
 bool bp_focuser_impl::stop()
 {
     gr::thread::scoped_lock guard(d_setlock);
-    if (d_fill > 0 || d_out_pos < d_out_len)
+    if ((d_fill > 0 && !done()) || d_out_pos < d_out_len)
         d_logger->warn("stopped with {} pulses not yet imaged and {} image lines not delivered "
                        "(the flowgraph stopped before the input ended)",
                        d_fill,

@@ -57,6 +57,12 @@ private:
     std::uint64_t d_lines_in = 0;
     std::uint64_t d_apertures = 0;
     bool d_flush_done = false;
+    //! cfg.apertures apertures were imaged: nothing more is ingested or emitted.
+    bool done() const
+    {
+        return d_cfg.apertures > 0 && d_apertures_imaged >= d_cfg.apertures;
+    }
+    std::uint64_t d_apertures_imaged = 0;
 
     kernel::finite_guard d_guard;
     nonfinite_reporter d_nonfinite;
@@ -98,7 +104,8 @@ public:
     bool simd() const override { return d_kernel && d_kernel->simd(); }
     double ground_first_x_m() const override { return d_kernel->grid().first_x_m; }
     double ground_spacing_m() const override { return d_kernel->grid().x_spacing_m; }
-    std::uint64_t apertures() const override { return d_apertures; }
+    std::uint64_t apertures() const override { return d_apertures - d_cfg.first_aperture; }
+    std::uint64_t stream_first_line() const override { return d_cfg.first_aperture * d_M; }
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
 };
 

@@ -79,7 +79,9 @@ rd_focuser_impl::rd_focuser_impl(const numerology& num,
                 num.symbol_s() * cfg.symbols_per_pulse,
                 first_range_m,
                 d_ctor_range_bin,
-                nav)
+                nav),
+      d_apertures(cfg.first_aperture),
+      d_rd_apertures(cfg.first_aperture)
 {
     log_warnings();
     // The output is a different domain (azimuth lines); the block places its own tags.
@@ -266,7 +268,10 @@ int rd_focuser_impl::general_work(int noutput_items,
         bool flush_due() const { return b.d_focuser.flush_due(); }
         void focus() { b.focus(); }
         bool queues_empty() const { return b.queues_empty(); }
-        bool wants_input() const { return produced < noutput && b.queues_empty(); }
+        bool wants_input() const
+        {
+            return produced < noutput && b.queues_empty() && !b.d_focuser.done();
+        }
         void drain()
         {
             produced = b.drain(out, noutput, produced);
@@ -277,6 +282,9 @@ int rd_focuser_impl::general_work(int noutput_items,
     consume_each(
         focuser_stream_loop(s, tags, in, d_K, nread, navail, upstream_done, d_flush_done));
     const int produced = s.produced, produced_rd = s.produced_rd;
+    // cfg.apertures emitted and delivered: done (a strip's task stops its graph here)
+    if (produced == 0 && produced_rd == 0 && d_focuser.done() && queues_empty())
+        return WORK_DONE;
     if (!d_want_rd)
         return produced;
     produce(0, produced);
@@ -289,7 +297,7 @@ bool rd_focuser_impl::stop()
     gr::thread::scoped_lock guard(d_setlock);
     const uint64_t lines_in = d_focuser.lines_in();
     const uint64_t emitted = d_focuser.lines_emitted();
-    if (lines_in > emitted || d_out_pos < d_out_len)
+    if ((lines_in > emitted && !d_focuser.done()) || d_out_pos < d_out_len)
         d_logger->warn("stopped with {} input lines not yet emitted as focused lines and {} "
                        "focused lines not delivered (the flowgraph stopped before the input "
                        "ended)",
@@ -311,7 +319,14 @@ double rd_focuser_impl::band_hi_hz() const { return d_focuser.band_hi_hz(); }
 unsigned rd_focuser_impl::band_bins() const { return d_focuser.band_bins(); }
 double rd_focuser_impl::max_migration_bins() const { return d_focuser.max_migration_bins(); }
 bool rd_focuser_impl::rcmc_applied() const { return d_focuser.rcmc_applied(); }
-std::uint64_t rd_focuser_impl::apertures() const { return d_apertures; }
+std::uint64_t rd_focuser_impl::apertures() const
+{
+    return d_apertures - d_focuser.config().first_aperture;
+}
+std::uint64_t rd_focuser_impl::stream_first_line() const
+{
+    return d_focuser.stream_first_line();
+}
 std::uint64_t rd_focuser_impl::nonfinite_count() const { return d_nonfinite.count(); }
 
 } // namespace nrsar

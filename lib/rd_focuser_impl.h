@@ -92,6 +92,7 @@ public:
     bool rcmc_applied() const override;
     std::uint64_t apertures() const override;
     std::uint64_t nonfinite_count() const override;
+    std::uint64_t stream_first_line() const override;
 };
 
 } // namespace nrsar

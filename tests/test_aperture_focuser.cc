@@ -190,6 +190,56 @@ TEST_P(aperture_focuser_overlap, streamed_apertures_equal_direct_blocks)
 
 INSTANTIATE_TEST_SUITE_P(overlaps, aperture_focuser_overlap, ::testing::Values(-1, 9, 0));
 
+// A strip's task (cfg.first_aperture = a, cfg.apertures = 1) fed the stream from
+// stream_first_line() on makes aperture a of the whole stream, bit for bit, and stops.
+TEST_P(aperture_focuser_overlap, first_aperture_equals_the_whole_streams)
+{
+    const unsigned n = 1000; // 40 apertures of 25 lines
+    const auto lines = nrsar_test::gaussian_samples(static_cast<size_t>(n) * K, 7);
+    aperture_focuser whole = make_focuser(test_config(GetParam()));
+    const auto ref = stream(whole, lines, { n });
+    const unsigned M = whole.lines_per_aperture();
+    bool mid_flight = false;
+    for (unsigned a = 0; a < ref.size(); ++a) {
+        SCOPED_TRACE("aperture " + std::to_string(a));
+        focuser_config cfg = test_config(GetParam());
+        cfg.first_aperture = a;
+        cfg.apertures = 1;
+        aperture_focuser f = make_focuser(cfg);
+        const std::uint64_t first = f.stream_first_line();
+        const long long block = static_cast<long long>(a) * M +
+                                (GetParam() == 0 ? 0 : f.line_shift() - (long long)f.overlap_before());
+        EXPECT_EQ(first, a == 0 ? 0u : static_cast<std::uint64_t>(std::max(0ll, block)));
+        mid_flight |= first > 0;
+        std::vector<aperture> got;
+        for (size_t pos = first; pos < n && !f.done();) {
+            f.prepare();
+            const unsigned m = static_cast<unsigned>(std::min<size_t>({ 13, f.room(), n - pos }));
+            f.ingest(&lines[pos * K], m);
+            pos += m;
+            if (f.block_full()) {
+                f.focus(false);
+                got.push_back({ std::vector<gr_complex>(static_cast<size_t>(M) * K), 0.0 });
+                f.read_image(got.back().image.data(), 0, M);
+                got.back().y0 = f.image_first_y_m();
+            }
+        }
+        while (f.flush_due()) { // (a block past the stream's end: no line at all, zeros)
+            f.prepare();
+            f.focus(false);
+            got.push_back({ std::vector<gr_complex>(static_cast<size_t>(M) * K), 0.0 });
+            f.read_image(got.back().image.data(), 0, M);
+            got.back().y0 = f.image_first_y_m();
+        }
+        EXPECT_TRUE(f.done());
+        EXPECT_FALSE(f.flush_due());
+        ASSERT_EQ(got.size(), 1u);
+        expect_equal(got[0].image, ref[a].image);
+        EXPECT_NEAR(got[0].y0, ref[a].y0, 1e-9 * (1.0 + std::abs(ref[a].y0)));
+    }
+    EXPECT_TRUE(mid_flight); // some task started past the flight's first line
+}
+
 TEST(aperture_focuser, auto_overlap_covers_the_band_extent)
 {
     aperture_focuser f = make_focuser(test_config(-1));

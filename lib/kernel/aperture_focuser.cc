@@ -101,9 +101,24 @@ void aperture_focuser::configure(double T, double first_range, double range_bin)
     } else {
         d_before = d_after = static_cast<unsigned>(d_cfg.overlap_lines);
     }
-    if (d_lines_in == 0)
-        d_next_y = d_geo.track_start_m + d_line_shift * d_geo.velocity_mps * T;
+    if (d_lines_in == 0) {
+        // A strip's task starts at the first line of its first aperture's block (or at
+        // the flight's start): the flight's lines before it are another task's.
+        const std::uint64_t a0 = d_cfg.first_aperture;
+        if (a0 > 0 && a0 > (std::uint64_t(1) << 62) / d_M)
+            throw_param("first_aperture", a0, "times lines_per_aperture must stay below 2^62");
+        d_aperture_start = a0 * d_M;
+        const long long first_block = static_cast<long long>(d_aperture_start) + block_offset();
+        d_line0 = a0 == 0 ? 0u : static_cast<std::uint64_t>(std::max(0ll, first_block));
+        d_next_y = d_geo.track_start_m +
+                   (static_cast<double>(d_aperture_start) + d_line_shift) * d_geo.velocity_mps * T;
+    }
     d_kernel.reset(); // rebuilt lazily for the new block
+}
+
+long long aperture_focuser::block_offset() const
+{
+    return (d_before + d_after == 0) ? 0 : d_line_shift - static_cast<long long>(d_before);
 }
 
 rd_block aperture_focuser::make_block() const
@@ -201,11 +216,12 @@ void aperture_focuser::prepare()
                         sizeof(gr_complex) * (keep_hist + keep_look));
         d_fill = d_before + keep_look;
     } else {
-        // The first block starts at input line o = shift - before (overlap) or 0 (circular):
-        // lines before the stream start are zero, pulses before o are skipped.
-        const long long o = (d_before + d_after == 0) ? 0 : d_line_shift - d_before;
+        // The first block starts at the flight's line o = a0 M + shift - before (overlap)
+        // or a0 M (circular): lines before the flight's start are zero, pulses between the
+        // stream's first line and o are skipped.
+        const long long o = static_cast<long long>(d_aperture_start) + block_offset();
         d_fill = static_cast<unsigned>(std::max(0ll, -o));
-        d_skip = static_cast<std::uint64_t>(std::max(0ll, o));
+        d_skip = static_cast<std::uint64_t>(std::max(0ll, o - static_cast<long long>(d_line0)));
     }
     d_block.swap(fresh);
     d_layout_before = d_before;
@@ -272,8 +288,7 @@ void aperture_focuser::focus(bool with_rd_map)
                   gr_complex(0.0f, 0.0f));
     // Slow time of the block's first line (motion compensation): aperture i's block starts
     // at input line i M + (shift - before) with overlap, at i M without.
-    const long long o = (d_before + d_after == 0) ? 0 : d_line_shift - d_before;
-    d_kernel->set_block_start_s((static_cast<double>(d_aperture_start) + o) * d_T);
+    d_kernel->set_block_start_s((static_cast<double>(d_aperture_start) + block_offset()) * d_T);
     // Only lines [before, before + M) of the block are valid output (overlap-save).
     if (with_rd_map) {
         // The map of this block: band bins x K (at most the FFT size).
@@ -292,6 +307,7 @@ void aperture_focuser::focus(bool with_rd_map)
 
     d_next_y += d_M * d_image_dy;
     d_aperture_start += d_M;
+    ++d_focused;
     // Shift: the next block starts M lines later; keep before + after lines.
     const unsigned keep = std::min(d_fill, P) > d_M ? std::min(d_fill, P) - d_M : 0u;
     for (unsigned k = 0; k < d_K; ++k)

@@ -84,7 +84,8 @@ def bp_config_of(opts, cfg):
     return bp_config(symbols_per_pulse=cfg.symbols_per_pulse,
                      lines_per_aperture=cfg.lines_per_aperture, grid=grid,
                      ffbp_subaperture=opts.ffbp_subaperture if opts.focuser == "ffbp" else 0,
-                     ffbp_beam_oversample=opts.ffbp_beams)
+                     ffbp_beam_oversample=opts.ffbp_beams,
+                     first_aperture=cfg.first_aperture, apertures=cfg.apertures)
 
 
 def focuser_config_of(opts, sc, guard_bins):
@@ -96,6 +97,8 @@ def focuser_config_of(opts, sc, guard_bins):
     cfg.rcmc_taps = opts.rcmc_taps
     cfg.guard_bins = guard_bins
     cfg.lines_per_aperture = sc.symbols // cfg.symbols_per_pulse
+    if sc.strip is not None:  # a strip's task: its apertures of the flight (docs/scale.md)
+        cfg.lines_per_aperture, cfg.first_aperture, cfg.apertures, cfg.overlap_lines = sc.strip
     cfg.moco = moco_order.SECOND if opts.moco == "on" else moco_order.OFF
     return cfg
 
@@ -221,6 +224,13 @@ def make_probe(opts, sc, foc, cfg, reference):
                                    zero_padded=zero_padded))
 
 
+def make_autofocus(opts, bins):
+    """The data branch's autofocus of --autofocus (None without)."""
+    if opts.autofocus == "none":
+        return None
+    return autofocus(bins, autofocus_config(method=params.make_autofocus_method(opts.autofocus)))
+
+
 class imaging_chain(gr.hier_block2):
     """The receive side of SPEC 3-8 for one options object (module doc).
 
@@ -274,13 +284,11 @@ class imaging_chain(gr.hier_block2):
         # Autofocus on the data branch only: the reference branch is the calibration
         # standard (SPEC 8, the noise-free echo's image), so NMSE and PEL measure how close
         # the autofocused image comes to it.
-        image = foc
-        af = None
-        if opts.autofocus != "none":
-            af = autofocus(k, autofocus_config(
-                method=params.make_autofocus_method(opts.autofocus)))
+        image = af = make_autofocus(opts, k)
+        if af is None:
+            image = foc
+        else:
             self.connect(foc, af)
-            image = af
         self.connect(image, (self, 0))
         self.connect(rif, (self, 1))
         self.connect(image, (probe, 0))

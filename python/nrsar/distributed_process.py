@@ -7,16 +7,21 @@
 as a strip of apertures, each focused by its own graph, on one process or a Dask cluster
 (docs/scale.md).
 
-    the recording, symbols 0 .. S:  | aperture 0 | aperture 1 | ... | (rest left out)
-    task a: file_source(offset of its first symbol) -> ofdm_demod -> chain.build (the grid
-            from nr_isac_tx skipped to that symbol, the geometry's track start moved there)
-            -> the image of aperture a (focused alone, zeros around it: layout())
+    the flight's lines:      |  aperture 0  |  aperture 1  |  aperture 2  | ...
+    task a reads:                 [history | aperture a's pulses | look-ahead]
+    task a: file_source(offset of the block's first symbol) -> ofdm_demod -> chain.build
+            (the whole flight's geometry; the grid from nr_isac_tx skipped to that symbol;
+            the focuser told its first aperture, a, and to stop after it)
+            -> image lines [a M + s, a M + s + M) of the flight, as one graph makes them
     stitched in aperture order -> strip_image.npy
 
-A task receives the options, the meta's path and its Slice, and
-reads its samples from the SigMF data file by offset: no samples go through the scheduler
-(each worker needs the recording's folder: a shared file system). The tasks are the same
-function with or without Dask, so the images are identical (qa_distributed_process).
+The focuser's block for aperture a (rd_focuser: overlap-save, its history `before` and
+look-ahead `after` of the scene band's azimuth extent, or --strip-overlap-s; bp_focuser: the
+aperture's own pulses) is what the task reads, so the stitched strip equals one graph
+focusing the whole recording (whole(); qa_distributed_process asserts identical arrays). A
+task receives the options, the meta's path and its Slice, and reads its samples from the
+SigMF data file by offset: no samples go through the scheduler (each worker needs the
+recording's folder: a shared file system).
 
 Faults: a worker that dies costs its task a retry on another worker (the scheduler's own
 rescheduling); a slice with non-finite samples fails as SliceError naming its aperture, its
@@ -40,8 +45,9 @@ import time
 import numpy as np
 from gnuradio import blocks, gr
 
-from . import chain, params, process, recording, results
-from .options import OptionError
+from . import chain, process, recording, results
+from .options import CERTIFICATES, OptionError, check_certificate_folder
+from .scenario import fft_size_of
 
 
 class SliceError(RuntimeError):
@@ -50,46 +56,92 @@ class SliceError(RuntimeError):
 
 @dataclasses.dataclass(frozen=True)
 class Slice:
-    index: int    # the aperture's index along the strip
-    first: int    # first symbol read
-    symbols: int  # symbols read
-    keep: int     # the aperture's first line in the slice's image
-    lines: int    # image lines of the aperture
+    index: int      # the first aperture along the strip
+    apertures: int  # apertures the task images (1; the whole strip in whole())
+    lines: int      # image lines per aperture M
+    first: int      # first symbol read
+    symbols: int    # symbols read
 
 
-def _part(rec, first, symbols):
-    """The recording of symbols [first, first + symbols): the track start moved there."""
-    g, sym_s = rec.geo, rec.num.symbol_s()
-    geo = params.make_geometry("paper", carrier_hz=g.carrier_hz, velocity_mps=g.velocity_mps,
-                               height_m=g.height_m,
-                               track_start_m=g.track_start_m + first * sym_s * g.velocity_mps,
-                               aperture_s=symbols * sym_s)
-    return dataclasses.replace(rec, geo=geo, symbols=symbols,
-                               hardware_delay_samples=rec.hardware_delay_samples +
-                               first * rec.symbol_samples)
+@dataclasses.dataclass(frozen=True)
+class Layout:
+    lines: int        # image lines per aperture M
+    step: int         # symbols per image line (pulse symbols x presumming factor)
+    total_lines: int  # image lines the recording holds (whole ones)
+    before: int       # the focuser's history ahead of an aperture's output window [lines]
+    after: int        # and its look-ahead past it
+    shift: int        # the output window's offset from the aperture's own pulses [lines]
+    slices: list      # one Slice per aperture
+
+    def read_factor(self):
+        """Lines a task reads per line it keeps (the overlap's cost, docs/scale.md)."""
+        return sum(s.symbols for s in self.slices) / (len(self.slices) * self.lines * self.step)
+
+
+def _scenario(opts, rec, lines=0, first=0, apertures=0):
+    """(SimOptions, Scenario) of the whole flight, the focuser's apertures of the strip:
+    `lines` per aperture, from aperture `first`, `apertures` of them (0: to the end), with
+    --strip-overlap-s as its overlap (-1: automatic)."""
+    sim_opts = process.sim_options_of(opts, rec).replace(images="keep", geotiff=False)
+    sc = process.scenario_of(sim_opts, rec)
+    overlap = -1
+    if opts.strip_overlap_s is not None:
+        line_s = rec.num.symbol_s() * sc.pulse_symbols * sim_opts.presum_factor()
+        overlap = int(round(opts.strip_overlap_s / line_s))
+    return sim_opts, dataclasses.replace(sc, strip=(lines, first, apertures, overlap))
 
 
 def layout(opts, rec):
-    """The Slices of the strip: apertures of --strip-aperture-s (whole image lines), each
-    focused alone with zeros around it, as nrsar-process focuses a one-aperture recording
-    (the symbols after the last whole aperture are left out). Not the focuser's streaming
-    overlap-save: its before / after overlap spans a target's energy in the scene band,
-    18128 / 18373 lines around a 1200-line aperture at sdr20, 0.05 s (docs/scale.md), so a
-    task would read 30 times its aperture."""
+    """The strip's Layout: apertures of --strip-aperture-s (whole image lines; the lines
+    after the last whole aperture are only look-ahead). Task a reads the lines its
+    aperture's processing block needs, as the whole flight's focuser would hold them
+    (overlap-save history and look-ahead for rd_focuser, the aperture's own pulses for
+    bp_focuser), from the first line of that block (stream_first_line())."""
     if rec.trajectory is not None or rec.navigation is not None or opts.nav is not None:
         raise OptionError(f"--strip-aperture-s = {opts.strip_aperture_s:g} images along the "
                           f"straight track: {rec.meta_path} names a flown path "
                           f"(nrsar:trajectory / nrsar:navigation) or --nav is given, whose "
                           f"time axis the strip's apertures would have to cut too")
-    sim_opts = process.sim_options_of(opts, rec)
-    step = (process.scenario_of(sim_opts, rec).pulse_symbols *
-            sim_opts.presum_factor())  # symbols per image line
-    m = int(round(opts.strip_aperture_s / rec.num.symbol_s())) // step * step
-    if m < step or m > rec.symbols:
+    sim_opts, sc = _scenario(opts, rec)
+    if sim_opts.presum != "none" or sim_opts.estimate_snr:
+        raise OptionError(f"--presum = {sim_opts.presum!r} / --estimate-snr = "
+                          f"{sim_opts.estimate_snr} with --strip-aperture-s: the presummer's "
+                          f"compensation and the SNR estimate run on the task's own stream "
+                          f"(strip tasks are built for --presum none, no --estimate-snr)")
+    if rec.gaps:
+        raise OptionError(f"--strip-aperture-s with {rec.meta_path}: its {len(rec.gaps)} "
+                          f"overflow gaps would shift a task's samples (strips of recordings "
+                          f"with gaps are not built; process it whole, without the flag)")
+    step = sc.pulse_symbols * sim_opts.presum_factor()  # symbols per image line
+    total = rec.symbols // step
+    m = int(round(opts.strip_aperture_s / (rec.num.symbol_s() * step)))
+    if m < 2 or m > total:
         raise OptionError(f"--strip-aperture-s = {opts.strip_aperture_s:g} must hold at least "
-                          f"one image line ({step} symbols) and at most the recording's "
-                          f"{rec.symbols} symbols")
-    return [Slice(a, a * m, m, 0, m // step) for a in range(rec.symbols // m)]
+                          f"two image lines ({2 * step} symbols) and at most the recording's "
+                          f"{total} lines ({rec.symbols} symbols)")
+    # the focuser the tasks build, asked for its layout (no FFT plans are made for this)
+    sim_opts, sc = _scenario(opts, rec, m)
+    crop, guard = chain.range_crop(sim_opts, sc, fft_size_of(sim_opts, rec.num.num_subcarriers))
+    foc = chain.receive_path(sim_opts, sc, crop, chain.focuser_config_of(sim_opts, sc, guard),
+                             sc.navigation)[2]
+    shift = foc.line_shift()
+    before = foc.overlap_before() if sim_opts.focuser == "rd" else 0
+    after = foc.overlap_after() if sim_opts.focuser == "rd" else 0
+    slices = []
+    for a in range(total // m):
+        lo, hi = a * m, a * m + m
+        if before + after:  # the overlap-save block around the window [a m + s, a m + s + m)
+            lo, hi = lo + shift - before, hi + shift + after
+        lo = 0 if a == 0 else max(0, lo)
+        hi = min(total, hi)  # a block past the end (overlap below the shift) reads nothing
+        slices.append(Slice(a, 1, m, lo * step, max(0, hi - lo) * step))
+    return Layout(m, step, total, before, after, shift, slices)
+
+
+def whole(opts, rec, lay):
+    """The Slice of one graph over the whole strip: what one process focusing the whole
+    recording makes (the tasks' stitched strip equals it, qa_distributed_process)."""
+    return Slice(0, len(lay.slices), lay.lines, 0, lay.total_lines * lay.step)
 
 
 def _grid_from(tx, n, first):
@@ -101,25 +153,38 @@ def _grid_from(tx, n, first):
 
 
 def focus_slice(opts, meta_path, sl):
-    """One task: the image lines of aperture sl.index (dict: index, image, compute_s).
-    Raises SliceError for non-finite samples in the slice."""
+    """One task: the image lines of apertures [sl.index, sl.index + sl.apertures) as the
+    whole flight's focuser makes them (dict: index, image, compute_s). Raises SliceError
+    for non-finite samples in the slice."""
     start = time.perf_counter()
     rec = recording.read(meta_path)
-    part = _part(rec, sl.first, sl.symbols)
-    sim_opts = process.sim_options_of(opts, part).replace(images="keep", geotiff=False)
-    sc = process.scenario_of(sim_opts, part)
+    sim_opts, sc = _scenario(opts, rec, sl.lines, sl.index, sl.apertures)
+    sc = dataclasses.replace(sc, symbols=sl.symbols)
+    # the samples from the slice's first symbol on (file_source's offset)
+    part = dataclasses.replace(rec, symbols=sl.symbols, hardware_delay_samples=(
+        rec.hardware_delay_samples + sl.first * rec.symbol_samples))
     tb = gr.top_block("nrsar-strip")
     tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
     graph = chain.build(tb, sim_opts, sc, tx=tx, echo_front=process.recording_front(part))
+    step = sc.pulse_symbols * sim_opts.presum_factor()
+    if graph["focuser"].stream_first_line() * step != sl.first:
+        raise RuntimeError(f"aperture {sl.index}: the focuser expects its stream from line "
+                           f"{graph['focuser'].stream_first_line()}, the slice starts at "
+                           f"symbol {sl.first}")
+    k = graph["focuser"].num_output_bins()
+    if sl.symbols == 0:  # its block lies past the recording's end: zeros, as one graph's
+        return {"index": sl.index, "image": np.zeros((sl.apertures * sl.lines, k), np.complex64),
+                "compute_s": time.perf_counter() - start}
     tb.run()
     bad = graph["echo"].nonfinite_count()
     if bad:
         raise SliceError(f"aperture {sl.index}: {bad} non-finite samples in symbols "
                          f"[{sl.first}, {sl.first + sl.symbols}) of {rec.data_path}")
-    k = graph["focuser"].num_output_bins()
     image = np.asarray(graph["image_sink"].data(), np.complex64).reshape(-1, k)
-    return {"index": sl.index, "image": image[sl.keep:sl.keep + sl.lines].copy(),
-            "compute_s": time.perf_counter() - start}
+    if image.shape[0] != sl.apertures * sl.lines:
+        raise RuntimeError(f"aperture {sl.index}: {image.shape[0]} image lines, expected "
+                           f"{sl.apertures * sl.lines}")
+    return {"index": sl.index, "image": image, "compute_s": time.perf_counter() - start}
 
 
 def security_of(opts):
@@ -194,7 +259,7 @@ def stitch(slices, done, bins):
         r = done[sl.index]
         if isinstance(r, str):
             failed.append({"aperture": sl.index, "error": r})
-            parts.append(np.zeros((sl.lines, bins), np.complex64))
+            parts.append(np.zeros((sl.apertures * sl.lines, bins), np.complex64))
         else:
             parts.append(r["image"])
     return np.concatenate(parts), failed
@@ -204,7 +269,8 @@ def run(opts, client=None):
     """nrsar-process's JSON of a strip (--strip-aperture-s, optionally --dask; client: a
     connected distributed.Client to use instead)."""
     rec = recording.read(opts.recording)
-    slices = layout(opts, rec)
+    lay = layout(opts, rec)
+    slices = lay.slices
     os.makedirs(opts.out, exist_ok=True)
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
@@ -217,8 +283,10 @@ def run(opts, client=None):
     image, failed = stitch(slices, done, bins)
     path = results.write_npy(os.path.abspath(os.path.join(opts.out, "strip_image.npy")), image)
     return {"recording_meta": rec.meta_path, "strip_apertures": len(slices),
-            "strip_aperture_lines": slices[0].lines, "strip_slices":
-            [[s.first, s.symbols] for s in slices], "strip_image_npy": path,
+            "strip_aperture_lines": lay.lines, "strip_slices":
+            [[s.first, s.symbols] for s in slices], "strip_overlap_lines": [lay.before, lay.after],
+            "strip_line_shift": lay.shift,
+            "strip_read_factor": lay.read_factor(), "strip_image_npy": path,
             "strip_lines": int(image.shape[0]), "strip_failed": failed,
             "strip_task_s": [r["compute_s"] for r in ok], "dask": opts.dask,
             "dask_workers": workers, "wall_s": time.perf_counter() - start}
@@ -226,17 +294,18 @@ def run(opts, client=None):
 
 def write_certificates(folder):
     """A self-signed CA, certificate and key for a scheduler and workers started by hand
-    (ca.pem, cert.pem, key.pem; the key mode 0600): `dask scheduler --tls-ca-file ca.pem
-    --tls-cert cert.pem --tls-key key.pem` and the same for each worker and client."""
+    (ca.pem, cert.pem, key.pem, each written atomically with mode 0600): `dask scheduler
+    --tls-ca-file ca.pem --tls-cert cert.pem --tls-key key.pem` and the same for each
+    worker and client (nrsar-process --dask-make-certs DIR). Returns {name: path}."""
     from distributed.security import Security
+    check_certificate_folder(folder)
     sec = Security.temporary()
-    os.makedirs(folder, exist_ok=True)
+    os.makedirs(folder, mode=0o700, exist_ok=True)
     paths = {}
-    for name, text in (("ca.pem", sec.tls_ca_file), ("cert.pem", sec.tls_client_cert),
-                       ("key.pem", sec.tls_client_key)):
-        path = os.path.join(folder, name)
-        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
-        with os.fdopen(fd, "w") as f:
+    for name, text in zip(CERTIFICATES, (sec.tls_ca_file, sec.tls_client_cert,
+                                         sec.tls_client_key)):
+        path = os.path.abspath(os.path.join(folder, name))
+        with results.atomic(path, mode=0o600) as tmp, open(tmp, "w") as f:
             f.write(text)
         paths[name] = path
     return paths

@@ -80,7 +80,10 @@ class _Options:
             default = f.default if f.default is not dataclasses.MISSING else f.default_factory()
             help_text = meta["help"] + _limits_text(meta)
             if meta.get("positional"):
-                parser.add_argument(f.name, metavar=meta["metavar"], help=help_text)
+                # positional="optional": the word may be left out (its default)
+                extra = {"nargs": "?", "default": default} \
+                    if meta["positional"] == "optional" else {}
+                parser.add_argument(f.name, metavar=meta["metavar"], help=help_text, **extra)
                 continue
             if kind is bool:
                 parser.add_argument(flag_of(f.name), action="store_true", help=help_text)
@@ -308,9 +311,6 @@ def check_split(opts):
         link.read_key(opts.split_key)
     if opts.record is not None:
         raise OptionError("--record with --split zmq: record in a one-graph run")
-    if opts.autofocus != "none":
-        raise OptionError(f"--autofocus = {opts.autofocus!r} with --split zmq: the ground "
-                          f"graph has no autofocus yet (run it in one graph)")
 
 
 # The pulse modes of the transmit grid: (tx mode, SRS period in slots)
@@ -654,15 +654,39 @@ class _ProcessRules(_Options):
     """Rules of ProcessOptions: SimOptions' own between its receive-side fields."""
 
     def check(self):
+        if self.dask_make_certs is not None:
+            check_certificate_folder(self.dask_make_certs)
+            if self.recording or self.dask is not None or self.strip_aperture_s is not None:
+                raise OptionError(f"--dask-make-certs = {self.dask_make_certs!r} only writes "
+                                  f"the set: give it alone (no RECORDING, --dask, "
+                                  f"--strip-aperture-s)")
+            return
         if not self.recording.endswith(".sigmf-meta"):
             raise OptionError(f"RECORDING = {self.recording!r} must name a .sigmf-meta file")
         check_map_options(self)
         SimOptions.check_processing(self)
         if self.dask is not None:
             check_dask(self)
+        if self.strip_overlap_s is not None and self.strip_aperture_s is None:
+            raise OptionError(f"--strip-overlap-s = {self.strip_overlap_s:g} needs "
+                              f"--strip-aperture-s (the strip it overlaps)")
 
     def presum_factor(self):
         return SimOptions.presum_factor(self)
+
+
+CERTIFICATES = ("ca.pem", "cert.pem", "key.pem")
+
+
+def check_certificate_folder(folder, flag="--dask-make-certs"):
+    """OptionError unless folder can take a new set: a folder (or a new one) holding none
+    of CERTIFICATES (a set is never overwritten: its cluster would lose its clients)."""
+    if not folder.strip() or (os.path.exists(folder) and not os.path.isdir(folder)):
+        raise OptionError(f"{flag} = {folder!r} must name a folder")
+    held = [n for n in CERTIFICATES if os.path.lexists(os.path.join(folder, n))]
+    if held:
+        raise OptionError(f"{flag} = {folder!r} already holds {', '.join(held)}: remove "
+                          f"them first (a set is never overwritten)")
 
 
 def check_dask(opts):
@@ -686,7 +710,7 @@ def _process_fields():
     hints = typing.get_type_hints(SimOptions)
     fields = [
         ("recording", str, option("", "the recording's NAME.sigmf-meta (NAME.sigmf-data "
-                                  "beside it)", positional=True, metavar="RECORDING")),
+                                  "beside it)", positional="optional", metavar="RECORDING")),
         ("snr_db", typing.Optional[float], option(
             None, "SNR per RE [dB] for the Wiener filter and the theory (default: the "
             "recording's nrsar:snr_db)", at_least=-200.0, at_most=300.0)),
@@ -697,6 +721,11 @@ def _process_fields():
             None, "process the recording as a strip of apertures of this length [s], each "
             "with the focuser's overlap, stitched into strip_image.npy (docs/scale.md)",
             above=0.0, at_most=3600.0)),
+        ("strip_overlap_s", typing.Optional[float], option(
+            None, "rd_focuser's history and look-ahead around each strip aperture [s] "
+            "(default: its overlap-save extent of the scene band, every pulse that focuses "
+            "into the aperture); a task reads its aperture plus this on each side "
+            "(docs/scale.md)", at_least=0.0, at_most=3600.0)),
         ("dask", typing.Optional[str], option(
             None, "run the strip's apertures as Dask tasks: local:N (N worker processes on "
             "127.0.0.1) or tcp://HOST:PORT (a scheduler); always TLS with certificates "
@@ -707,6 +736,10 @@ def _process_fields():
                                                        "remote --dask", metavar="PEM")),
         ("dask_tls_key", typing.Optional[str], option(None, "client key for a remote --dask",
                                                       metavar="PEM")),
+        ("dask_make_certs", typing.Optional[str], option(
+            None, "write a self-signed CA, certificate and key (ca.pem, cert.pem, key.pem; "
+            "mode 0600) into this folder for a scheduler and workers started by hand, "
+            "then exit (docs/scale.md)", metavar="DIR")),
     ]
     for f in dataclasses.fields(SimOptions):
         if f.name in RECORDED_FIELDS or f.name.startswith("split"):

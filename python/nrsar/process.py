@@ -96,8 +96,11 @@ def recording_front(rec):
 def run(opts):
     """nrsar-process's JSON dict of one recording (validated ProcessOptions; a strip:
     distributed_process.run)."""
-    if opts.strip_aperture_s is not None:
+    if opts.strip_aperture_s is not None or opts.dask_make_certs is not None:
         from . import distributed_process  # builds on this module
+        if opts.dask_make_certs is not None:
+            return {"dask_certificates": distributed_process.write_certificates(
+                opts.dask_make_certs)}
         return distributed_process.run(opts)
     rec = recording.read(opts.recording)
     sim_opts = sim_options_of(opts, rec)

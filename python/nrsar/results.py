@@ -25,16 +25,18 @@ from .options import MODES
 
 
 @contextlib.contextmanager
-def atomic(path):
+def atomic(path, mode=None):
     """Yields a temporary path (same folder, same extension, so numpy and matplotlib pick
-    the format from it); renames it to path on success, removes it on any exception."""
+    the format from it); renames it to path on success, removes it on any exception.
+    mode: the file's mode (default: readable by all, as the umask allows; 0o600 for a key)."""
     folder, name = os.path.split(os.path.abspath(path))
     ext = os.path.splitext(name)[1]
     fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=f".part{ext}", dir=folder)
     os.close(fd)
     try:
         yield tmp
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp's 0600 would hide results from others
+        # mkstemp's 0600 would hide results from others
+        os.chmod(tmp, 0o666 & ~_umask() if mode is None else mode)
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(OSError):

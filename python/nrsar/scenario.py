@@ -42,6 +42,9 @@ class Scenario:
     warnings: list
     trajectory: typing.Any = None  # true path (echo generators); None: the ideal line
     navigation: typing.Any = None  # believed path (processing blocks); None: the ideal line
+    # a strip's task (distributed_process): the focuser's (lines per aperture, first
+    # aperture, apertures, overlap lines) of the flight; None: one aperture of `symbols`
+    strip: typing.Any = None
 
     def __post_init__(self):
         ideal = None

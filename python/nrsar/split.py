@@ -10,7 +10,7 @@ ground's, joined by gr-zeromq (docs/scale.md).
                 -> [throttle] -> link.line_framer ~~ LineQueue ~~ link.link_source
                 -> zeromq push_sink / pub_sink  (binds --split-address)
     ground: zeromq pull_source / sub_source (connects) -> link.line_deframer
-                -> [cheby_presum] -> rd_focuser / bp_focuser -> image, nmse_probe
+                -> [cheby_presum] -> rd_focuser / bp_focuser -> [autofocus] -> image, nmse_probe
             nr_isac_tx -> head -> echo (S = 1 reference, regenerated from the seed)
                 -> tf_filter -> range_ifft -> [cheby_presum] -> focuser -> nmse_probe
 
@@ -137,15 +137,20 @@ def ground_graph(tb, opts, sc, key, address):
         image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
     reference_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
     tb.connect(downlink, range_sink)
-    tb.connect(foc, image_sink)
-    tb.connect(foc, (probe, 0))
+    image = af = chain.make_autofocus(opts, k)  # the data branch's, as imaging_chain's
+    if af is None:
+        image = foc
+    else:
+        tb.connect(foc, af)
+    tb.connect(image, image_sink)
+    tb.connect(image, (probe, 0))
     tb.connect(foc_ref, (probe, 1))
     tb.connect(foc_ref, reference_sink)
     return {"tx": tx, "head": head, "echo": echo, "chain": None, "filter": tff_ref,
             "range_ifft": rif_ref, "presum": pre if pre in ground_part else None,
             "focuser": foc, "focuser_ref": foc_ref, "probe": probe, "range_sink": range_sink,
             "image_sink": image_sink, "reference_sink": reference_sink,
-            "autofocus": None, "link": downlink}
+            "autofocus": af, "link": downlink}
 
 
 def _start(tb):

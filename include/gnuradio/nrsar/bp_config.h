@@ -9,6 +9,7 @@
 #define INCLUDED_NRSAR_BP_CONFIG_H
 
 #include <gnuradio/nrsar/api.h>
+#include <cstdint>
 #include <limits>
 
 namespace gr {
@@ -62,6 +63,11 @@ struct NRSAR_API bp_config {
     //! FFBP's beams per Nyquist beam of a subaperture (1..64): its error power falls as
     //! beam_oversample^-4 (pi^4 / (600 os^4), docs/blocks/bp_focuser.md).
     double ffbp_beam_oversample = 8.0;
+    //! A strip cut into tasks (as focuser_config::first_aperture): the first aperture to
+    //! emit; its input stream starts at the flight's line first_aperture M.
+    std::uint64_t first_aperture = 0;
+    //! Apertures to emit, then the block is done (0: until the stream ends).
+    std::uint64_t apertures = 0;
 
     void validate() const;
 };

@@ -87,8 +87,11 @@ public:
     virtual double band_hi_hz() const = 0;
     //! Whether the AVX2/FMA inner loop runs.
     virtual bool simd() const = 0;
+    //! Apertures emitted so far.
     virtual std::uint64_t apertures() const = 0;
     virtual std::uint64_t nonfinite_count() const = 0;
+    //! The flight's line of the first input line this block expects (cfg.first_aperture M).
+    virtual std::uint64_t stream_first_line() const = 0;
 };
 
 } // namespace nrsar

@@ -10,6 +10,7 @@
 
 #include <gnuradio/fft/window.h>
 #include <gnuradio/nrsar/api.h>
+#include <cstdint>
 #include <limits>
 
 namespace gr {
@@ -87,6 +88,15 @@ struct NRSAR_API focuser_config {
      * so SECOND is the default: a navigation, when given, is used.
      */
     moco_order moco = moco_order::SECOND;
+    /*!
+     * A strip cut into tasks (nrsar-process --dask, docs/scale.md): the first aperture to
+     * emit. Its input stream then starts at the flight's line stream_first_line() (the first
+     * line of that aperture's processing block, or the flight's line 0 if the block starts
+     * before it) instead of line 0; the image lines are those of the whole flight's run.
+     */
+    std::uint64_t first_aperture = 0;
+    //! Apertures to emit, then the block is done (0: until the stream ends).
+    std::uint64_t apertures = 0;
 
     void validate() const;
 };

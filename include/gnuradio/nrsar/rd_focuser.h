@@ -118,6 +118,10 @@ public:
     virtual std::uint64_t apertures() const = 0;
     //! Non-finite input samples zeroed so far.
     virtual std::uint64_t nonfinite_count() const = 0;
+    //! The flight's line of the first input line this block expects: 0, or with
+    //! cfg.first_aperture the first line of that aperture's processing block (a strip's
+    //! task reads its data from there, docs/scale.md).
+    virtual std::uint64_t stream_first_line() const = 0;
 };
 
 } // namespace nrsar

@@ -8,7 +8,9 @@
 (distributed_process.py), and Dask's own cost per task against a task's compute time.
 
 A recording of sdr20, two targets, 0.2 s (quick: 0.1 s) cut into apertures of 0.05 s (1200
-symbols each). Rates are apertures per second of wall time, the cluster already started
+symbols each), against one graph focusing the whole recording (each task reads its aperture
+and the focuser's overlap: read_factor lines per line kept). Rates are apertures per second
+of wall time, the cluster already started
 (its start-up is a row of its own); TLS on, as nrsar-process runs it. Per-task overhead: the
 wall time of 200 empty tasks through the same cluster, divided by 200. docs/scale.md turns
 these into a projection for 100 workers.
@@ -39,12 +41,16 @@ def run(quick=False):
         meta = os.path.join(folder, "rec", "flight.sigmf-meta")
         opts = ProcessOptions(recording=meta, strip_aperture_s=0.05,
                               out=os.path.join(folder, "out")).validate()
-        slices = dp.layout(opts, recording.read(meta))
+        rec = recording.read(meta)
+        lay = dp.layout(opts, rec)
+        slices = lay.slices
         dp.run_slices(opts, meta, slices[:1])  # FFT plans, imports: not part of the rate
+        compute = statistics.median(r["compute_s"] for r in
+                                    dp.run_slices(opts, meta, slices).values())
+        # the peer: one graph focusing the whole recording (it reads every line once)
         start = time.perf_counter()
-        serial = dp.run_slices(opts, meta, slices)
+        dp.focus_slice(opts, meta, dp.whole(opts, rec, lay))
         serial_rate = len(slices) / (time.perf_counter() - start)
-        compute = statistics.median(r["compute_s"] for r in serial.values())
         rows = []
         for workers in (1, 2, 4):
             start = time.perf_counter()
@@ -61,7 +67,8 @@ def run(quick=False):
             rows.append(benchutil.row(
                 f"strip of {len(slices)} apertures, dask local:{workers} (TLS)", rate,
                 "one process", serial_rate, unit="apertures/s", workers=workers,
-                cluster_start_s=startup, task_overhead_s=overhead, task_compute_s=compute))
+                cluster_start_s=startup, task_overhead_s=overhead, task_compute_s=compute,
+                read_factor=lay.read_factor()))
         return rows
     finally:
         shutil.rmtree(folder, ignore_errors=True)

@@ -48,7 +48,9 @@ void bind_bp_focuser(py::module& m)
                          double ground_first_x_m,
                          double ground_spacing_m,
                          unsigned ffbp_subaperture,
-                         double ffbp_beam_oversample) {
+                         double ffbp_beam_oversample,
+                         std::uint64_t first_aperture,
+                         std::uint64_t apertures) {
                  bp_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -63,6 +65,8 @@ void bind_bp_focuser(py::module& m)
                  c.ground_spacing_m = ground_spacing_m;
                  c.ffbp_subaperture = ffbp_subaperture;
                  c.ffbp_beam_oversample = ffbp_beam_oversample;
+                 c.first_aperture = first_aperture;
+                 c.apertures = apertures;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -78,6 +82,8 @@ void bind_bp_focuser(py::module& m)
              py::arg("ground_spacing_m") = 0.0,
              py::arg("ffbp_subaperture") = 0u,
              py::arg("ffbp_beam_oversample") = 8.0,
+             py::arg("first_aperture") = 0u,
+             py::arg("apertures") = 0u,
              "bp_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &bp_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &bp_config::lines_per_aperture)
@@ -92,6 +98,8 @@ void bind_bp_focuser(py::module& m)
         .def_readwrite("ground_spacing_m", &bp_config::ground_spacing_m)
         .def_readwrite("ffbp_subaperture", &bp_config::ffbp_subaperture)
         .def_readwrite("ffbp_beam_oversample", &bp_config::ffbp_beam_oversample)
+        .def_readwrite("first_aperture", &bp_config::first_aperture)
+        .def_readwrite("apertures", &bp_config::apertures)
         .def("validate", &bp_config::validate);
 
     py::class_<bp_focuser, gr::block, gr::basic_block, std::shared_ptr<bp_focuser>>(
@@ -119,5 +127,6 @@ void bind_bp_focuser(py::module& m)
         .def("ground_first_x_m", &bp_focuser::ground_first_x_m)
         .def("ground_spacing_m", &bp_focuser::ground_spacing_m)
         .def("apertures", &bp_focuser::apertures)
-        .def("nonfinite_count", &bp_focuser::nonfinite_count);
+        .def("nonfinite_count", &bp_focuser::nonfinite_count)
+        .def("stream_first_line", &bp_focuser::stream_first_line);
 }

@@ -60,7 +60,9 @@ void bind_rd_focuser(py::module& m)
                          double rcmc_skip_below_bins,
                          double range_centre_cycles,
                          unsigned guard_bins,
-                         gr::nrsar::moco_order moco) {
+                         gr::nrsar::moco_order moco,
+                         std::uint64_t first_aperture,
+                         std::uint64_t apertures) {
                  focuser_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -78,6 +80,8 @@ void bind_rd_focuser(py::module& m)
                  c.range_centre_cycles = range_centre_cycles;
                  c.guard_bins = guard_bins;
                  c.moco = moco;
+                 c.first_aperture = first_aperture;
+                 c.apertures = apertures;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -96,6 +100,8 @@ void bind_rd_focuser(py::module& m)
              py::arg("range_centre_cycles") = std::numeric_limits<double>::quiet_NaN(),
              py::arg("guard_bins") = 0u,
              py::arg("moco") = gr::nrsar::moco_order::SECOND,
+             py::arg("first_aperture") = 0u,
+             py::arg("apertures") = 0u,
              "focuser_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &focuser_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &focuser_config::lines_per_aperture)
@@ -113,6 +119,8 @@ void bind_rd_focuser(py::module& m)
         .def_readwrite("range_centre_cycles", &focuser_config::range_centre_cycles)
         .def_readwrite("guard_bins", &focuser_config::guard_bins)
         .def_readwrite("moco", &focuser_config::moco)
+        .def_readwrite("first_aperture", &focuser_config::first_aperture)
+        .def_readwrite("apertures", &focuser_config::apertures)
         .def("validate", &focuser_config::validate);
 
     py::class_<rd_focuser, gr::block, gr::basic_block, std::shared_ptr<rd_focuser>>(
@@ -143,5 +151,6 @@ void bind_rd_focuser(py::module& m)
         .def("max_migration_bins", &rd_focuser::max_migration_bins)
         .def("rcmc_applied", &rd_focuser::rcmc_applied)
         .def("apertures", &rd_focuser::apertures)
-        .def("nonfinite_count", &rd_focuser::nonfinite_count);
+        .def("nonfinite_count", &rd_focuser::nonfinite_count)
+        .def("stream_first_line", &rd_focuser::stream_first_line);
 }

@@ -172,6 +172,26 @@ class qa_bp_focuser(gr_unittest.TestCase):
         ref = numpy_bp(data[M:2 * M], ant[M:2 * M], R_FIRST, RHO, LAM, FC_R, 8, y_lines, H)
         self.assertLess(nmse_db(img[M:2 * M], ref), -60.0)
 
+    def test_003b_first_aperture_equals_the_whole_streams(self):
+        # a strip's task: first_aperture = a, apertures = 1, fed the stream from pulse a M
+        # (stream_first_line) makes aperture a of the whole stream bit for bit, its tags
+        # the whole stream's, and stops there
+        n = 3 * M
+        ant = ideal_antenna(n)
+        data = echo_along(ant, [(X_T, Y_T + 25.0, 1.0)]).astype(np.complex64)
+        whole, whole_tags, _ = focus(data)
+        for a in range(3):
+            cfg = nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=M,
+                                  first_aperture=a, apertures=1)
+            img, tags, blk = focus(data[a * M:], cfg)
+            self.assertEqual(blk.stream_first_line(), a * M)
+            self.assertEqual(blk.apertures(), 1)
+            np.testing.assert_array_equal(img, whole[a * M:(a + 1) * M])
+            got = [(str(t.key), pmt.write_string(t.value)) for t in tags]
+            ref = [(str(t.key), pmt.write_string(t.value)) for t in whole_tags
+                   if t.offset == a * M]
+            self.assertEqual(sorted(got), sorted(ref))
+
     def test_004_parameters_validated(self):
         with self.assertRaisesRegex(ValueError, "upsample = 0"):
             nrsar.bp_config(upsample=0).validate()

@@ -4,17 +4,19 @@
 #
 # SPDX-License-Identifier: GPL-3.0-or-later
 #
-"""nrsar-process --strip-aperture-s / --dask (distributed_process.py): a recording of two
-apertures processed as a strip on a local Dask cluster over TLS equals the one-process
-strip; a worker killed mid-run costs a retry; a slice with non-finite samples is reported
-with its aperture index while the other completes; a client without the certificate is
-refused by the scheduler."""
+"""nrsar-process --strip-aperture-s / --dask (distributed_process.py): a recording of four
+apertures, a target on the boundary between two, processed as a strip on a local Dask cluster
+over TLS equals one graph focusing the whole recording (each task reads its aperture and the
+focuser's overlap by offset); a worker killed mid-run costs a retry; a slice with non-finite
+samples is reported with its aperture index while the others complete; a client without the
+certificate is refused by the scheduler; --dask-make-certs writes a set."""
 
 import contextlib
 import faulthandler
 import os
 import shutil
 import signal
+import stat
 import subprocess
 import sys
 import tempfile
@@ -30,9 +32,15 @@ from gnuradio.nrsar.options import OptionError, ProcessOptions
 APPS = os.environ.get("NRSAR_APPS_DIR") or os.path.join(
     os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "apps")
 
-# sdr20, 0.1 s = 2400 symbols = two apertures of 0.05 s (1200 lines each), two targets
-FLIGHT = ["--preset", "sdr20", "--aperture-s", "0.1", "--target", "300,1", "--target",
-          "290,-2", "--snr-db", "5"]
+# sdr20 imaging on its SRS pulses (srs2: one pulse every 28 symbols, 857 Hz), 0.5 s = 428
+# lines along 25 m of track (5.8 cm per line), cut into four apertures of 0.125 s (107 lines).
+# Image row r is the flight's line r + s (s = line_shift(), -56 lines for this scene), so the
+# first target, at y = 15.5 m = line 265.7, lies on row 321.7, the boundary of apertures 2 and
+# 3, with an azimuth IRW of about 28 rows (1.6 m); the second in aperture 1. Each aperture's
+# overlap-save block (402 lines of history, 516 of look-ahead) reaches past the recording.
+FLIGHT = ["--preset", "sdr20", "--mode", "srs2", "--aperture-s", "0.5", "--target",
+          "300,15.5", "--target", "290,3", "--snr-db", "5"]
+M, BOUNDARY, STEP = 107, 321, 28  # lines per aperture, the first row of aperture 3, symbols per line
 
 
 class qa_distributed_process(gr_unittest.TestCase):
@@ -40,17 +48,16 @@ class qa_distributed_process(gr_unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         # a cluster that hangs fails the test with every thread's traceback, bounded
-        faulthandler.dump_traceback_later(900, exit=True)
+        faulthandler.dump_traceback_later(1500, exit=True)
         cls.dir = tempfile.mkdtemp(prefix="qa_distributed_process_")
         rec = os.path.join(cls.dir, "rec")
         sim = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-sim")] + FLIGHT +
                              ["--record", rec, "--images", "none", "--quiet",
                               "--out", os.path.join(cls.dir, "sim")],
-                             capture_output=True, text=True, timeout=600)
+                             capture_output=True, text=True, timeout=900)
         assert sim.returncode == 0, sim.stderr
         cls.meta = os.path.join(rec, "flight.sigmf-meta")
-        cls.serial = dp.run(cls.opts("serial"))
-        cls.serial_image = np.load(cls.serial["strip_image_npy"])
+        cls.whole_image = cls.whole(cls.opts("whole"))
         # one local cluster (TLS, 2 workers) for the class, made as nrsar-process --dask
         # local:2 makes it
         cls.stack = contextlib.ExitStack()
@@ -64,43 +71,79 @@ class qa_distributed_process(gr_unittest.TestCase):
 
     @classmethod
     def opts(cls, name, meta=None, **kw):
-        return ProcessOptions(recording=meta or cls.meta, strip_aperture_s=0.05,
+        return ProcessOptions(recording=meta or cls.meta, strip_aperture_s=0.125,
                               out=os.path.join(cls.dir, name), **kw).validate()
 
+    @classmethod
+    def whole(cls, opts):
+        """One graph focusing the whole recording (the single-process result)."""
+        rec = recording.read(opts.recording)
+        return dp.focus_slice(opts, opts.recording,
+                              dp.whole(opts, rec, dp.layout(opts, rec)))["image"]
+
     def test_001_dask_equals_one_process(self):
-        self.assertEqual(self.serial["strip_apertures"], 2)
-        self.assertEqual(self.serial_image.shape[0], 2400)
-        self.assertEqual(self.serial["strip_slices"], [[0, 1200], [1200, 1200]])
         res = dp.run(self.opts("dask", dask="local:2"), self.client)
-        self.assertEqual(res["dask_workers"], 2)
+        self.assertEqual((res["strip_apertures"], res["dask_workers"]), (4, 2))
         self.assertEqual(res["strip_failed"], [])
-        np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.serial_image)
-        # both apertures were focused (a point target echoes on every pulse: no beam)
-        for a in range(2):
-            self.assertGreater(np.abs(self.serial_image[1200 * a:1200 * (a + 1)]).max(), 0)
+        image = np.load(res["strip_image_npy"])
+        self.assertEqual(image.shape[0], 4 * M)
+        np.testing.assert_array_equal(image, self.whole_image)
+        # each task reads from the first line of its aperture's overlap-save block (the
+        # scene band's extent reaches back past the flight's start here: every task from 0)
+        before, _ = res["strip_overlap_lines"]
+        shift = res["strip_line_shift"]
+        self.assertEqual(shift, -56)
+        self.assertEqual([first for first, _ in res["strip_slices"]],
+                         [0] + [STEP * max(0, a * M + shift - before) for a in (1, 2, 3)])
+        # the boundary target: its peak on the boundary, its main lobe in both apertures
+        mag = np.abs(image)
+        col = int(np.argmax(mag[BOUNDARY]))
+        line = int(np.argmax(mag[2 * M:, col]))
+        peak = mag[2 * M + line, col]
+        self.assertLessEqual(abs(2 * M + line - BOUNDARY), 2)
+        self.assertGreater(mag[BOUNDARY - 1, col], 0.9 * peak)
+        self.assertGreater(mag[BOUNDARY, col], 0.9 * peak)
+        # each aperture focused alone (no overlap, the paper's circular blocks) cuts it:
+        # each aperture holds a quarter of the pulses that see it, and loses peak
+        alone = np.abs(np.load(dp.run(self.opts("alone", strip_overlap_s=0.0))
+                               ["strip_image_npy"]))
+        self.assertLess(alone[BOUNDARY - 3:BOUNDARY + 3, col].max(), 0.8 * peak)
 
     def test_002_corrupt_slice_reported(self):
-        # NaNs written into aperture 1's samples of a copy of the recording
+        # NaNs written into a copy of the recording just past what task 2 reads; with 50
+        # lines of overlap only task 3 reads them and fails, the others equal the one-graph
+        # strip of the same overlap
         folder = os.path.join(self.dir, "corrupt")
         shutil.copytree(os.path.dirname(self.meta), folder)
         meta = os.path.join(folder, "flight.sigmf-meta")
         rec = recording.read(meta)
-        at = rec.hardware_delay_samples + 1500 * rec.symbol_samples
+        overlap = 50 * STEP * rec.num.symbol_s()
+        task2 = dp.layout(self.opts("l", strip_overlap_s=overlap), rec).slices[2]
+        bad = task2.first + task2.symbols + 10
+        at = rec.hardware_delay_samples + bad * rec.symbol_samples
         data = np.memmap(rec.data_path, np.complex64, "r+")
         data[at:at + 10] = np.nan
         data.flush()
         del data
-        res = dp.run(self.opts("corrupt_out", meta=meta, dask="local:2"), self.client)
-        self.assertEqual([f["aperture"] for f in res["strip_failed"]], [1])
-        self.assertRegex(res["strip_failed"][0]["error"], r"aperture 1: \d+ non-finite")
+        res = dp.run(self.opts("corrupt_out", meta=meta, dask="local:2",
+                               strip_overlap_s=overlap), self.client)
+        read = [a for a, (first, n) in enumerate(res["strip_slices"]) if first <= bad < first + n]
+        self.assertEqual(read, [3])
+        self.assertEqual([f["aperture"] for f in res["strip_failed"]], read)
+        self.assertRegex(res["strip_failed"][0]["error"], r"aperture 3: \d+ non-finite")
         image = np.load(res["strip_image_npy"])
-        np.testing.assert_array_equal(image[:1200], self.serial_image[:1200])
-        self.assertEqual(np.count_nonzero(image[1200:]), 0)
+        clean = self.whole(self.opts("clean", strip_overlap_s=overlap))
+        np.testing.assert_array_equal(image[:3 * M], clean[:3 * M])
+        self.assertEqual(np.count_nonzero(image[3 * M:]), 0)
+        # with 50 lines the tasks 1..3 start mid-flight
+        self.assertEqual(res["strip_overlap_lines"], [50, 50])
+        self.assertEqual([first for first, _ in res["strip_slices"]],
+                         [0] + [STEP * (a * M + res["strip_line_shift"] - 50) for a in (1, 2, 3)])
 
     def test_003_worker_killed_costs_a_retry(self):
         opts, client = self.opts("killed"), self.client
         pids = client.run(os.getpid)
-        slices = dp.layout(opts, recording.read(self.meta))
+        slices = dp.layout(opts, recording.read(self.meta)).slices
         out = {}
         runner = threading.Thread(
             target=lambda: out.update(dp.run_slices(opts, self.meta, slices, client)))
@@ -111,11 +154,21 @@ class qa_distributed_process(gr_unittest.TestCase):
         busy = [w for w, tasks in client.processing().items() if tasks]
         self.assertTrue(busy)
         os.kill(pids[busy[0]], signal.SIGKILL)  # its task runs again elsewhere
-        runner.join(300)
+        runner.join(600)
         self.assertFalse(runner.is_alive())
-        image, failed = dp.stitch(slices, out, self.serial_image.shape[1])
+        image, failed = dp.stitch(slices, out, self.whole_image.shape[1])
         self.assertEqual(failed, [])
-        np.testing.assert_array_equal(image, self.serial_image)
+        np.testing.assert_array_equal(image, self.whole_image)
+
+    def test_003b_back_projection_strip(self):
+        # bp_focuser images each aperture from its own pulses: a task reads its aperture
+        # alone (reading factor 1) and the strip, in one process, is one graph's
+        opts = self.opts("bp", focuser="bp")
+        res = dp.run(opts)
+        self.assertEqual(res["strip_read_factor"], 1.0)
+        self.assertEqual([s for s in res["strip_slices"]],
+                         [[a * M * STEP, M * STEP] for a in range(4)])
+        np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
 
     def test_004_tls_refuses_a_client_without_certificate(self):
         import distributed
@@ -139,6 +192,51 @@ class qa_distributed_process(gr_unittest.TestCase):
         with self.assertRaisesRegex(OptionError, "needs --strip-aperture-s"):
             ProcessOptions(recording=self.meta, dask="local:2",
                            out=os.path.join(self.dir, "o")).validate()
+        rec = recording.read(self.meta)
+        for kw in (dict(presum="cheby", decim=4), dict(estimate_snr=True)):
+            with self.assertRaisesRegex(OptionError, "strip tasks are built for --presum none"):
+                dp.layout(self.opts("o", **kw), rec)
+        for aperture_s in (0.001, 0.6):
+            with self.assertRaisesRegex(OptionError, "--strip-aperture-s = .* at most the "
+                                        "recording's 428 lines"):
+                dp.layout(self.opts("o").replace(strip_aperture_s=aperture_s), rec)
+        with self.assertRaisesRegex(OptionError, "--strip-overlap-s = 0.1 needs"):
+            ProcessOptions(recording=self.meta, strip_overlap_s=0.1,
+                           out=os.path.join(self.dir, "o")).validate()
+
+    def test_005_make_certificates(self):
+        folder = os.path.join(self.dir, "certs")
+        app = [sys.executable, os.path.join(APPS, "nrsar-process"), "--out",
+               os.path.join(self.dir, "certs_out")]
+        done = subprocess.run(app + ["--dask-make-certs", folder, "--json"],
+                              capture_output=True, text=True, timeout=120)
+        self.assertEqual(done.returncode, 0, done.stderr)
+        for name in dp.CERTIFICATES:
+            mode = stat.S_IMODE(os.stat(os.path.join(folder, name)).st_mode)
+            self.assertEqual(mode, 0o600, name)
+        self.assertEqual(sorted(os.listdir(folder)), sorted(dp.CERTIFICATES))  # no temp left
+        # a scheduler with the set takes a client with it
+        import distributed
+        from distributed.security import Security
+        sec = Security(tls_ca_file=os.path.join(folder, "ca.pem"),
+                       tls_client_cert=os.path.join(folder, "cert.pem"),
+                       tls_client_key=os.path.join(folder, "key.pem"),
+                       tls_scheduler_cert=os.path.join(folder, "cert.pem"),
+                       tls_scheduler_key=os.path.join(folder, "key.pem"),
+                       tls_worker_cert=os.path.join(folder, "cert.pem"),
+                       tls_worker_key=os.path.join(folder, "key.pem"),
+                       require_encryption=True)
+        with dp.local_cluster(1, sec) as cluster, \
+                distributed.Client(cluster, security=sec, timeout="30s") as client:
+            self.assertEqual(client.submit(sum, [1, 2]).result(), 3)
+        # never overwritten; given with a recording or --dask: refused, one line, exit 2
+        for extra in ([], [self.meta], ["--dask", "local:1"]):
+            bad = subprocess.run(app + ["--dask-make-certs", folder] + extra,
+                                 capture_output=True, text=True, timeout=120)
+            self.assertEqual(bad.returncode, 2)
+            self.assertEqual(len(bad.stderr.strip().splitlines()), 1, bad.stderr)
+            self.assertIn("--dask-make-certs", bad.stderr)
+        self.assertIn("already holds ca.pem, cert.pem, key.pem", bad.stderr)
 
 
 if __name__ == "__main__":

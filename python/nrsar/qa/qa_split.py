@@ -10,6 +10,7 @@ gr-zeromq on loopback. The split image equals the one-graph image; the framing's
 restarted; a stranger's lines rejected with the image unchanged; a UAV without a ground
 that does not block."""
 
+import multiprocessing
 import os
 import shutil
 import signal
@@ -206,6 +207,74 @@ class qa_split(gr_unittest.TestCase):
             f.write(b"x" * 31)
         with self.assertRaisesRegex(ValueError, "31 bytes, fewer than 32"):
             self.opts("o", split="zmq", split_key=short)
+
+    def test_007_autofocus_on_the_ground(self):
+        # the ground graph's autofocus is the one graph's: same image, same estimate
+        extra = dict(presum="cheby", decim=4, autofocus="pga")
+        one = chain.simulate(self.opts("af_one", **extra))
+        two = split.simulate(self.opts("af_two", split="zmq", **extra))
+        self.assertIsNotNone(one["autofocus_phase_rms_rad"])
+        self.assertEqual(two["autofocus_phase_rms_rad"], one["autofocus_phase_rms_rad"])
+        np.testing.assert_array_equal(load(two, "image_npy"), load(one, "image_npy"))
+        self.assertEqual(two["nmse_db"], one["nmse_db"])
+        # and it acts on the image: without it the focuser's image is another array
+        plain = chain.simulate(self.opts("af_plain", presum="cheby", decim=4))
+        self.assertFalse(np.array_equal(load(plain, "image_npy"), load(one, "image_npy")))
+
+    def test_008_pub_sub_two_grounds(self):
+        # one UAV publishing (PUB), two grounds subscribed before its radio starts (ZMQ's
+        # slow joiner: a subscription takes a moment to reach the PUB socket); at 1000
+        # lines per second neither falls behind, so both get every line and the one-graph
+        # image
+        extra = dict(presum="cheby", decim=4)
+        one = chain.simulate(self.opts("pub_one", **extra))
+        cut = dict(split="zmq", split_pattern="pub", split_line_rate=1000.0, **extra)
+        key = link.new_key()
+        go = multiprocessing.get_context("spawn").Event()
+        uav, address = split.start_uav(self.opts("pub_uav", **cut), key, go)
+        halves = [uav]
+        try:
+            for i in range(2):
+                halves.append(split.start_ground(self.opts(f"pub_g{i}", **cut), key, address))
+            time.sleep(1.0)
+            go.set()
+            lines = uav.receive("report")["report"]["lines"]
+            msgs = [g.receive("images") for g in halves[1:]]
+        finally:
+            for half in halves:
+                half.stop()
+        self.assertEqual(lines, 298)
+        for msg in msgs:
+            rep = msg["report"]
+            self.assertEqual((rep["lines_received"], rep["lines_lost"]), (lines, 0))
+            np.testing.assert_array_equal(load(msg["result"], "image_npy"),
+                                          load(one, "image_npy"))
+
+    def test_009_pub_sub_late_joiner(self):
+        # a ground that subscribes after the UAV started misses the lines published before
+        # (PUB does not keep them): it counts them lost, zero-fills them, and its lines
+        # received + lost are the UAV's
+        opts = self.opts("late", split="zmq", split_pattern="pub", split_at="range",
+                         split_line_rate=400.0, split_idle_s=20.0)
+        one = chain.simulate(self.opts("late_one"))
+        key = link.new_key()
+        uav, address = split.start_uav(opts, key)
+        try:
+            time.sleep(1.0)  # about 400 of the 1200 lines are gone
+            ground = split.start_ground(opts, key, address)
+            uav_report, msg = split.finish(uav, ground)
+        finally:
+            uav.stop()
+        rep, lines = msg["report"], uav_report["lines"]
+        self.assertEqual(rep["lines_received"] + rep["lines_lost"], lines)
+        self.assertGreater(rep["lines_lost"], 100)
+        self.assertLess(rep["lines_lost"], lines - 100)
+        self.assertEqual(rep["gaps"][0][0], 0)  # the lines before its first one
+        got = load(msg["result"], "range_compressed_npy")
+        ref = load(one, "range_compressed_npy")
+        lost = np.all(got == 0, axis=1)
+        self.assertEqual(int(lost.sum()), rep["lines_lost"])
+        np.testing.assert_array_equal(got[~lost], ref[~lost])
 
 
 if __name__ == "__main__":

@@ -91,7 +91,11 @@ public:
     bool block_full() const { return d_fill == d_before + d_M + d_after; }
     //! At the end of the stream: an aperture whose own pulses were (partly) received is
     //! not emitted yet; focus() zero-pads it.
-    bool flush_due() const { return d_aperture_start < d_lines_in; }
+    bool flush_due() const { return !done() && d_aperture_start < d_line0 + d_lines_in; }
+    //! cfg.apertures apertures were focused: nothing more is ingested or emitted.
+    bool done() const { return d_cfg.apertures > 0 && d_focused >= d_cfg.apertures; }
+    //! The flight's line of the stream's first input line (cfg.first_aperture; 0 without).
+    std::uint64_t stream_first_line() const { return d_line0; }
     /*!
      * \brief Focuses the block (zero-padded if partial) into the next aperture, shifts the
      * history and applies pending axes. with_rd_map: also the range-Doppler map.
@@ -133,7 +137,10 @@ public:
     //! Input lines ingested (skipped pulses included).
     std::uint64_t lines_in() const { return d_lines_in; }
     //! Input lines covered by the apertures focused so far (M per aperture).
-    std::uint64_t lines_emitted() const { return d_aperture_start; }
+    std::uint64_t lines_emitted() const
+    {
+        return d_aperture_start - d_cfg.first_aperture * d_M;
+    }
 
 private:
     const numerology d_num;
@@ -177,12 +184,16 @@ private:
     double d_rd_df = 0.0;
 
     std::uint64_t d_lines_in = 0;       // input lines ingested
-    std::uint64_t d_aperture_start = 0; // absolute line of the next aperture
+    std::uint64_t d_aperture_start = 0; // the flight's line of the next aperture
+    std::uint64_t d_line0 = 0;          // the flight's line of the stream's first line
+    std::uint64_t d_focused = 0;        // apertures focused
     double d_next_y = 0.0; // along-track position of the next aperture's first line
     std::vector<std::string> d_warnings;
 
     void configure(double T, double first_range, double range_bin);
     rd_block make_block() const; // the kernel's block for the current parameters
+    //! The first line of aperture i's block relative to i M: shift - before, 0 circular.
+    long long block_offset() const;
     void copy_inner(gr_complex* dst, const gr_complex* src, unsigned lines) const; // guard
 };
 
