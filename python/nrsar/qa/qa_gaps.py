@@ -24,6 +24,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 from gnuradio import gr_unittest
@@ -223,6 +224,59 @@ class qa_gaps(gr_unittest.TestCase):
                                               os.path.join(self.dir, "radio-out")]))
         self.assertEqual(r["lost_symbols"], self.runs[10000]["lost_symbols"])
         self.assertAlmostEqual(r["nmse_db"], self.runs[10000]["nmse_db"], delta=1e-6)
+
+    def test_007_tx_underruns(self):
+        """Transmit underruns are counted the way gr-uhd's sink reports them (its async_msgs
+        port: (uhd_async_msg . {event_code: (underflow ...), time_spec, channel})): the
+        recorder writes the count into the meta and nrsar-process reports it; burst_ack and
+        other messages are not underruns. A recorder without a counter writes null."""
+        from gnuradio import blocks, gr
+        import pmt
+        from gnuradio.nrsar import recording
+
+        def event(codes, t=None):
+            value = pmt.PMT_NIL
+            for code in codes:
+                value = pmt.list_add(value, pmt.intern(code))
+            value = pmt.dict_add(pmt.make_dict(), pmt.intern("event_code"), value)
+            if t is not None:
+                value = pmt.dict_add(value, pmt.intern("time_spec"),
+                                     pmt.cons(pmt.from_long(int(t)), pmt.from_double(t % 1)))
+            value = pmt.dict_add(value, pmt.intern("channel"), pmt.from_uint64(0))
+            return pmt.cons(pmt.intern("uhd_async_msg"), value)
+
+        # the radio's events: the counter's port takes them while a graph runs
+        counter = recording.tx_underrun_counter()
+        radio = gr.top_block()
+        radio.msg_connect(blocks.message_strobe(pmt.PMT_NIL, 10000), "strobe", counter,
+                          "async_msgs")
+        for msg in (event(["underflow"], 12.5), event(["burst_ack"]),
+                    event(["underflow_in_packet", "seq_error"]), event(["time_error"], 13.0),
+                    pmt.intern("not an event"), event(["underflow"])):
+            counter.to_basic_block()._post(pmt.intern("async_msgs"), msg)
+        radio.start()
+        for _ in range(200):  # the queue is handled at once; 10 s at most
+            if counter.count() == 3:
+                break
+            time.sleep(0.05)
+        radio.stop()
+        radio.wait()
+        self.assertEqual(counter.count(), 3)
+        folder = os.path.join(self.dir, "underruns")
+        sink = recording.sigmf_sink(folder, SimOptions.parse(FLIGHT), hw="test stream",
+                                    tx_underruns=counter)
+        tb = gr.top_block()
+        tb.connect(blocks.vector_source_c(self.data.tolist(), False), sink)
+        tb.run()
+        self.assertEqual(counter.times(), [12.5, None, None])
+        rec = recording.read(os.path.join(folder, "flight.sigmf-meta"))
+        self.assertEqual(rec.meta["global"]["nrsar:tx_underruns"], 3)
+        r = process.run(ProcessOptions.parse([rec.meta_path, "--snr-db", "40", "--images",
+                                              "none", "--out",
+                                              os.path.join(self.dir, "underruns-out")]))
+        self.assertEqual(r["tx_underruns"], 3)
+        self.assertTrue(any("underran 3 times" in w for w in r["warnings"]), r["warnings"])
+        self.assertIsNone(self.meta["global"]["nrsar:tx_underruns"])  # nrsar-sim's: none
 
 
 if __name__ == "__main__":
