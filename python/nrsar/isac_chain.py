@@ -124,8 +124,12 @@ class chunk_invariant_channel(gr.hier_block2):
     and the scalar one on its tail (1e-7 differences, bs_evm_db varying between runs). Here
     the taps go through fft_filter_ccc (whole FFT blocks) and the CFO mixer works on vectors
     of 8 samples (no tail): the output is a function of the input stream only. Same order
-    as channel_model: timing (mmse_resampler, ratio 1), multipath, CFO, noise. The stream's
-    last < 8 samples are dropped."""
+    as channel_model: timing, multipath, CFO, noise. Timing: channel_model's mmse_resampler
+    at ratio 1 and phase 0 advances the stream by exactly 3 samples (its interpolator's taps
+    at mu = 0 are a unit impulse) and keeps its last 8 for history; a skiphead of 3 gives the
+    same samples without the 8-tap filter per sample. The stream's last < 8 samples are
+    dropped (so with symbol lengths of whole multiples of 8, as every preset has, both end
+    on the same sample)."""
 
     MIX_VLEN = 8
 
@@ -135,7 +139,7 @@ class chunk_invariant_channel(gr.hier_block2):
                                 gr.io_signature(1, 1, gr.sizeof_gr_complex))
         from gnuradio import filter as gr_filter
         v = self.MIX_VLEN
-        timing = gr_filter.mmse_resampler_cc(0.0, 1.0)
+        timing = blocks.skiphead(gr.sizeof_gr_complex, 3)
         multipath = gr_filter.fft_filter_ccc(1, list(taps), 1)
         lo = analog.sig_source_c(1.0, analog.GR_SIN_WAVE, frequency_offset, 1.0, 0.0)
         mixer = blocks.multiply_vcc(v)
