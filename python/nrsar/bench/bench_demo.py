@@ -13,8 +13,8 @@ writes it) and reports ratios, not pass/fail (docs/performance.md, "make demo"):
   child's CPU time (user + system) in place of the wall time;
 - 512 MB / peak RSS of the child (getrusage's ru_maxrss): 1 or more meets the memory goal.
 
---quick: a 0.25 s aperture and the payload 5 times (the graph and its buffers are the same,
-so the RSS is close to the full run's; the time is not).
+--quick: a 0.25 s aperture and the payload 5 times (the same graph; the focusers' blocks
+scale with the aperture, so the RSS is lower than the full run's).
 """
 
 import json
