@@ -122,8 +122,9 @@ class chunk_invariant_channel(gr.hier_block2):
     (qa_chunking): channel_model's fir_filter_ccc picks its VOLK dot-product kernel by the
     input buffer's alignment, and its multiply_cc runs the FMA kernel on the body of a call
     and the scalar one on its tail (1e-7 differences, bs_evm_db varying between runs). Here
-    the taps go through fft_filter_ccc (whole FFT blocks) and the CFO mixer works on vectors
-    of 8 samples (no tail): the output is a function of the input stream only. Same order
+    the taps go through fft_filter_ccc (whole FFT blocks) and the CFO mixer takes multiples
+    of 8 samples per call (output multiple 8: no tail, and every call starts 64-byte
+    aligned): the output is a function of the input stream only. Same order
     as channel_model: timing, multipath, CFO, noise. Timing: channel_model's mmse_resampler
     at ratio 1 and phase 0 advances the stream by exactly 3 samples (its interpolator's taps
     at mu = 0 are a unit impulse) and keeps its last 8 for history; a skiphead of 3 gives the
@@ -142,18 +143,17 @@ class chunk_invariant_channel(gr.hier_block2):
         timing = blocks.skiphead(gr.sizeof_gr_complex, 3)
         multipath = gr_filter.fft_filter_ccc(1, list(taps), 1)
         lo = analog.sig_source_c(1.0, analog.GR_SIN_WAVE, frequency_offset, 1.0, 0.0)
-        mixer = blocks.multiply_vcc(v)
+        mixer = blocks.multiply_cc()
+        mixer.set_output_multiple(v)
         noise = analog.fastnoise_source_c(analog.GR_GAUSSIAN, noise_voltage, noise_seed,
                                           1024 * 8)
         adder = blocks.add_cc()
-        self.to_vector = [blocks.stream_to_vector(gr.sizeof_gr_complex, v) for _ in range(2)]
-        self.to_stream = blocks.vector_to_stream(gr.sizeof_gr_complex, v)
-        self.connect(self, timing, multipath, self.to_vector[0], (mixer, 0))
-        self.connect(lo, self.to_vector[1], (mixer, 1))
-        self.connect(mixer, self.to_stream, (adder, 1))
+        self.connect(self, timing, multipath, (mixer, 0))
+        self.connect(lo, (mixer, 1))
+        self.connect(mixer, (adder, 1))
         self.connect(noise, (adder, 0))
         self.connect(adder, self)
-        widen_buffers(timing, multipath, lo, mixer, noise, adder, *self.to_vector, self.to_stream)
+        widen_buffers(timing, multipath, lo, mixer, noise, adder)
 
 
 def build_base_station(tb, num, opts, dmrs, source):
