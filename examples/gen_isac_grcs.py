@@ -381,23 +381,28 @@ def sdr_params(g, y=200):
             "eng_float", "", "")
 
 
-def recorder(g, rx, coord, hw, delay):
+def recorder(g, rx, coord, hw, delay, tx_async=None):
     """record_dir (default '' = off): the radar's receive stream as SigMF
     (nrsar.recording.sigmf_sink: rx_time tags -> overflow annotations; docs/recording.md),
-    connected by a snippet only when a folder is given."""
+    connected by a snippet only when a folder is given. tx_async: the UHD sink whose
+    async_msgs a tx_underrun_counter counts into the meta (nrsar:tx_underruns)."""
+    counter = ("    self.tx_underruns = nrsar.recording.tx_underrun_counter()\n"
+               f"    self.msg_connect((self.{tx_async}, 'async_msgs'), "
+               "(self.tx_underruns, 'async_msgs'))\n") if tx_async else ""
     g.param("record_dir", "Record the RX stream as SigMF into (folder, '' = off)", "",
             (coord[0], coord[1] - 100), "str", "", "")
     g.add("record", "snippet", coord,
           "record_dir set: the RX stream -> DIR/flight.sigmf-{data,meta} (SigMF, the nrsar "
           "extension; overflows from rx_time become annotations)",
           section="main_after_init", priority="1",
-          code="if self.record_dir:\n"
+          code="if self.record_dir:\n" + counter +
                "    self.recorder = nrsar.recording.sigmf_sink(\n"
                "        self.record_dir, nrsar.SimOptions(preset='sdr20', geometry='short', "
                f"scene='300,2', modulation='{QAM}', snr_db=self.radar_snr_db),\n"
                f"        hardware_delay_s={delay}, hw='{hw}',\n"
                "        dmrs=nrsar.make_dmrs('pusch2').symbols, "
-               f"recorder='{g.gid}.grc (gr-nrsar)')\n"
+               f"recorder='{g.gid}.grc (gr-nrsar)'"
+               + (", tx_underruns=self.tx_underruns" if tx_async else "") + ")\n"
                f"    self.connect((self.{rx}, 0), (self.recorder, 0))")
 
 
@@ -457,7 +462,7 @@ def sdr_graph(gid, title, description, front_end):
         sync_demod = True
     if front_end == "uhd":
         recorder(g, rx, (1240, 560), "USRP (gr-uhd), RX2",
-                 "self.rx_lead_s + self.hw_delay_samples / self.samp_rate")
+                 "self.rx_lead_s + self.hw_delay_samples / self.samp_rate", tx_async="usrp_sink")
     else:  # no timed start: the recording starts wherever the source did
         recorder(g, rx, (1240, 560), "SoapySDR (gr-soapy), RX2", "0.0")
     base_station(g, 8, 900, rx, eq=True, channel=False)

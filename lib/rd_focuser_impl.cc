@@ -303,6 +303,9 @@ bool rd_focuser_impl::stop()
                        "ended)",
                        lines_in > emitted ? lines_in - emitted : 0,
                        d_out_len - d_out_pos);
+    // The program's after-run work (images, files) gets the aperture memory back.
+    d_focuser.release();
+    d_out_pos = d_out_len = d_rd_pos = d_rd_len = 0;
     return true;
 }
 

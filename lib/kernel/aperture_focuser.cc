@@ -162,7 +162,7 @@ aperture_focuser::set_axes(double T, double first_range, double range_bin)
         // Nothing buffered yet: applies from the first line, with a fresh block framing.
         configure(T, first_range, range_bin);
         d_block.clear();
-        d_fill = 0;
+        d_fill = d_written = d_shift = 0;
         d_skip = 0;
         d_pending = false;
         return axes_change::APPLIED;
@@ -176,32 +176,35 @@ aperture_focuser::set_axes(double T, double first_range, double range_bin)
 
 void aperture_focuser::prepare()
 {
-    if (d_kernel)
+    if (d_kernel && !d_block.empty())
         return;
     const rd_block blk = make_block();
-    // Aperture buffer, output queue and the band matrix (at most the FFT size); ESTIMATE
-    // also keeps every spectrum.
-    const double fft = fast_fft_size(blk.num_lines);
-    const double gib = 8.0 * d_K *
-                       (blk.num_lines + d_M +
-                        fft * (d_cfg.band == doppler_band::ESTIMATE ? 2.0 : 1.0)) /
-                       (1 << 30);
-    if (gib > 2.0)
-        d_warnings.push_back(format("processing blocks of %u lines x %u bins need about %.1f "
-                                    "GiB; presum or crop the range window to reduce it",
-                                    blk.num_lines,
-                                    d_K,
-                                    gib));
-    d_kernel = std::make_unique<rd_focuser>(d_cfg, blk);
-    d_kernel->set_motion(d_los,
-                         d_geo.carrier_hz +
-                             0.5 * (d_num.num_subcarriers - 1.0) * d_num.subcarrier_spacing_hz,
-                         d_los_range);
+    if (!d_kernel) {
+        // Aperture buffer, output queue and the band matrix (at most the FFT size);
+        // ESTIMATE also keeps every spectrum.
+        const double fft = fast_fft_size(blk.num_lines);
+        const double gib = 8.0 * d_K *
+                           (blk.num_lines + d_M +
+                            fft * (d_cfg.band == doppler_band::ESTIMATE ? 2.0 : 1.0)) /
+                           (1 << 30);
+        if (gib > 2.0)
+            d_warnings.push_back(format("processing blocks of %u lines x %u bins need about "
+                                        "%.1f GiB; presum or crop the range window to reduce it",
+                                        blk.num_lines,
+                                        d_K,
+                                        gib));
+        d_kernel = std::make_unique<rd_focuser>(d_cfg, blk);
+        d_kernel->set_motion(d_los,
+                             d_geo.carrier_hz + 0.5 * (d_num.num_subcarriers - 1.0) *
+                                                    d_num.subcarrier_spacing_hz,
+                             d_los_range);
+    }
+    apply_shift();
 
     // Resize the input block (range-major: row k holds the P lines of range bin k, the
     // kernel's own layout), keeping the most recent lines (history and look-ahead).
     const unsigned P = blk.num_lines;
-    volk::vector<gr_complex> fresh(static_cast<size_t>(P) * d_K, gr_complex(0.0f, 0.0f));
+    decltype(d_block) fresh(static_cast<size_t>(P) * d_K); // zeros (calloc)
     if (d_fill > 0 && !d_block.empty()) {
         // Old layout: [history | look-ahead], d_fill lines. Keep the look-ahead (lines past
         // the aperture start) and as much history as the new block wants.
@@ -214,7 +217,7 @@ void aperture_focuser::prepare()
             std::memcpy(&fresh[static_cast<size_t>(k) * P + d_before - keep_hist],
                         &d_block[static_cast<size_t>(k) * d_layout_lines + history - keep_hist],
                         sizeof(gr_complex) * (keep_hist + keep_look));
-        d_fill = d_before + keep_look;
+        d_fill = d_written = d_before + keep_look;
     } else {
         // The first block starts at the flight's line o = a0 M + shift - before (overlap)
         // or a0 M (circular): lines before the flight's start are zero, pulses between the
@@ -222,6 +225,7 @@ void aperture_focuser::prepare()
         const long long o = static_cast<long long>(d_aperture_start) + block_offset();
         d_fill = static_cast<unsigned>(std::max(0ll, -o));
         d_skip = static_cast<std::uint64_t>(std::max(0ll, o - static_cast<long long>(d_line0)));
+        d_written = 0;
     }
     d_block.swap(fresh);
     d_layout_before = d_before;
@@ -243,6 +247,7 @@ aperture_focuser::ingest_result aperture_focuser::ingest(const gr_complex* lines
         if (n == 0)
             return res;
     }
+    apply_shift();
     // Straight into the range-major block: the transpose happens while the lines are hot.
     const unsigned P = d_layout_lines;
     transpose(lines, d_K, &d_block[d_fill], P, n, d_K);
@@ -274,18 +279,23 @@ aperture_focuser::ingest_result aperture_focuser::ingest(const gr_complex* lines
     // The input line of the first bad sample, not the chunk's first line.
     res.first_bad_line = d_lines_in + first_bad / d_K;
     d_fill += n;
+    d_written = std::max(d_written, d_fill);
     d_lines_in += n;
     return res;
 }
 
 void aperture_focuser::focus(bool with_rd_map)
 {
+    apply_shift();
     const unsigned P = d_before + d_M + d_after;
-    // Zero padding for a partial (flushed) block.
-    for (unsigned k = 0; k < d_K; ++k)
-        std::fill(&d_block[static_cast<size_t>(k) * P + d_fill],
-                  &d_block[static_cast<size_t>(k) * P] + P,
-                  gr_complex(0.0f, 0.0f));
+    // Zero padding for a partial (flushed) block: lines past d_written are zero already.
+    if (d_written > d_fill) {
+        for (unsigned k = 0; k < d_K; ++k)
+            std::fill(&d_block[static_cast<size_t>(k) * P + d_fill],
+                      &d_block[static_cast<size_t>(k) * P + d_written],
+                      gr_complex(0.0f, 0.0f));
+        d_written = d_fill;
+    }
     // Slow time of the block's first line (motion compensation): aperture i's block starts
     // at input line i M + (shift - before) with overlap, at i M without.
     d_kernel->set_block_start_s((static_cast<double>(d_aperture_start) + block_offset()) * d_T);
@@ -308,18 +318,36 @@ void aperture_focuser::focus(bool with_rd_map)
     d_next_y += d_M * d_image_dy;
     d_aperture_start += d_M;
     ++d_focused;
-    // Shift: the next block starts M lines later; keep before + after lines.
+    // Shift: the next block starts M lines later; keep before + after lines. Done when the
+    // next lines come (apply_shift): after the stream's last block it is not needed.
     const unsigned keep = std::min(d_fill, P) > d_M ? std::min(d_fill, P) - d_M : 0u;
-    for (unsigned k = 0; k < d_K; ++k)
-        std::memmove(&d_block[static_cast<size_t>(k) * P],
-                     &d_block[static_cast<size_t>(k) * P + d_M],
-                     sizeof(gr_complex) * keep);
+    d_shift = keep > 0 ? d_M : 0u;
     d_fill = keep;
     if (d_pending) {
+        apply_shift();
         d_pending = false;
         configure(d_pending_T, d_pending_first_range, d_pending_range_bin);
         prepare();
     }
+}
+
+void aperture_focuser::apply_shift()
+{
+    if (d_shift == 0)
+        return;
+    const size_t P = d_layout_lines;
+    for (unsigned k = 0; k < d_K; ++k)
+        std::memmove(&d_block[k * P], &d_block[k * P + d_shift], sizeof(gr_complex) * d_fill);
+    d_shift = 0;
+}
+
+void aperture_focuser::release()
+{
+    decltype(d_block)().swap(d_block);
+    volk::vector<gr_complex>().swap(d_out);
+    volk::vector<gr_complex>().swap(d_rd);
+    d_fill = d_written = d_shift = d_layout_lines = 0;
+    d_image_lines = d_rd_lines = 0;
 }
 
 // guard: lines of K bins -> lines of the K - 2 g inner bins (one copy when g = 0).

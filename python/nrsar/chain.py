@@ -26,8 +26,10 @@ import contextlib
 import dataclasses
 import math
 import os
+import tempfile
 import time
 
+import numpy as np
 from gnuradio import blocks, fft, gr
 
 from . import params, progress, recording, results, runtime, scenario
@@ -357,6 +359,36 @@ def make_transmitter(opts, sc):
                       params.make_tx_mode(sc.tx_mode), sc.srs, opts.seed)
 
 
+class array_sink(gr.hier_block2):
+    """vector_sink_c's interface (data(), tags()) without its cost: vector_sink_c.data() makes
+    a Python list of complex objects, 40 bytes per sample (+124 MiB for one 48000 x 56
+    image). Here the samples go to an unlinked temporary file (file_sink) and data() reads
+    them back as one complex64 array; a tag_debug that saves all tags keeps tags()."""
+
+    def __init__(self, vlen):
+        item = gr.sizeof_gr_complex * vlen
+        gr.hier_block2.__init__(self, "array_sink", gr.io_signature(1, 1, item),
+                                gr.io_signature(0, 0, 0))
+        fd, path = tempfile.mkstemp(prefix="nrsar-", suffix=".cf32")
+        self._file = os.fdopen(fd, "rb")
+        self._sink = blocks.file_sink(item, path, False)
+        os.unlink(path)  # the two open descriptors keep it until the sink is gone
+        self._tags = blocks.tag_debug(item, "", "")
+        self._tags.set_display(False)
+        self._tags.set_save_all(True)
+        self.connect(self, self._sink)
+        self.connect(self, self._tags)
+
+    def data(self):
+        """The samples (after the run: closes the file), one flat complex64 array."""
+        self._sink.close()
+        self._file.seek(0)
+        return np.fromfile(self._file, np.complex64)
+
+    def tags(self):
+        return self._tags.current_tags()
+
+
 def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=False):
     """Wires transmitter -> head (one aperture) -> echo front -> imaging_chain -> sinks into
     tb. The sinks hold the range-compressed data, the focused image (vector sinks, or null
@@ -373,12 +405,11 @@ def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=Fal
     chain = imaging_chain(opts, sc, keep)
     k, bins = chain.focuser.num_output_bins(), chain.range_ifft.num_bins()
     if keep:
-        range_sink = blocks.vector_sink_c(bins, sc.symbols)
-        image_sink = blocks.vector_sink_c(k, sc.symbols)
+        range_sink, image_sink = array_sink(bins), array_sink(k)
     else:  # metrics only
         range_sink = blocks.null_sink(gr.sizeof_gr_complex * bins)
         image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
-    reference_sink = (blocks.vector_sink_c(k, sc.symbols) if keep_reference
+    reference_sink = (array_sink(k) if keep_reference
                       else blocks.null_sink(gr.sizeof_gr_complex * k))
     tb.connect(echo_out, (chain, 0))
     tb.connect(head, (chain, 1))

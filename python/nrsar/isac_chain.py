@@ -35,6 +35,19 @@ from .options import OptionError, check_out_dir, parse_taps
 from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
                            pusch_receiver, scene_echo, srs_config, td_echo)
 
+# Sample-rate edges: GNU Radio's default buffers (64 KiB) cut the 245 M samples of the paper
+# aperture into calls of at most 4096 samples, and the thread wake-ups between the blocks
+# cost more than the blocks' work (docs/performance.md, "make demo"); 1 MiB per edge.
+SAMPLE_EDGE_BYTES = 1 << 20
+
+
+def widen_buffers(*blks):
+    """Sets each block's output buffers to SAMPLE_EDGE_BYTES (before the graph starts)."""
+    for b in blks:
+        item = b.output_signature().sizeof_stream_item(0)
+        b.set_min_output_buffer(max(1, SAMPLE_EDGE_BYTES // item))
+
+
 def time_domain_front(ofdm_source, record_path=None):
     """echo_front for chain.build: the radar echo through the time domain,
     ofdm_source (ofdm_mod of the grid) -> td_echo -> ofdm_demod (FFT window after the CP:
@@ -46,6 +59,7 @@ def time_domain_front(ofdm_source, record_path=None):
         echo = td_echo(num, geo, scn, opts.snr_db, opts.seed + 1, opts.echo_taps,
                        path=sc.trajectory)
         demod = ofdm_demod(num)
+        widen_buffers(echo)
         tb.connect(ofdm_source, echo, demod)
         if record_path is not None:
             front.sink = recording.file_sink_of(record_path)
@@ -108,10 +122,15 @@ class chunk_invariant_channel(gr.hier_block2):
     (qa_chunking): channel_model's fir_filter_ccc picks its VOLK dot-product kernel by the
     input buffer's alignment, and its multiply_cc runs the FMA kernel on the body of a call
     and the scalar one on its tail (1e-7 differences, bs_evm_db varying between runs). Here
-    the taps go through fft_filter_ccc (whole FFT blocks) and the CFO mixer works on vectors
-    of 8 samples (no tail): the output is a function of the input stream only. Same order
-    as channel_model: timing (mmse_resampler, ratio 1), multipath, CFO, noise. The stream's
-    last < 8 samples are dropped."""
+    the taps go through fft_filter_ccc (whole FFT blocks) and the CFO mixer takes multiples
+    of 8 samples per call (output multiple 8: no tail, and every call starts 64-byte
+    aligned): the output is a function of the input stream only. Same order
+    as channel_model: timing, multipath, CFO, noise. Timing: channel_model's mmse_resampler
+    at ratio 1 and phase 0 advances the stream by exactly 3 samples (its interpolator's taps
+    at mu = 0 are a unit impulse) and keeps its last 8 for history; a skiphead of 3 gives the
+    same samples without the 8-tap filter per sample. The stream's last < 8 samples are
+    dropped (so with symbol lengths of whole multiples of 8, as every preset has, both end
+    on the same sample)."""
 
     MIX_VLEN = 8
 
@@ -121,19 +140,20 @@ class chunk_invariant_channel(gr.hier_block2):
                                 gr.io_signature(1, 1, gr.sizeof_gr_complex))
         from gnuradio import filter as gr_filter
         v = self.MIX_VLEN
-        timing = gr_filter.mmse_resampler_cc(0.0, 1.0)
+        timing = blocks.skiphead(gr.sizeof_gr_complex, 3)
         multipath = gr_filter.fft_filter_ccc(1, list(taps), 1)
         lo = analog.sig_source_c(1.0, analog.GR_SIN_WAVE, frequency_offset, 1.0, 0.0)
-        mixer = blocks.multiply_vcc(v)
+        mixer = blocks.multiply_cc()
+        mixer.set_output_multiple(v)
         noise = analog.fastnoise_source_c(analog.GR_GAUSSIAN, noise_voltage, noise_seed,
                                           1024 * 8)
         adder = blocks.add_cc()
-        self.connect(self, timing, multipath,
-                     blocks.stream_to_vector(gr.sizeof_gr_complex, v), (mixer, 0))
-        self.connect(lo, blocks.stream_to_vector(gr.sizeof_gr_complex, v), (mixer, 1))
-        self.connect(mixer, blocks.vector_to_stream(gr.sizeof_gr_complex, v), (adder, 1))
+        self.connect(self, timing, multipath, (mixer, 0))
+        self.connect(lo, (mixer, 1))
+        self.connect(mixer, (adder, 1))
         self.connect(noise, (adder, 0))
         self.connect(adder, self)
+        widen_buffers(timing, multipath, lo, mixer, noise, adder)
 
 
 def build_base_station(tb, num, opts, dmrs, source):
@@ -148,6 +168,7 @@ def build_base_station(tb, num, opts, dmrs, source):
     # ofdm_sync's backoff puts a phase slope across the subcarriers; pusch_receiver's
     # channel estimate removes it before its fit (docs/isac.md, "Backoff slope")
     rx = pusch_receiver(opts.pusch_config(num))
+    widen_buffers(delay)
     store = blocks.message_debug()
     tb.connect(source, delay, chan, sync, demod, rx)
     tb.msg_connect((rx, "pdus"), (store, "store"))
@@ -266,6 +287,7 @@ def run(opts):
                           f"{len(chunks) * opts.repetitions} slots, the aperture has {slots} "
                           f"(all but its last): shorten the file or lengthen --aperture-s")
     mod = ofdm_mod(num)
+    widen_buffers(mod)
     with contextlib.ExitStack() as stack:
         if opts.record is not None:  # the radar receiver's samples as SigMF (--record)
             recording.check_recordable(opts, sc)

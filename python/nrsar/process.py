@@ -117,6 +117,13 @@ def run(opts):
                   recording_samples=rec.samples, recording_datetime=rec.datetime,
                   samples_read=int(demod.nitems_read(0)), overflows=len(rec.gaps),
                   lost_samples=sum(count for _, count in rec.gaps))
+    # the radio graph's transmitter underruns (None: the recorder did not count them); the
+    # echo lacks their symbols unmarked (docs/recording.md, "Transmit underruns")
+    underruns = rec.meta["global"].get("nrsar:tx_underruns")
+    result["tx_underruns"] = underruns
+    if underruns:
+        result["warnings"].append(f"the transmitter underran {underruns} times during the "
+                                  f"recording: the echo lacks those symbols (not zeroed)")
     if sim_opts.geotiff:
         from . import geo
         result.update(geo.write_geotiffs(sim_opts, result, sc.geo.height_m))

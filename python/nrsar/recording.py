@@ -76,9 +76,11 @@ def sha512_of(path):
 
 
 def build_meta(opts, sc, data_path, *, recorder, hw, description, snr_db=None, echo=None,
-               gaps=(), dmrs=None, payload=None, hardware_delay_s=0.0, start=None):
+               gaps=(), dmrs=None, payload=None, hardware_delay_s=0.0, start=None,
+               tx_underruns=None):
     """The SigMF meta dict of a recording of sc's flight (docs/recording.md). gaps: (sample
-    index, lost samples) of each overflow; payload: (path, bytes) of a backhaul payload."""
+    index, lost samples) of each overflow; payload: (path, bytes) of a backhaul payload;
+    tx_underruns: the transmitter's underrun events (None: not counted)."""
     num, geo = sc.num, sc.geo
     sym_len = num.cp_samples + num.fft_size
     delay = int(round(hardware_delay_s * num.sample_rate_hz()))
@@ -113,6 +115,7 @@ def build_meta(opts, sc, data_path, *, recorder, hw, description, snr_db=None, e
         "nrsar:origin": origin_dict(opts.origin),
         "nrsar:snr_db": snr_db,
         "nrsar:echo": echo,
+        "nrsar:tx_underruns": tx_underruns,
     }
     captures = [{"core:sample_start": 0, "core:frequency": rf_centre_hz(num, geo),
                  "core:datetime": start.strftime("%Y-%m-%dT%H:%M:%S.%fZ")}]
@@ -599,6 +602,50 @@ class rx_time_stamper(gr.sync_block):
         return n
 
 
+class tx_underrun_counter(gr.basic_block):
+    """Counts the transmitter's underruns from a UHD sink's `async_msgs` port (gr-uhd posts
+    one message per async event: a dict whose `event_code` lists `underflow`,
+    `underflow_in_packet`, `burst_ack`, ...; the console's `U`). An underrun sends nothing
+    for a while: the radar's echo lacks those symbols while the receive stream stays whole,
+    so no rx_time tag marks it (docs/recording.md, "Transmit underruns"). count(): events
+    with an underflow code; times(): the first 32 events' device times [s] (None without
+    a time_spec); other events are ignored."""
+
+    UNDERFLOW = ("underflow", "underflow_in_packet")
+
+    def __init__(self):
+        gr.basic_block.__init__(self, "tx_underrun_counter", None, None)
+        self.message_port_register_in(pmt.intern("async_msgs"))
+        self.set_msg_handler(pmt.intern("async_msgs"), self.handle)
+        self._count, self._times = 0, []
+
+    def handle(self, msg):
+        # (uhd_async_msg . {event_code: (underflow ...), time_spec: (secs . frac), channel})
+        if not pmt.is_pair(msg):
+            return
+        try:
+            events = pmt.dict_ref(pmt.cdr(msg), pmt.intern("event_code"), pmt.PMT_NIL)
+            spec = pmt.dict_ref(pmt.cdr(msg), pmt.intern("time_spec"), pmt.PMT_NIL)
+        except Exception:  # not gr-uhd's event dict (pmt's wrong_type): not an event
+            return
+        codes = []
+        while pmt.is_pair(events):
+            codes.append(pmt.write_string(pmt.car(events)))
+            events = pmt.cdr(events)
+        if not any(c in self.UNDERFLOW for c in codes):
+            return
+        self._count += 1
+        if len(self._times) < 32:
+            self._times.append(pmt.to_long(pmt.car(spec)) + pmt.to_double(pmt.cdr(spec))
+                               if pmt.is_pair(spec) else None)
+
+    def count(self):
+        return self._count
+
+    def times(self):
+        return list(self._times)
+
+
 class sigmf_sink(gr.sync_block):
     """A radio's receive stream recorded as SigMF (the ISAC radio graphs' `record_dir`,
     docs/recording.md): the samples go to FOLDER/NAME.sigmf-data (a temporary name until the
@@ -608,10 +655,13 @@ class sigmf_sink(gr.sync_block):
     `nrsar` fields of opts (SimOptions or IsacOptions of the graph's radar), the hardware
     delay (samples before symbol 0's CP: the RX lead plus the TX -> RX latency), the DMRS
     positions and the backhaul payload file. Without rx_time tags the recording has no
-    gaps (a source that does not stamp cannot say)."""
+    gaps (a source that does not stamp cannot say). tx_underruns: the graph's
+    tx_underrun_counter, whose count goes into the meta (`nrsar:tx_underruns`; null
+    without one)."""
 
     def __init__(self, folder, opts, hardware_delay_s=0.0, hw="", dmrs=None,
-                 payload_path=None, recorder="gr-nrsar sigmf_sink", name=DEFAULT_NAME):
+                 payload_path=None, recorder="gr-nrsar sigmf_sink", name=DEFAULT_NAME,
+                 tx_underruns=None):
         gr.sync_block.__init__(self, "sigmf_sink", [np.complex64], None)
         from . import scenario
         opts.validate()
@@ -623,6 +673,7 @@ class sigmf_sink(gr.sync_block):
         self.hardware_delay_s, self.hw, self.recorder = hardware_delay_s, hw, recorder
         self.dmrs = None if dmrs is None else [int(s) for s in dmrs]
         self.payload_path = payload_path
+        self.tx_underruns = tx_underruns
         self.fs = self.sc.num.sample_rate_hz()
         self._stack = contextlib.ExitStack()
         self.tmp, self.data_path, self.meta_path = self._stack.enter_context(
@@ -666,7 +717,8 @@ class sigmf_sink(gr.sync_block):
                 description=f"radio recording, preset {self.opts.preset}, "
                             f"{self.opts.modulation}",
                 snr_db=None, gaps=self.gaps, dmrs=self.dmrs, payload=payload,
-                hardware_delay_s=self.hardware_delay_s, start=self.started)
+                hardware_delay_s=self.hardware_delay_s, start=self.started,
+                tx_underruns=None if self.tx_underruns is None else self.tx_underruns.count())
             self._stack.close()  # the data file under its name
             results.write_json(self.meta_path, meta)
         except Exception as err:  # the flowgraph stops anyway: say why there is no recording

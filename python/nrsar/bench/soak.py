@@ -70,8 +70,7 @@ def run(opts):
         tb.stop()
         done.wait()
         raise runtime.Interrupted("interrupted before the end of the soak") from None
-    samples.append((time.perf_counter() - start, head.nitems_written(0) * tsym,
-                    runtime.rss_mb()))
+    # no sample after the end: the stopped focusers have given their blocks back
     wall = time.perf_counter() - start
     cpu = time.process_time() - cpu0
 

@@ -15,7 +15,9 @@
 #include <gnuradio/nrsar/params.h>
 #include <volk/volk_alloc.hh>
 #include <cstdint>
+#include <cstdlib>
 #include <memory>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -114,6 +116,10 @@ public:
     double rd_spacing_hz() const { return d_rd_df; }
     void read_rd_map(gr_complex* dst, unsigned first, unsigned n) const;
 
+    //! Frees the block, the last aperture and the range-Doppler map (the flowgraph has
+    //! stopped and its lines are delivered): the next prepare() lays the block out anew.
+    void release();
+
     //! Warnings since the last call (the caller logs them).
     std::vector<std::string> take_warnings();
 
@@ -170,8 +176,45 @@ private:
     double d_pending_first_range = 0.0;
     double d_pending_range_bin = 0.0;
 
-    volk::vector<gr_complex> d_block; // K x (before + M + after): range-major input lines
+    // calloc'd, elements left unconstructed: the zero history of the first block (the lines
+    // before the stream start) stays in pages the kernel maps only when written, so it
+    // costs no memory (the paper demo: 63 % of each focuser's 94 MB block).
+    template <typename T>
+    struct zero_pages {
+        using value_type = T;
+        zero_pages() = default;
+        template <typename U>
+        zero_pages(const zero_pages<U>&) noexcept
+        {
+        }
+        T* allocate(std::size_t n)
+        {
+            void* p = std::calloc(n, sizeof(T));
+            if (!p)
+                throw std::bad_alloc();
+            return static_cast<T*>(p);
+        }
+        void deallocate(T* p, std::size_t) noexcept { std::free(p); }
+        template <typename U>
+        void construct(U*) noexcept
+        {
+        }
+        template <typename U>
+        bool operator==(const zero_pages<U>&) const noexcept
+        {
+            return true;
+        }
+        template <typename U>
+        bool operator!=(const zero_pages<U>&) const noexcept
+        {
+            return false;
+        }
+    };
+    std::vector<gr_complex, zero_pages<gr_complex>> d_block; // K x (before + M + after):
+                                                             // range-major input lines
     unsigned d_fill = 0;              // lines in d_block
+    unsigned d_written = 0;           // lines [0, d_written) of each row may be non-zero
+    unsigned d_shift = 0;             // lines focus() left to drop from the block's front
     unsigned d_layout_before = 0;     // history lines d_block was laid out with
     unsigned d_layout_lines = 0;      // lines per range bin (row length) of d_block
     volk::vector<gr_complex> d_out;   // M x K focused lines of the last aperture
@@ -191,6 +234,7 @@ private:
     std::vector<std::string> d_warnings;
 
     void configure(double T, double first_range, double range_bin);
+    void apply_shift(); // drops the d_shift lines focus() left (before new lines come in)
     rd_block make_block() const; // the kernel's block for the current parameters
     //! The first line of aperture i's block relative to i M: shift - before, 0 circular.
     long long block_offset() const;
