@@ -74,7 +74,7 @@ def run(opts):
     wall = time.perf_counter() - start
     cpu = time.process_time() - cpu0
 
-    radar_s = total_symbols * tsym
+    radar_s = head.nitems_written(0) * tsym  # what streamed (all of it unless interrupted)
     warm_s = max(opts.warmup * radar_s, 2 * aperture_symbols * tsym)
     wall_s, radar, rss = zip(*samples)
     slope, intercept = fit_slope(radar, rss, warm_s)
