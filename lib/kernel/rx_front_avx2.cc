@@ -65,13 +65,15 @@ std::size_t filter_pass_avx2(weight_rule rule,
         empty_lanes += unsigned(__builtin_popcount(_mm256_movemask_ps(is_empty)));
         // y conj(s) = (yr sr + yi si, yi sr - yr si)
         const __m256 a = _mm256_mul_ps(yv, _mm256_moveldup_ps(sv));
-        const __m256 b = _mm256_mul_ps(_mm256_permute_ps(yv, 0xB1), _mm256_movehdup_ps(sv));
+        const __m256 b =
+            _mm256_mul_ps(_mm256_permute_ps(yv, 0xB1), _mm256_movehdup_ps(sv));
         __m256 p = _mm256_addsub_ps(a, _mm256_xor_ps(b, neg));
         if (rule == weight_rule::wf) {
             p = _mm256_mul_ps(p, _mm256_div_ps(one, _mm256_add_ps(m, reg)));
         } else if (rule == weight_rule::rf) {
             const __m256 e = _mm256_and_ps(is_empty, one);
-            p = _mm256_mul_ps(p, _mm256_div_ps(_mm256_sub_ps(one, e), _mm256_add_ps(m, e)));
+            p = _mm256_mul_ps(p,
+                              _mm256_div_ps(_mm256_sub_ps(one, e), _mm256_add_ps(m, e)));
         }
         _mm256_storeu_ps(reinterpret_cast<float*>(out + i), p);
     }
@@ -80,8 +82,8 @@ std::size_t filter_pass_avx2(weight_rule rule,
     return done;
 }
 
-std::size_t
-window_pass_avx2(const gr_complex* in, const float* taps2, gr_complex* dst, std::size_t n, float& sum)
+std::size_t window_pass_avx2(
+    const gr_complex* in, const float* taps2, gr_complex* dst, std::size_t n, float& sum)
 {
     const float* x = reinterpret_cast<const float*>(in);
     float* d = reinterpret_cast<float*>(dst);
@@ -99,12 +101,18 @@ window_pass_avx2(const gr_complex* in, const float* taps2, gr_complex* dst, std:
 #else
 
 bool avx2_available() { return false; }
-std::size_t filter_pass_avx2(
-    weight_rule, const gr_complex*, const gr_complex*, float, gr_complex*, std::size_t, pass_sums&)
+std::size_t filter_pass_avx2(weight_rule,
+                             const gr_complex*,
+                             const gr_complex*,
+                             float,
+                             gr_complex*,
+                             std::size_t,
+                             pass_sums&)
 {
     return 0;
 }
-std::size_t window_pass_avx2(const gr_complex*, const float*, gr_complex*, std::size_t, float&)
+std::size_t
+window_pass_avx2(const gr_complex*, const float*, gr_complex*, std::size_t, float&)
 {
     return 0;
 }

@@ -270,7 +270,7 @@ bool tf_filter::may_be_constant_modulus(const gr_complex* s)
 std::size_t tf_filter::process(const gr_complex* y, const gr_complex* s, gr_complex* out)
 {
     const std::size_t n = d_vlen;
-    if (!d_estimate && !may_be_constant_modulus(s)) {
+    if (!d_estimate && rx_front::one_pass() && !may_be_constant_modulus(s)) {
         // One pass over y and s (measured: docs/performance.md, issue 16); the guarded
         // path below only when an input is not finite.
         using rx_front::weight_rule;
