@@ -140,12 +140,11 @@ int range_ifft_impl::work(int noutput_items,
         d_tag_pending = false;
     }
     d_bad.assign(noutput_items, 0);
-    // Each part with its own kernel (own FFTW plan) and guard.
+    // Each part with its own kernel (own FFTW plan); the kernel zeroes non-finite samples.
     auto part = [&](std::size_t begin, std::size_t end, unsigned p) {
-        auto& g = p == 0 ? d_guard : d_helper_guard;
         auto& kern = p == 0 ? d_kernel : *d_helper;
         for (std::size_t i = begin; i < end; i++)
-            kern.execute(g.guard(in + i * n, n, d_bad[i]), out + i * k);
+            d_bad[i] = kern.execute(in + i * n, out + i * k);
     };
     if (d_threads == 2 && d_helper && noutput_items >= 4)
         d_split.run(noutput_items, part);

@@ -8,7 +8,6 @@
 #ifndef INCLUDED_NRSAR_RANGE_IFFT_IMPL_H
 #define INCLUDED_NRSAR_RANGE_IFFT_IMPL_H
 
-#include <gnuradio/nrsar/kernel/finite_guard.h>
 #include <gnuradio/nrsar/kernel/range_ifft.h>
 #include <gnuradio/nrsar/kernel/split_worker.h>
 #include <gnuradio/nrsar/range_ifft.h>
@@ -23,15 +22,13 @@ class range_ifft_impl : public range_ifft
 {
 private:
     kernel::range_ifft d_kernel;
-    kernel::finite_guard d_guard;
     double d_bin_m;
     bool d_tag_pending = true;
     nonfinite_reporter d_nonfinite;
     // Two-core split (set_threads(2)): the second half of each work() call's symbols on
-    // the split worker with its own kernel (own FFTW plan) and guard.
+    // the split worker with its own kernel (own FFTW plan).
     unsigned d_threads = 1;
     std::unique_ptr<kernel::range_ifft> d_helper;
-    kernel::finite_guard d_helper_guard;
     kernel::split_worker d_split; // last: joined before the kernels go
     std::vector<std::size_t> d_bad;
 

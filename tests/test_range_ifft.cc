@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -63,6 +64,26 @@ TEST(RangeIfft, MatchesDirectDftNoPadding) { expect_direct(60, 60, 0, 60, false)
 TEST(RangeIfft, MatchesDirectDftOddPrimeSize) { expect_direct(101, 101, 0, 101, false); }
 TEST(RangeIfft, MatchesDirectDftPaddedCropped) { expect_direct(50, 64, 5, 20, false); }
 TEST(RangeIfft, MatchesDirectDftWindowedPaddedCropped) { expect_direct(50, 75, 10, 30, true); }
+
+TEST(RangeIfft, NonFiniteSamplesAreZeroedAndCounted)
+{
+    // The window pass carries the finite check: a NaN and an Inf count as zeros, and the
+    // profile is the direct DFT of the input with them zeroed.
+    const unsigned n = 50, nfft = 75, first = 10, count = 30;
+    auto x = nrsar_test::gaussian_samples(n, 11);
+    x[7] = gr_complex(std::numeric_limits<float>::quiet_NaN(), 1.0f);
+    x[42] = gr_complex(0.0f, -std::numeric_limits<float>::infinity());
+    kernel::range_ifft k(n, nfft, win::WIN_RECTANGULAR, win::INVALID_WIN_PARAM, first, count);
+    std::vector<gr_complex> out(count);
+    EXPECT_EQ(k.execute(x.data(), out.data()), 2u);
+    x[7] = x[42] = gr_complex(0.0f, 0.0f);
+    const auto ref = direct(x, std::vector<double>(n, 1.0), nfft, first, count);
+    for (unsigned i = 0; i < count; i++)
+        EXPECT_NEAR(std::abs(cd(out[i]) - ref[i]), 0.0, 2e-5 * std::sqrt(double(n)))
+            << "bin " << first + i;
+    // the next, finite symbol is not affected
+    EXPECT_EQ(k.execute(x.data(), out.data()), 0u);
+}
 
 TEST(RangeIfft, ZeroMeansNoPaddingAndAllBins)
 {

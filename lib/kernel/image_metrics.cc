@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -304,24 +305,31 @@ double edge_preservation_index(const gr_complex* x,
 {
     if (lines < 3 || bins < 3)
         throw_param("image size (lines x bins)", lines * bins, "must be at least 3 x 3");
-    const auto lap = [bins](const gr_complex* a, std::size_t m, std::size_t k) {
-        const auto A = [a, bins](std::size_t mm, std::size_t kk) {
-            return std::abs(std::complex<double>(a[mm * bins + kk]));
-        };
-        return A(m - 1, k) + A(m + 1, k) + A(m, k - 1) + A(m, k + 1) - 4.0 * A(m, k);
+    // Amplitudes once per pixel (the Laplacians below read each one 5 times per pass: the
+    // hypot calls were most of nmse_probe's CPU time, issue 16); same values, same sums.
+    const auto amplitudes = [lines, bins](const gr_complex* a) {
+        std::vector<double> amp(lines * bins);
+        for (std::size_t i = 0; i < amp.size(); ++i)
+            amp[i] = std::abs(std::complex<double>(a[i]));
+        return amp;
+    };
+    const std::vector<double> ax = amplitudes(x), ay = amplitudes(y);
+    const auto lap = [bins](const std::vector<double>& amp, std::size_t m, std::size_t k) {
+        const double* A = amp.data() + m * bins + k;
+        return A[-std::ptrdiff_t(bins)] + A[bins] + A[-1] + A[1] - 4.0 * A[0];
     };
     const double n = static_cast<double>((lines - 2) * (bins - 2));
     double sx = 0.0, sy = 0.0;
     for (std::size_t m = 1; m + 1 < lines; ++m)
         for (std::size_t k = 1; k + 1 < bins; ++k) {
-            sx += lap(x, m, k);
-            sy += lap(y, m, k);
+            sx += lap(ax, m, k);
+            sy += lap(ay, m, k);
         }
     const double mx = sx / n, my = sy / n;
     double sxy = 0.0, sxx = 0.0, syy = 0.0;
     for (std::size_t m = 1; m + 1 < lines; ++m)
         for (std::size_t k = 1; k + 1 < bins; ++k) {
-            const double dx = lap(x, m, k) - mx, dy = lap(y, m, k) - my;
+            const double dx = lap(ax, m, k) - mx, dy = lap(ay, m, k) - my;
             sxy += dx * dy;
             sxx += dx * dx;
             syy += dy * dy;

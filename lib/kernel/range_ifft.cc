@@ -6,6 +6,7 @@
  */
 
 #include "param_check.h"
+#include "rx_front_impl.h"
 #include <gnuradio/nrsar/kernel/range_ifft.h>
 #include <volk/volk.h>
 #include <cmath>
@@ -74,9 +75,9 @@ void range_ifft::set_window(gr::fft::window::win_type window, double window_para
     d_coherent_gain = sum / d_n;
     // eq. (29): the unitary 1/sqrt(N) folded into the window, one multiply per sample.
     const double scale = 1.0 / std::sqrt(double(d_n));
-    d_taps.resize(d_n);
+    d_taps.resize(2 * std::size_t(d_n));
     for (unsigned i = 0; i < d_n; i++)
-        d_taps[i] = float(w[i] * scale);
+        d_taps[2 * i] = d_taps[2 * i + 1] = float(w[i] * scale);
 }
 
 std::vector<float> range_ifft::window_taps() const
@@ -84,15 +85,26 @@ std::vector<float> range_ifft::window_taps() const
     std::vector<float> w(d_n);
     const double root = std::sqrt(double(d_n));
     for (unsigned i = 0; i < d_n; i++)
-        w[i] = float(d_taps[i] * root);
+        w[i] = float(d_taps[2 * i] * root);
     return w;
 }
 
-void range_ifft::execute(const gr_complex* in, gr_complex* out)
+std::size_t range_ifft::execute(const gr_complex* in, gr_complex* out)
 {
-    volk_32fc_32f_multiply_32fc(d_fft->get_inbuf(), in, d_taps.data(), d_n);
+    // The window and the finite check in one pass, straight into FFTW's padded input.
+    gr_complex* x = d_fft->get_inbuf();
+    std::size_t zeroed = 0;
+    if (!std::isfinite(rx_front::window_pass(in, d_taps.data(), x, d_n))) {
+        for (unsigned i = 0; i < d_n; i++) {
+            if (!std::isfinite(in[i].real()) || !std::isfinite(in[i].imag())) {
+                x[i] = gr_complex(0.0f, 0.0f);
+                zeroed++;
+            }
+        }
+    }
     d_fft->execute(); // FFTW backward: sum_n x[n] exp(+j 2 pi n k / fft_size)
     std::memcpy(out, d_fft->get_outbuf() + d_first, sizeof(gr_complex) * d_count);
+    return zeroed;
 }
 
 bin_range range_ifft::crop_bins(double bin_m, unsigned fft_size, double r_min_m, double r_max_m)

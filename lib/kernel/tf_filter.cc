@@ -6,6 +6,7 @@
  */
 
 #include "param_check.h"
+#include "rx_front_impl.h"
 #include <gnuradio/nrsar/kernel/tf_filter.h>
 #include <volk/volk.h>
 #include <cmath>
@@ -252,9 +253,41 @@ void tf_filter::set_estimate_snr(bool estimate)
     push_snr();
 }
 
+bool tf_filter::may_be_constant_modulus(const gr_complex* s)
+{
+    if (!d_cm_path || d_filter->type() == filter_type::MF)
+        return false;
+    // A block of the check that fails in the first REs fails the whole vector (256-QAM
+    // does at once); an all-empty prefix decides nothing.
+    const std::size_t prefix = std::min<std::size_t>(d_vlen, 256);
+    float* m = d_s_mag2.data();
+    volk_32fc_magnitude_squared_32f(m, s, prefix);
+    float m0 = 0.0f;
+    return std::all_of(m, m + prefix, [](float x) { return x == 0.0f; }) ||
+           constant_modulus(m, prefix, m0);
+}
+
 std::size_t tf_filter::process(const gr_complex* y, const gr_complex* s, gr_complex* out)
 {
     const std::size_t n = d_vlen;
+    if (!d_estimate && rx_front::one_pass() && !may_be_constant_modulus(s)) {
+        // One pass over y and s (measured: docs/performance.md, issue 16); the guarded
+        // path below only when an input is not finite.
+        using rx_front::weight_rule;
+        const filter_type type = d_filter->type();
+        const weight_rule rule = type == filter_type::WF   ? weight_rule::wf
+                                 : type == filter_type::RF ? weight_rule::rf
+                                                           : weight_rule::mf;
+        const float inv_snr =
+            type == filter_type::WF
+                ? static_cast<float>(1.0 / static_cast<const wf_filter&>(*d_filter).snr_linear())
+                : 0.0f;
+        const rx_front::pass_sums r = rx_front::filter_pass(rule, y, s, inv_snr, out, n);
+        if (std::isfinite(r.sum)) {
+            d_empty += r.empty;
+            return 0;
+        }
+    }
     std::size_t bad_y = 0, bad_s = 0;
     const gr_complex* yy = d_guard.guard(y, n, bad_y, 0);
     const gr_complex* ss = d_guard.guard(s, n, bad_s, 1);

@@ -56,8 +56,11 @@ public:
     range_ifft(range_ifft&&) = default;
     range_ifft& operator=(range_ifft&&) = default;
 
-    //! Compresses one symbol: in has n() samples, out num_bins().
-    void execute(const gr_complex* in, gr_complex* out);
+    /*!
+     * Compresses one symbol: in has n() samples, out num_bins(). A non-finite input sample
+     * (NaN, Inf) is taken as 0; returns how many were.
+     */
+    std::size_t execute(const gr_complex* in, gr_complex* out);
 
     void set_window(gr::fft::window::win_type window, double window_param);
 
@@ -88,7 +91,7 @@ private:
     gr::fft::window::win_type d_window_type;
     double d_window_param;
     double d_coherent_gain = 1.0;
-    volk::vector<float> d_taps; // w[n] / sqrt(N)
+    volk::vector<float> d_taps; // w[n] / sqrt(N), twice (real and imaginary part)
     std::unique_ptr<gr::fft::fft_complex_rev> d_fft;
 };
 

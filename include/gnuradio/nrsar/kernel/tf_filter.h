@@ -224,6 +224,9 @@ public:
     std::uint64_t nonfinite_count() const { return d_nonfinite; }
 
 private:
+    //! False when the first REs of s already fail the constant-modulus check.
+    bool may_be_constant_modulus(const gr_complex* s);
+
     unsigned d_vlen;
     double d_snr_db;
     bool d_estimate;

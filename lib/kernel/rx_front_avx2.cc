@@ -1,0 +1,125 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+// Built with -mavx2 (not -mfma: a fused multiply-add would round the products differently
+// from the generic loop and from VOLK); called only after avx2_available().
+
+#include "rx_front_impl.h"
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+#include <limits>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+namespace rx_front {
+
+#if defined(__AVX2__)
+
+bool avx2_available()
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+}
+
+namespace {
+float hsum(__m256 v)
+{
+    alignas(32) float lanes[8];
+    _mm256_store_ps(lanes, v);
+    float total = 0.0f;
+    for (float x : lanes)
+        total += x;
+    return total;
+}
+} // namespace
+
+std::size_t filter_pass_avx2(weight_rule rule,
+                             const gr_complex* y,
+                             const gr_complex* s,
+                             float inv_snr,
+                             gr_complex* out,
+                             std::size_t n,
+                             pass_sums& sums)
+{
+    const __m256 one = _mm256_set1_ps(1.0f);
+    const __m256 reg = _mm256_set1_ps(inv_snr);
+    const __m256 tiny = _mm256_set1_ps(std::numeric_limits<float>::min());
+    const __m256 neg = _mm256_set1_ps(-0.0f);
+    __m256 acc = _mm256_setzero_ps();
+    std::size_t empty_lanes = 0;
+    const std::size_t done = n / 4 * 4;
+    for (std::size_t i = 0; i < done; i += 4) {
+        const __m256 yv = _mm256_loadu_ps(reinterpret_cast<const float*>(y + i));
+        const __m256 sv = _mm256_loadu_ps(reinterpret_cast<const float*>(s + i));
+        acc = _mm256_add_ps(acc, _mm256_add_ps(yv, sv));
+        const __m256 sq = _mm256_mul_ps(sv, sv);
+        // |s|^2 in both lanes of each complex: re^2 + im^2 (a sum of two is order-free)
+        const __m256 m = _mm256_add_ps(sq, _mm256_permute_ps(sq, 0xB1));
+        const __m256 is_empty = _mm256_cmp_ps(m, tiny, _CMP_LT_OQ);
+        empty_lanes += unsigned(__builtin_popcount(_mm256_movemask_ps(is_empty)));
+        // y conj(s) = (yr sr + yi si, yi sr - yr si)
+        const __m256 a = _mm256_mul_ps(yv, _mm256_moveldup_ps(sv));
+        const __m256 b =
+            _mm256_mul_ps(_mm256_permute_ps(yv, 0xB1), _mm256_movehdup_ps(sv));
+        __m256 p = _mm256_addsub_ps(a, _mm256_xor_ps(b, neg));
+        if (rule == weight_rule::wf) {
+            p = _mm256_mul_ps(p, _mm256_div_ps(one, _mm256_add_ps(m, reg)));
+        } else if (rule == weight_rule::rf) {
+            const __m256 e = _mm256_and_ps(is_empty, one);
+            p = _mm256_mul_ps(p,
+                              _mm256_div_ps(_mm256_sub_ps(one, e), _mm256_add_ps(m, e)));
+        }
+        _mm256_storeu_ps(reinterpret_cast<float*>(out + i), p);
+    }
+    sums.empty += empty_lanes / 2;
+    sums.sum += hsum(acc);
+    return done;
+}
+
+std::size_t window_pass_avx2(
+    const gr_complex* in, const float* taps2, gr_complex* dst, std::size_t n, float& sum)
+{
+    const float* x = reinterpret_cast<const float*>(in);
+    float* d = reinterpret_cast<float*>(dst);
+    __m256 acc = _mm256_setzero_ps();
+    const std::size_t done = n / 4 * 4;
+    for (std::size_t j = 0; j < 2 * done; j += 8) {
+        const __m256 v = _mm256_loadu_ps(x + j);
+        acc = _mm256_add_ps(acc, v);
+        _mm256_storeu_ps(d + j, _mm256_mul_ps(v, _mm256_loadu_ps(taps2 + j)));
+    }
+    sum += hsum(acc);
+    return done;
+}
+
+#else
+
+bool avx2_available() { return false; }
+std::size_t filter_pass_avx2(weight_rule,
+                             const gr_complex*,
+                             const gr_complex*,
+                             float,
+                             gr_complex*,
+                             std::size_t,
+                             pass_sums&)
+{
+    return 0;
+}
+std::size_t
+window_pass_avx2(const gr_complex*, const float*, gr_complex*, std::size_t, float&)
+{
+    return 0;
+}
+
+#endif
+
+} // namespace rx_front
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr

@@ -1,0 +1,222 @@
+#!/usr/bin/python3
+#
+# Copyright 2026 gr-nrsar authors.
+#
+# SPDX-License-Identifier: GPL-3.0-or-later
+#
+"""Does the radar receive path keep real time? (issue 16, docs/performance.md)
+
+The UAV's radar graph with the radio replaced by memory: the echo of the paper3 scene
+(nr_isac_tx -> scene_echo, SNR_in -20 dB) is generated once, held in memory and replayed
+without a throttle, so the graph runs as fast as it can. Radio time = symbols x symbol
+duration; processing time = wall time of the flowgraph. Variants:
+
+    paper TF:  echo grid -> tf_filter (WF) -> range_ifft -> cheby_presum D10 -> rd_focuser
+               -> nmse_probe (PSF model), with the transmit grid as tf_filter's reference
+    paper TD:  the same behind ofdm_demod, fed the time-domain echo at 122.88 Msps
+    sdr20 TD + TX: the sdr20 radar receive path as above (30.72 Msps) and, in the same
+               graph, the transmitter pusch_encoder -> nr_isac_tx -> ofdm_mod into a sink
+
+Profile: CPU time of every block thread (/proc/self/task/*/schedstat, sampled while the
+graph runs; GNU Radio names a block's thread after the block) against the time its work()
+calls took (GNU Radio's performance counters). The difference is the scheduler's share of
+that thread: buffer bookkeeping, tags, waking neighbours. The rows compare the radio's rate
+with the processing rate (ratio >= 1: real time on this machine as loaded now).
+Run alone: /usr/bin/python3 -m gnuradio.nrsar.bench.bench_rx_realtime [--quick]
+"""
+
+import os
+import threading
+import time
+
+import numpy as np
+from gnuradio import blocks, gr
+
+from .. import chain, isac_chain, runtime, scenario
+from ..nrsar_python import ofdm_demod, ofdm_mod
+from ..options import IsacOptions, SimOptions
+from . import benchutil
+
+HELD = 240  # symbols generated once and replayed (the radio's samples in memory)
+
+
+class ThreadCpu:
+    """CPU seconds of each thread of this process, sampled every `period` s while started
+    (a thread's last sample is kept after it exits), and (time, progress()) at each sample."""
+
+    def __init__(self, progress, period=0.02):
+        self.period, self.seen, self._stop = period, {}, threading.Event()
+        self.progress, self.track = progress, []
+        self._thread = threading.Thread(target=self._loop, daemon=True)
+
+    def sample(self):
+        self.track.append((time.perf_counter(), self.progress()))
+        self.seen.update(self.read())
+
+    @staticmethod
+    def read():
+        seen = {}
+        for tid in os.listdir("/proc/self/task"):
+            try:
+                with open(f"/proc/self/task/{tid}/comm") as f:
+                    comm = f.read().strip()
+                with open(f"/proc/self/task/{tid}/schedstat") as f:
+                    ns = int(f.read().split()[0])
+            except (OSError, ValueError, IndexError):
+                continue  # the thread ended between listdir and open
+            seen[tid] = (comm, ns / 1e9)
+        return seen
+
+    def spent(self):
+        """{tid: (comm, CPU s during the run)}."""
+        return {tid: (comm, s - self.before.get(tid, (comm, 0.0))[1])
+                for tid, (comm, s) in self.seen.items()}
+
+    def _loop(self):
+        while not self._stop.wait(self.period):
+            self.sample()
+
+    def __enter__(self):
+        self.before = self.read()  # threads older than the run: count only what they add
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        self._thread.join()
+
+    def of_block(self, block):
+        """CPU seconds of the thread GNU Radio named after block (name + unique id, cut to
+        the 15 characters Linux keeps)."""
+        name = f"{block.name()}{block.unique_id()}"[:15]
+        return sum(s for comm, s in self.spent().values() if comm == name)
+
+    def steady_rate(self, total):
+        """Items per second between 10 % and 90 % of total (start-up and drain left out)."""
+        inside = [(t, n) for t, n in self.track if 0.1 * total <= n <= 0.9 * total]
+        if len(inside) < 2 or inside[-1][0] == inside[0][0]:
+            return float("nan")
+        return (inside[-1][1] - inside[0][1]) / (inside[-1][0] - inside[0][0])
+
+
+def recorded(opts, sc, time_domain):
+    """(echo, grid) of HELD symbols as complex64 arrays: the TF echo (or its OFDM
+    modulation, time_domain) and the transmit grid."""
+    n = sc.num.num_subcarriers
+    tb = gr.top_block()
+    head = blocks.head(gr.sizeof_gr_complex * n, HELD)
+    tb.connect(chain.make_transmitter(opts, sc), head)
+    echo, echo_out, ref_out = chain.scene_echo_front(tb, opts, sc, head)
+    tb.connect(ref_out, blocks.null_sink(gr.sizeof_gr_complex * n))
+    grid, out = blocks.vector_sink_c(n), blocks.vector_sink_c(1 if time_domain else n)
+    tb.connect(head, grid)
+    tb.connect(echo_out, ofdm_mod(sc.num), out) if time_domain else tb.connect(echo_out, out)
+    tb.run()
+    return np.array(out.data(), np.complex64), np.array(grid.data(), np.complex64)
+
+
+def run_variant(preset, time_domain, transmit, symbols, chunk=0):
+    """One run: (radio s, wall s, process CPU s, {block: (thread CPU s, work() s)},
+    steady processing rate in radio s per s, [(other thread, CPU s)] busiest first)."""
+    opts = SimOptions(preset=preset, images="none", presum="cheby", decim=10)
+    sc = scenario.of(opts.validate())
+    n = sc.num.num_subcarriers
+    echo, grid = recorded(opts, sc, time_domain)
+    tb = gr.top_block()
+    rx = chain.imaging_chain(opts, sc, keep_images=False, reference=False)
+    per_symbol = echo.size // HELD
+    src = blocks.vector_source_c(echo, True, 1 if time_domain else n)
+    head = blocks.head(gr.sizeof_gr_complex * (1 if time_domain else n),
+                       symbols * (per_symbol if time_domain else 1))
+    named = {"tf_filter": rx.filter, "range_ifft": rx.range_ifft, "cheby_presum": rx.presum,
+             "rd_focuser": rx.focuser, "nmse_probe": rx.probe}
+    tb.connect(src, head)
+    if chunk:  # the sample buffer in front of ofdm_demod: up to `chunk` symbols per call
+        head.set_min_output_buffer(2 * chunk * per_symbol)
+    if time_domain:
+        demod = ofdm_demod(sc.num)
+        tb.connect(head, demod, (rx, 0))
+        named["ofdm_demod"] = demod
+    else:
+        tb.connect(head, (rx, 0))
+    tb.connect(blocks.vector_source_c(grid, True, n), (rx, 1))
+    tb.connect((rx, 0), blocks.null_sink(gr.sizeof_gr_complex * rx.focuser.num_output_bins()))
+    tb.connect((rx, 1), blocks.null_sink(gr.sizeof_gr_complex * rx.range_ifft.num_bins()))
+    if transmit:  # the UAV's own transmitter in the same graph, into the radio's sink
+        iopts = IsacOptions(preset=preset, images="none", presum="cheby", decim=10)
+        payload = bytes(np.random.default_rng(1).integers(0, 256, 40000, dtype=np.uint8))
+        enc, tx, _, _ = isac_chain.build_transmitter(tb, sc.num, iopts, payload)
+        mod = ofdm_mod(sc.num)
+        tb.connect(tx, blocks.head(gr.sizeof_gr_complex * n, symbols), mod,
+                   blocks.null_sink(gr.sizeof_gr_complex))
+        named.update(pusch_encoder=enc, nr_isac_tx=tx, ofdm_mod=mod)
+    runtime.quiet_gnuradio_logs()
+    with ThreadCpu(lambda: rx.filter.nitems_written(0)) as cpu:
+        wall, proc = time.perf_counter(), time.process_time()
+        runtime.run(tb)
+        wall, proc = time.perf_counter() - wall, time.process_time() - proc
+    cpu.sample()
+    profile = {k: (cpu.of_block(b), b.pc_work_time_total() / 1e9) for k, b in named.items()}
+    mine = {f"{b.name()}{b.unique_id()}"[:15] for b in named.values()}
+    others = sorted(((c, s) for c, s in cpu.spent().values() if c not in mine),
+                    key=lambda cs: -cs[1])
+    return (symbols * sc.num.symbol_s(), wall, proc, profile,
+            cpu.steady_rate(symbols) * sc.num.symbol_s(), others)
+
+
+# ofdm_demod asks for a whole symbol (4384 samples at paper) per output, and GNU Radio's
+# default buffer of 8192 complex samples holds fewer than two: with it every block behind the
+# demodulator runs once per symbol, and the scheduler's cost per call outweighs the work.
+# A sample buffer of 2 x 16 symbols (the radio source's min output buffer) lets it run 16.
+CHUNK = 16
+VARIANTS = (("paper TF", "paper", False, False), ("paper TD", "paper", True, False),
+            ("sdr20 TD + TX", "sdr20", True, True))
+
+
+def run(quick=False):
+    symbols = 4800 if quick else 24000
+    rows = []
+    radio, _, proc_default, _, _, _ = run_variant("paper", True, False, symbols)
+    for label, preset, td, tx in VARIANTS:
+        radio, wall, proc, profile, steady, _ = run_variant(preset, td, tx, symbols,
+                                                            CHUNK if td else 0)
+        extra = {f"{k}_cpu_per_radio_s": round(c / radio, 4) for k, (c, _) in profile.items()}
+        extra.update({f"{k}_work_per_radio_s": round(w / radio, 4)
+                      for k, (_, w) in profile.items()})
+        rows.append(benchutil.row(
+            f"radar rx path {label}: radio s per s", steady,
+            "real time (the radio's rate)", 1.0, unit="radio s / s (steady)", radio_s=radio,
+            wall_s=round(wall, 3), process_cpu_s=round(proc, 3),
+            load_average=round(os.getloadavg()[0], 1), **extra))
+        rows.append(benchutil.row(
+            f"radar rx path {label}: radio s per CPU s", radio / proc,
+            "2 cores' real time", 0.5, unit="radio s / CPU s"))
+        if label == "paper TD":
+            rows.append(benchutil.row(
+                f"radar rx path paper TD, {CHUNK}-symbol sample buffer", radio / proc,
+                "GNU Radio's default sample buffer", radio / proc_default,
+                unit="radio s / CPU s"))
+    return rows
+
+
+def main():
+    import argparse
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true")
+    a = p.parse_args()
+    symbols = 4800 if a.quick else 24000
+    for label, preset, td, tx in VARIANTS + (("paper TD, default buffer", "paper", True, False),):
+        chunk = CHUNK if td and "default" not in label else 0
+        radio, wall, proc, profile, steady, others = run_variant(preset, td, tx, symbols, chunk)
+        print(f"{label}: radio {radio:.3f} s, wall {wall:.3f} s with start-up, steady rate "
+              f"x{steady:.2f} real time; process CPU {proc:.3f} s = {proc / radio:.2f} CPU s "
+              f"per radio s; load {os.getloadavg()[0]:.1f}")
+        for k, (c, w) in sorted(profile.items(), key=lambda kv: -kv[1][0]):
+            print(f"  {k:14s} thread CPU {c:7.3f} s ({c / radio:5.2f} per radio s)  "
+                  f"work() {w:7.3f} s")
+        print(f"  other threads  {proc - sum(c for c, _ in profile.values()):7.3f} s: " +
+              ", ".join(f"{comm} {s:.3f}" for comm, s in others[:6]))
+
+
+if __name__ == "__main__":
+    main()
