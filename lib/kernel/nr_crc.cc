@@ -5,6 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "bit_pack.h"
 #include "param_check.h"
 #include <gnuradio/nrsar/kernel/nr_crc.h>
 #include <cstring>
@@ -57,17 +58,7 @@ std::uint32_t nr_crc::remainder(const std::uint8_t* bits, std::size_t n) const
     std::uint32_t r = 0;
     std::size_t i = 0;
     for (; i + 8 <= n; i += 8) {
-        // eight 0/1 bytes into one, bits[i] the MSB: each bit k lands on bit 63 - k of the
-        // product (little-endian load; no carry reaches the top byte)
-        std::uint64_t w = 0;
-#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-        std::memcpy(&w, bits + i, 8);
-#else
-        for (unsigned k = 0; k < 8; k++)
-            w |= std::uint64_t{ bits[i + k] } << (8 * k);
-#endif
-        const unsigned byte =
-            static_cast<unsigned>(((w & 0x0101010101010101ull) * 0x8040201008040201ull) >> 56);
+        const unsigned byte = pack8(bits + i);
         r = ((r << 8) & mask) ^ d_table[((r >> (d_L - 8)) ^ byte) & 0xffu];
     }
     for (; i < n; i++) {

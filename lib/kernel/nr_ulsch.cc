@@ -10,6 +10,7 @@
 #include <gnuradio/nrsar/kernel/nr_rate_match.h>
 #include <gnuradio/nrsar/kernel/nr_ulsch.h>
 #include <algorithm>
+#include <cstring>
 #include <memory>
 
 namespace gr {
@@ -111,8 +112,6 @@ void nr_ulsch::set_threads(unsigned threads)
 nr_ulsch_result
 nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combine, std::uint8_t* a)
 {
-    if (!combine)
-        std::fill(d_soft.begin(), d_soft.end(), 0.0f);
     nr_rate_match_params p;
     p.base_graph = d_seg.base_graph;
     p.zc = d_seg.Zc;
@@ -129,11 +128,18 @@ nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combi
         float* e_llr = d_llr[part].data();
         for (std::size_t r = begin; r < end; r++) {
             const std::size_t pos = d_e_begin[r];
-            for (std::size_t k = 0; k < d_E[r]; k++) { // descramble: c = 1 flips the bit
-                const float v = llr[pos + k];
-                e_llr[k] = d_scr[pos + k] ? -v : v;
+            for (std::size_t k = 0; k < d_E[r]; k++) {
+                // descramble (c = 1 flips the sign); a non-finite LLR is an erasure (0),
+                // never a known bit. On the bits, so that the loop vectorises.
+                std::uint32_t u;
+                std::memcpy(&u, llr + pos + k, 4);
+                u ^= std::uint32_t{ d_scr[pos + k] } << 31;
+                u = (u & 0x7f800000u) == 0x7f800000u ? 0u : u;
+                std::memcpy(e_llr + k, &u, 4);
             }
             float* soft = d_soft.data() + r * N;
+            if (!combine) // a new TB: cleared here, while the block is in this core's cache
+                std::fill(soft, soft + N, 0.0f);
             nr_rate_recover(e_llr, p, d_E[r], soft);
             const auto dr = d_dec[part].decode(soft, d_cb.data() + r * d_seg.K);
             d_cb_iterations[r] = dr.iterations;
