@@ -109,13 +109,40 @@ void nr_rate_match(const std::uint8_t* d, const nr_rate_match_params& p, std::si
     });
 }
 
-void nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::size_t e, float* d_llr)
+void nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::size_t e, float* d_llr, bool combine)
 {
-    const std::size_t qm = p.qm;
+    const std::size_t qm = p.qm, ncb = p.n_cb(), fb = p.filler_begin(), fe = p.filler_end();
+    // The walk visits the circular buffer in order: its first `distinct` reads are the
+    // positions outside the fillers once each, the later ones wrap onto them again.
+    const std::size_t distinct = ncb - (std::min(fe, ncb) - std::min(fb, ncb));
+    std::size_t visited = 0, next = p.k0();
     for_each_run(p, e, [&](std::size_t j, std::size_t in, std::size_t n) {
-        for (std::size_t t = 0; t < n; t++)
+        std::size_t t = 0;
+        if (!combine)
+            for (; t < n && visited + t < distinct; t++)
+                d_llr[j + t] = f_llr[in + t * qm];
+        for (; t < n; t++)
             d_llr[j + t] += f_llr[in + t * qm];
+        visited += n;
+        next = j + n;
     });
+    if (!combine) {
+        // not read: from where the walk stopped round to k0 (fillers included, set below),
+        // and the bits beyond a limited buffer
+        const std::size_t k0 = p.k0();
+        if (visited == 0)
+            std::fill(d_llr, d_llr + ncb, 0.0f);
+        else if (visited < distinct) {
+            next = next >= ncb ? 0 : next;
+            if (next <= k0)
+                std::fill(d_llr + next, d_llr + k0, 0.0f);
+            else {
+                std::fill(d_llr + next, d_llr + ncb, 0.0f);
+                std::fill(d_llr, d_llr + k0, 0.0f);
+            }
+        }
+        std::fill(d_llr + ncb, d_llr + p.n(), 0.0f);
+    }
     std::fill(d_llr + p.filler_begin(), d_llr + p.filler_end(), std::numeric_limits<float>::infinity());
 }
 
