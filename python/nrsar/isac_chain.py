@@ -148,6 +148,7 @@ def build_base_station(tb, num, opts, dmrs, source):
     # ofdm_sync's backoff puts a phase slope across the subcarriers; pusch_receiver's
     # channel estimate removes it before its fit (docs/isac.md, "Backoff slope")
     rx = pusch_receiver(opts.pusch_config(num))
+    rx.set_threads(opts.rx_threads)
     store = blocks.message_debug()
     tb.connect(source, delay, chan, sync, demod, rx)
     tb.msg_connect((rx, "pdus"), (store, "store"))
