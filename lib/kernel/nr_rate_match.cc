@@ -111,6 +111,7 @@ void nr_rate_match(const std::uint8_t* d, const nr_rate_match_params& p, std::si
 
 void nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::size_t e, float* d_llr, bool combine)
 {
+    p.validate(); // before the sizes below are read
     const std::size_t qm = p.qm, ncb = p.n_cb(), fb = p.filler_begin(), fe = p.filler_end();
     // The walk visits the circular buffer in order: its first `distinct` reads are the
     // positions outside the fillers once each, the later ones wrap onto them again.
