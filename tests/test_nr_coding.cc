@@ -260,6 +260,8 @@ TEST(NrRateMatch, PositionsOfEveryRv)
         { 2, 72, 600, 0, 1200, 2 },
         { 2, 26, 200, 900, 2000, 4 },      // limited buffer and wrap
         { 2, 384, 3840, 0, 5000, 1 },
+        { 1, 64, 1000, 0, 0, 2 },          // nothing sent
+        { 1, 64, 1000, 2000, 24, 8 },      // a few bits, limited buffer
     };
     for (const rc& c : cases)
         for (unsigned rv = 0; rv < 4; rv++) {
@@ -289,12 +291,18 @@ TEST(NrRateMatch, PositionsOfEveryRv)
                 want[ref[k]] += llr[k];
             }
             nr_rate_recover(llr.data(), p, c.E, acc.data());
+            // a first transmission into an uninitialised buffer (combine = false)
+            std::vector<float> fresh(N, NAN);
+            nr_rate_recover(llr.data(), p, c.E, fresh.data(), false);
             for (std::size_t k = 0; k < N; k++) {
                 const bool filler = k >= c.kp - 2 * c.zc && k < nr_ldpc_k(c.bg, c.zc) - 2 * c.zc;
-                if (filler)
+                if (filler) {
                     EXPECT_EQ(acc[k], INFINITY);
-                else
+                    EXPECT_EQ(fresh[k], INFINITY);
+                } else {
                     ASSERT_EQ(acc[k], want[k]) << "position " << k << " rv " << rv;
+                    ASSERT_EQ(fresh[k], want[k]) << "fresh buffer, position " << k << " rv " << rv;
+                }
             }
         }
 }

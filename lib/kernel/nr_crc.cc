@@ -5,6 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "bit_pack.h"
 #include "param_check.h"
 #include <gnuradio/nrsar/kernel/nr_crc.h>
 #include <cstring>
@@ -35,8 +36,13 @@ nr_crc::nr_crc(nr_crc_type type)
         std::uint32_t r = b << (d_L - 8);
         for (int k = 0; k < 8; k++)
             r = (r & top) ? ((r << 1) ^ d_poly) & mask : (r << 1) & mask;
-        d_table[b] = r;
+        d_table[0][b] = r;
     }
+    for (unsigned k = 1; k < d_L / 8; k++)
+        for (std::uint32_t b = 0; b < 256; b++) {
+            const std::uint32_t v = d_table[k - 1][b];
+            d_table[k][b] = ((v << 8) & mask) ^ d_table[0][v >> (d_L - 8)];
+        }
 }
 
 nr_crc_type nr_crc::parse(const std::string& name)
@@ -56,20 +62,20 @@ std::uint32_t nr_crc::remainder(const std::uint8_t* bits, std::size_t n) const
     const std::uint32_t mask = (top << 1) - 1;
     std::uint32_t r = 0;
     std::size_t i = 0;
-    for (; i + 8 <= n; i += 8) {
-        // eight 0/1 bytes into one, bits[i] the MSB: each bit k lands on bit 63 - k of the
-        // product (little-endian load; no carry reaches the top byte)
-        std::uint64_t w = 0;
-#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-        std::memcpy(&w, bits + i, 8);
-#else
-        for (unsigned k = 0; k < 8; k++)
-            w |= std::uint64_t{ bits[i + k] } << (8 * k);
-#endif
-        const unsigned byte =
-            static_cast<unsigned>(((w & 0x0101010101010101ull) * 0x8040201008040201ull) >> 56);
-        r = ((r << 8) & mask) ^ d_table[((r >> (d_L - 8)) ^ byte) & 0xffu];
+    // L / 8 bytes per step (the register's width): r' = sum_k T_k[byte k of (r ^ bytes)],
+    // the table look-ups independent of each other
+    const unsigned nb = d_L / 8;
+    for (; i + 8 * nb <= n; i += 8 * nb) {
+        std::uint32_t v = r;
+        for (unsigned k = 0; k < nb; k++)
+            v ^= std::uint32_t{ pack8(bits + i + 8 * k) } << (8 * (nb - 1 - k));
+        std::uint32_t next = 0;
+        for (unsigned k = 0; k < nb; k++)
+            next ^= d_table[k][(v >> (8 * k)) & 0xffu];
+        r = next;
     }
+    for (; i + 8 <= n; i += 8)
+        r = ((r << 8) & mask) ^ d_table[0][((r >> (d_L - 8)) ^ pack8(bits + i)) & 0xffu];
     for (; i < n; i++) {
         const bool fb = ((r & top) != 0) != ((bits[i] & 1u) != 0);
         r = (r << 1) & mask;

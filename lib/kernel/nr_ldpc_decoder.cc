@@ -79,6 +79,11 @@ void root_sums_generic(const float* in, std::size_t n8, float* part, float* cnt)
         }
 }
 
+bool any_received_generic(const float* in, unsigned n)
+{
+    return std::any_of(in, in + n, [](float v) { return v != 0.0f && v == v; });
+}
+
 bool signs_ok_generic(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
 {
     std::int8_t x[lanes];
@@ -122,6 +127,7 @@ nr_ldpc_decoder::nr_ldpc_decoder(int base_graph, unsigned zc, unsigned max_itera
             if (col_degree[e.col] == 1)
                 d_row_parity[i] = e.col;
     d_l.assign(std::size_t{ d_cols } * d_zp, 0);
+    d_received.assign(d_cols, 0);
     d_r.assign(d_edges.size() * d_zp, 0);
     d_t.assign(std::size_t{ max_degree } * d_zp, 0);
 }
@@ -136,38 +142,55 @@ void nr_ldpc_decoder::set_simd(bool allow) { d_simd = allow && avx2_available();
 nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
 {
     const std::size_t n = this->n();
+    // Columns that received nothing (at a high rate most parity columns) are neither summed
+    // nor quantised: their int8 LLRs are 0.
+    for (std::size_t j = 2; j < d_cols; j++) {
+        const float* in = llr + (j - 2) * d_zc;
+        d_received[j] = d_simd ? any_received_avx2(in, d_zc) : any_received_generic(in, d_zc);
+    }
     // The scale maps (mean sqrt|L|)^2 over the finite non-zero LLRs to a target. For one
     // Gaussian cluster (BPSK, QPSK) that is about the mean magnitude; for the bit levels of
     // 16- to 256-QAM, whose magnitudes differ by up to 8x, it stays near the weak levels'
     // scale, so their LLRs keep their resolution and the strong ones saturate (they are
-    // reliable). 8 partial sums vectorise.
+    // reliable). 8 partial sums vectorise; lane = index mod 8 over runs of received
+    // columns widened to multiples of 8 (the skipped values are 0 or NaN and add nothing),
+    // so the sums are those over all N values.
     float part[8] = {}, cnt[8] = {};
-    std::size_t k = n / 8 * 8;
-    if (d_simd)
-        root_sums_avx2(llr, k, part, cnt);
-    else
-        root_sums_generic(llr, k, part, cnt);
+    const std::size_t n8 = n / 8 * 8;
+    std::size_t done = 0;
+    for (std::size_t j = 2; j < d_cols;) {
+        std::size_t e = j;
+        while (e < d_cols && d_received[e])
+            e++;
+        if (e > j) {
+            const std::size_t lo = std::max(done, (j - 2) * d_zc / 8 * 8);
+            const std::size_t hi = std::min(n8, ((e - 2) * d_zc + 7) / 8 * 8);
+            if (lo < hi) {
+                if (d_simd)
+                    root_sums_avx2(llr + lo, hi - lo, part, cnt);
+                else
+                    root_sums_generic(llr + lo, hi - lo, part, cnt);
+                done = hi;
+            }
+        }
+        j = e + 1;
+    }
     double sum = 0.0, count = 0.0;
     for (unsigned j = 0; j < 8; j++) {
         sum += part[j];
         count += cnt[j];
     }
-    for (; k < n; k++) {
+    for (std::size_t k = n8; k < n; k++) {
         const float a = std::fabs(llr[k]);
         if (a > 0.0f && a < INFINITY) {
             sum += std::sqrt(a);
             count += 1.0;
         }
     }
-    std::vector<bool> received(d_cols, false);
-    for (std::size_t j = 2; j < d_cols; j++) {
-        const float* in = llr + (j - 2) * d_zc;
-        received[j] = std::any_of(in, in + d_zc, [](float v) { return v != 0.0f && v == v; });
-    }
     // Headroom: an a-posteriori LLR sums its channel value and up to d_max messages and
     // saturates at 127, so the target shrinks with the largest column degree of the rows
     // decoded (BG1 at rate 0.9: 5 -> 28; 256-QAM at R 0.82: 7 -> 21; QPSK at R 0.3: 17 -> 9.3).
-    const unsigned d_max = select_layers(received);
+    const unsigned d_max = select_layers();
     const double target = std::clamp(168.0 / (1.0 + d_max), 8.0, 32.0);
     const double root_mean = count > 0.0 ? sum / count : 0.0;
     const float scale = root_mean > 0.0 ? static_cast<float>(target / (root_mean * root_mean)) : 1.0f;
@@ -175,7 +198,9 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
     for (std::size_t j = 2; j < d_cols; j++) {
         const float* in = llr + (j - 2) * d_zc;
         std::int8_t* out = d_l.data() + j * d_zp;
-        if (d_simd)
+        if (!d_received[j])
+            std::fill(out, out + d_zc, 0);
+        else if (d_simd)
             quantize_avx2(in, d_zc, scale, out);
         else
             quantize_generic(in, d_zc, scale, out);
@@ -192,16 +217,15 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode_int8(const std::int8_t* llr, std::
         for (unsigned z = 0; z < d_zc; z++)
             out[z] = std::max<std::int8_t>(in[z], -127);
     }
-    std::vector<bool> received(d_cols, false);
     for (std::size_t j = 2; j < d_cols; j++) {
         const std::int8_t* col = d_l.data() + j * d_zp;
-        received[j] = std::any_of(col, col + d_zc, [](std::int8_t v) { return v != 0; });
+        d_received[j] = std::any_of(col, col + d_zc, [](std::int8_t v) { return v != 0; });
     }
-    select_layers(received);
+    select_layers();
     return run(c);
 }
 
-unsigned nr_ldpc_decoder::select_layers(const std::vector<bool>& received)
+unsigned nr_ldpc_decoder::select_layers()
 {
     // Rows whose own parity column received nothing carry no information: skip them.
     d_active.clear();
@@ -209,7 +233,7 @@ unsigned nr_ldpc_decoder::select_layers(const std::vector<bool>& received)
     unsigned d_max = 0;
     for (const layer& ly : d_layers) {
         const unsigned pc = d_row_parity[ly.row];
-        if (pc < d_cols && !received[pc])
+        if (pc < d_cols && !d_received[pc])
             continue;
         d_active.push_back(ly);
         std::fill(d_r.begin() + std::size_t{ ly.first_edge } * d_zp,

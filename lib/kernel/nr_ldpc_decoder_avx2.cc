@@ -100,6 +100,19 @@ void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
     }
 }
 
+bool any_received_avx2(const float* in, unsigned n)
+{
+    const __m256 zero = _mm256_setzero_ps();
+    __m256 any = zero;
+    unsigned k = 0;
+    for (; k + 8 <= n; k += 8) // not equal and ordered: NaN gives false
+        any = _mm256_or_ps(any, _mm256_cmp_ps(_mm256_loadu_ps(in + k), zero, _CMP_NEQ_OQ));
+    bool got = _mm256_movemask_ps(any) != 0;
+    for (; k < n; k++)
+        got = got || (in[k] != 0.0f && in[k] == in[k]);
+    return got;
+}
+
 void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
 {
     __m256 p = _mm256_loadu_ps(part), c = _mm256_loadu_ps(cnt);
@@ -151,6 +164,7 @@ void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
 {
     quantize_generic(in, n, scale, out);
 }
+bool any_received_avx2(const float* in, unsigned n) { return any_received_generic(in, n); }
 void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
 {
     root_sums_generic(in, n8, part, cnt);

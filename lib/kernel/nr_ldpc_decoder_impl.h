@@ -43,6 +43,10 @@ void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out);
  * partial sums part[k % 8], cnt[k % 8] (added to): both paths add in the same order, so
  * they give the same floats.
  */
+//! True when one of the n values is non-zero and not NaN (a column that received something).
+bool any_received_generic(const float* in, unsigned n);
+bool any_received_avx2(const float* in, unsigned n);
+
 void root_sums_generic(const float* in, std::size_t n8, float* part, float* cnt);
 void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt);
 

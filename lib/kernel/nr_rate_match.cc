@@ -67,9 +67,10 @@ namespace {
 
 // Bit selection (38.212 5.4.2.1) and interleaving (5.4.2.2) in one walk: the selected bits
 // e_k, k = i rows + j, are read from the circular buffer from k0 on, skipping the fillers,
-// and e_k is f[i + j Qm]. Calls visit(circular position, f index) for k = 0, 1, ..., E - 1.
-template <class Visit>
-void for_each_selected(const nr_rate_match_params& p, std::size_t e, Visit visit)
+// and e_k is f[i + j Qm]. Calls run(circular position, f index, n) for runs of n selected
+// bits at consecutive positions (f indices Qm apart), in the order of k.
+template <class Run>
+void for_each_run(const nr_rate_match_params& p, std::size_t e, Run run)
 {
     p.validate();
     if (e % p.qm != 0)
@@ -80,7 +81,7 @@ void for_each_selected(const nr_rate_match_params& p, std::size_t e, Visit visit
     const std::size_t rows = e / p.qm; // E / Qm
     std::size_t j = p.k0();
     for (unsigned i = 0; i < p.qm; i++)
-        for (std::size_t row = 0; row < rows; row++, j++) {
+        for (std::size_t row = 0; row < rows;) {
             if (j >= ncb)
                 j = 0;
             if (j >= fb && j < fe) {
@@ -88,7 +89,12 @@ void for_each_selected(const nr_rate_match_params& p, std::size_t e, Visit visit
                 if (j >= ncb)
                     j = 0;
             }
-            visit(j, i + row * p.qm);
+            // up to the fillers or the end of the buffer
+            const std::size_t end = j < fb ? std::min(fb, ncb) : ncb;
+            const std::size_t n = std::min(rows - row, end - j);
+            run(j, i + row * p.qm, n);
+            j += n;
+            row += n;
         }
 }
 
@@ -96,12 +102,48 @@ void for_each_selected(const nr_rate_match_params& p, std::size_t e, Visit visit
 
 void nr_rate_match(const std::uint8_t* d, const nr_rate_match_params& p, std::size_t e, std::uint8_t* f)
 {
-    for_each_selected(p, e, [&](std::size_t j, std::size_t out) { f[out] = d[j]; });
+    const std::size_t qm = p.qm;
+    for_each_run(p, e, [&](std::size_t j, std::size_t out, std::size_t n) {
+        for (std::size_t t = 0; t < n; t++)
+            f[out + t * qm] = d[j + t];
+    });
 }
 
-void nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::size_t e, float* d_llr)
+void nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::size_t e, float* d_llr, bool combine)
 {
-    for_each_selected(p, e, [&](std::size_t j, std::size_t in) { d_llr[j] += f_llr[in]; });
+    p.validate(); // before the sizes below are read
+    const std::size_t qm = p.qm, ncb = p.n_cb(), fb = p.filler_begin(), fe = p.filler_end();
+    // The walk visits the circular buffer in order: its first `distinct` reads are the
+    // positions outside the fillers once each, the later ones wrap onto them again.
+    const std::size_t distinct = ncb - (std::min(fe, ncb) - std::min(fb, ncb));
+    std::size_t visited = 0, next = p.k0();
+    for_each_run(p, e, [&](std::size_t j, std::size_t in, std::size_t n) {
+        std::size_t t = 0;
+        if (!combine)
+            for (; t < n && visited + t < distinct; t++)
+                d_llr[j + t] = f_llr[in + t * qm];
+        for (; t < n; t++)
+            d_llr[j + t] += f_llr[in + t * qm];
+        visited += n;
+        next = j + n;
+    });
+    if (!combine) {
+        // not read: from where the walk stopped round to k0 (fillers included, set below),
+        // and the bits beyond a limited buffer
+        const std::size_t k0 = p.k0();
+        if (visited == 0)
+            std::fill(d_llr, d_llr + ncb, 0.0f);
+        else if (visited < distinct) {
+            next = next >= ncb ? 0 : next;
+            if (next <= k0)
+                std::fill(d_llr + next, d_llr + k0, 0.0f);
+            else {
+                std::fill(d_llr + next, d_llr + ncb, 0.0f);
+                std::fill(d_llr, d_llr + k0, 0.0f);
+            }
+        }
+        std::fill(d_llr + ncb, d_llr + p.n(), 0.0f);
+    }
     std::fill(d_llr + p.filler_begin(), d_llr + p.filler_end(), std::numeric_limits<float>::infinity());
 }
 

@@ -71,7 +71,7 @@ nr_segmentation nr_segmentation::compute(std::size_t B, int base_graph)
 
 void nr_segment(const std::uint8_t* b, const nr_segmentation& s, std::uint8_t* cb, std::uint8_t filler_value)
 {
-    const nr_crc crc(nr_crc_type::crc24b);
+    static const nr_crc crc(nr_crc_type::crc24b); // tables made once
     const std::size_t data = s.K_prime - s.L;
     for (unsigned r = 0; r < s.C; r++) {
         std::uint8_t* c = cb + std::size_t{ r } * s.K;
@@ -87,7 +87,7 @@ void nr_segment(const std::uint8_t* b, const nr_segmentation& s, std::uint8_t* c
 
 bool nr_desegment(const std::uint8_t* cb, const nr_segmentation& s, std::uint8_t* b, bool* cb_crc_ok)
 {
-    const nr_crc crc(nr_crc_type::crc24b);
+    static const nr_crc crc(nr_crc_type::crc24b); // tables made once
     const std::size_t data = s.K_prime - s.L;
     bool all = true;
     for (unsigned r = 0; r < s.C; r++) {

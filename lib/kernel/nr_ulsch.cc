@@ -10,6 +10,7 @@
 #include <gnuradio/nrsar/kernel/nr_rate_match.h>
 #include <gnuradio/nrsar/kernel/nr_ulsch.h>
 #include <algorithm>
+#include <cstring>
 #include <memory>
 
 namespace gr {
@@ -17,6 +18,19 @@ namespace nrsar {
 namespace kernel {
 
 namespace {
+// out = in with the sign flipped where c = 1 (38.211 6.3.1.1 undone on LLRs); a non-finite
+// LLR is an erasure (0), never a known bit. On the bits, so that the loop vectorises.
+void descramble(const float* __restrict in, const std::uint8_t* __restrict c, std::size_t n, float* __restrict out)
+{
+    for (std::size_t k = 0; k < n; k++) {
+        std::uint32_t u;
+        std::memcpy(&u, in + k, 4);
+        u ^= std::uint32_t{ c[k] } << 31;
+        u = (u & 0x7f800000u) == 0x7f800000u ? 0u : u;
+        std::memcpy(out + k, &u, 4);
+    }
+}
+
 nr_segmentation segmentation_of(std::size_t tbs, double code_rate)
 {
     check_at_least<std::size_t>("tbs", tbs, 24);
@@ -111,8 +125,6 @@ void nr_ulsch::set_threads(unsigned threads)
 nr_ulsch_result
 nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combine, std::uint8_t* a)
 {
-    if (!combine)
-        std::fill(d_soft.begin(), d_soft.end(), 0.0f);
     nr_rate_match_params p;
     p.base_graph = d_seg.base_graph;
     p.zc = d_seg.Zc;
@@ -129,12 +141,9 @@ nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combi
         float* e_llr = d_llr[part].data();
         for (std::size_t r = begin; r < end; r++) {
             const std::size_t pos = d_e_begin[r];
-            for (std::size_t k = 0; k < d_E[r]; k++) { // descramble: c = 1 flips the bit
-                const float v = llr[pos + k];
-                e_llr[k] = d_scr[pos + k] ? -v : v;
-            }
+            descramble(llr + pos, d_scr.data() + pos, d_E[r], e_llr);
             float* soft = d_soft.data() + r * N;
-            nr_rate_recover(e_llr, p, d_E[r], soft);
+            nr_rate_recover(e_llr, p, d_E[r], soft, combine); // !combine: a new TB
             const auto dr = d_dec[part].decode(soft, d_cb.data() + r * d_seg.K);
             d_cb_iterations[r] = dr.iterations;
             d_cb_parity[r] = dr.parity_ok ? 1 : 0;

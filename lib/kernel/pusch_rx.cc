@@ -10,6 +10,7 @@
 #include <gnuradio/nrsar/kernel/pusch_rx.h>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace gr {
 namespace nrsar {
@@ -25,6 +26,53 @@ const dmrs_config& checked_dmrs(const numerology& num, const dmrs_config& dmrs)
                                        "estimates the channel from them)");
     check_at_least("num_subcarriers", num.num_subcarriers, 6u);
     return dmrs;
+}
+// x = y conj(h) / |h|^2 and nv = sigma^2 / |h|^2 for n REs; returns sum |h|^2 (in
+// double). Branch-free so that it vectorises; non-finite results (overflow on garbage
+// input) are found after the pass and become erasures.
+double equalise(const gr_complex* __restrict y,
+                const gr_complex* __restrict h,
+                float s2,
+                unsigned n,
+                gr_complex* __restrict x,
+                float* __restrict nv,
+                float* __restrict g)
+{
+    const float* yf = reinterpret_cast<const float*>(y);
+    const float* hf = reinterpret_cast<const float*>(h);
+    float* xf = reinterpret_cast<float*>(x);
+    std::uint32_t bad = 0;
+    for (unsigned k = 0; k < n; k++) {
+        const float hr = hf[2 * k], hi = hf[2 * k + 1];
+        const float gk = std::max(hr * hr + hi * hi, 1e-20f);
+        const float inv = 1.0f / gk; // one division per RE
+        const float yr = yf[2 * k], yi = yf[2 * k + 1];
+        const float xr = (yr * hr + yi * hi) * inv, xi = (yi * hr - yr * hi) * inv;
+        const float v = s2 * inv;
+        xf[2 * k] = xr;
+        xf[2 * k + 1] = xi;
+        nv[k] = v;
+        g[k] = gk;
+        std::uint32_t ur, ui, uv; // exponent all ones: inf or NaN
+        std::memcpy(&ur, &xr, 4);
+        std::memcpy(&ui, &xi, 4);
+        std::memcpy(&uv, &v, 4);
+        bad |= static_cast<std::uint32_t>((ur & 0x7f800000u) == 0x7f800000u) |
+               static_cast<std::uint32_t>((ui & 0x7f800000u) == 0x7f800000u) |
+               static_cast<std::uint32_t>((uv & 0x7f800000u) == 0x7f800000u);
+    }
+    if (bad)
+        for (unsigned k = 0; k < n; k++)
+            if (!std::isfinite(x[k].real()) || !std::isfinite(x[k].imag()) || !std::isfinite(nv[k])) {
+                // an erasure (LLRs ~ 0), never NaN downstream (found by
+                // fuzz_transport_block: NaN reached the hard slicer)
+                x[k] = gr_complex(0.0f, 0.0f);
+                nv[k] = 1e30f;
+            }
+    double sum = 0.0; // in RE order, as one loop would
+    for (unsigned k = 0; k < n; k++)
+        sum += g[k];
+    return sum;
 }
 } // namespace
 
@@ -50,6 +98,7 @@ pusch_rx::pusch_rx(const pusch_config& cfg)
     d_s0.resize(dmrs_count(n) + 1);
     d_s1.resize(dmrs_count(n) + 1);
     d_h.resize(n);
+    d_g.resize(n);
     d_x.resize(d_data_res);
     d_nv.resize(d_data_res);
     d_llr.resize(d_data_res * d_demapper.bits_per_symbol());
@@ -101,9 +150,12 @@ pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, 
         double phi = std::arg(step_sum); // rad per DMRS RE (2 subcarriers)
         if (!std::isfinite(phi))
             phi = 0.0;
-        if (phi != 0.0)
-            for (unsigned i = 0; i < nd; i++)
-                d_ls[i] *= gr_complex(std::polar(1.0, -phi * i));
+        if (phi != 0.0) { // exp(-j phi i) by recursion in double (no sincos per RE)
+            const std::complex<double> step = std::polar(1.0, -phi);
+            std::complex<double> w(1.0, 0.0);
+            for (unsigned i = 0; i < nd; i++, w *= step)
+                d_ls[i] *= gr_complex(w);
+        }
         auto& h = d_h_dmrs[j];
         // Straight-line least-squares fit over a window of d_window DMRS REs, evaluated at
         // i. Inside the band the window is centred (the fit is the moving average); at the
@@ -132,9 +184,12 @@ pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, 
         for (unsigned k = 1; k < n; k += 2)
             h[k] = (k + 1 < n) ? 0.5f * (h[k - 1] + h[k + 1])
                                : h[k - 1] + 0.5f * (h[k - 1] - h[k - 3]);
-        if (phi != 0.0)
-            for (unsigned k = 0; k < n; k++)
-                h[k] *= gr_complex(std::polar(1.0, 0.5 * phi * k));
+        if (phi != 0.0) {
+            const std::complex<double> step = std::polar(1.0, 0.5 * phi);
+            std::complex<double> w(1.0, 0.0);
+            for (unsigned k = 0; k < n; k++, w *= step)
+                h[k] *= gr_complex(w);
+        }
     }
 
     // Per data symbol: channel in time, equalise, noise variance per RE, EVM.
@@ -158,24 +213,7 @@ pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, 
         }
         gr_complex* x = d_x.data() + s * n;
         float* nv = d_nv.data() + s * n;
-        const float s2 = static_cast<float>(sigma2);
-        for (unsigned k = 0; k < n; k++) {
-            const float hr = d_h[k].real(), hi = d_h[k].imag();
-            const float g = std::max(hr * hr + hi * hi, 1e-20f);
-            const float inv = 1.0f / g; // one division per RE: y conj(h) / |h|^2
-            const float yr = y[k].real(), yi = y[k].imag();
-            float xr = (yr * hr + yi * hi) * inv, xi = (yi * hr - yr * hi) * inv;
-            float v = s2 * inv;
-            if (!std::isfinite(xr) || !std::isfinite(xi) || !std::isfinite(v)) {
-                // overflow on garbage input: an erasure (LLRs ~ 0), never NaN downstream
-                // (found by fuzz_transport_block: NaN reached the hard slicer)
-                xr = xi = 0.0f;
-                v = 1e30f;
-            }
-            x[k] = gr_complex(xr, xi);
-            nv[k] = v;
-            gain += g;
-        }
+        gain += equalise(y, d_h.data(), static_cast<float>(sigma2), n, x, nv, d_g.data());
     }
     // the EVM comes with the LLRs: distance of each RE to its nearest point
     d_demapper.demap(d_x.data(), d_nv.data(), d_data_res, d_llr.data(), &evm);

@@ -5,6 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "bit_pack.h"
 #include "param_check.h"
 #include <gnuradio/nrsar/kernel/constellation.h>
 #include <gnuradio/nrsar/kernel/gold_sequence.h>
@@ -178,7 +179,6 @@ transport_block_codec::transport_block_codec(const pusch_config& cfg)
             d_A, e.code_rate(), e.qm, d_G, 1, 0, cfg.max_iterations);
     }
     d_bits.resize(d_A + 24);
-    d_llr.resize(d_G);
 }
 
 transport_block_codec::~transport_block_codec() = default;
@@ -247,10 +247,8 @@ tb_result transport_block_codec::decode(const float* llr,
                                         bool combine)
 {
     tb_result r;
-    for (std::size_t i = 0; i < d_G; i++)
-        d_llr[i] = std::isfinite(llr[i]) ? llr[i] : 0.0f;
-    if (coded()) {
-        const auto u = d_ulsch->decode(d_llr.data(), rv, c_init(slot), combine, d_bits.data());
+    if (coded()) { // nr_ulsch counts non-finite LLRs as 0
+        const auto u = d_ulsch->decode(llr, rv, c_init(slot), combine, d_bits.data());
         r.crc_ok = u.tb_crc_ok;
         r.parity_ok = u.parity_ok;
         r.code_blocks = u.code_blocks;
@@ -259,15 +257,15 @@ tb_result transport_block_codec::decode(const float* llr,
     } else {
         gold_sequence c(c_init(slot));
         c.generate_unpacked(d_bits.data(), d_A + 24);
-        for (std::size_t i = 0; i < d_A + 24; i++) // ties (0) decide 0 before descrambling
-            d_bits[i] = static_cast<std::uint8_t>((d_llr[i] < 0.0f) != (d_bits[i] != 0));
+        for (std::size_t i = 0; i < d_A + 24; i++) // ties (0, non-finite) decide 0 before descrambling
+            d_bits[i] = static_cast<std::uint8_t>((std::isfinite(llr[i]) && llr[i] < 0.0f) != (d_bits[i] != 0));
         r.crc_ok = r.parity_ok = d_crc.check(d_bits.data(), d_A + 24);
     }
     if (!(r.crc_ok && r.parity_ok))
         return r;
-    std::vector<std::uint8_t> bytes(tb_bytes(), 0);
-    for (std::size_t i = 0; i < d_A; i++)
-        bytes[i / 8] |= static_cast<std::uint8_t>(d_bits[i] << (7 - i % 8));
+    std::vector<std::uint8_t> bytes(tb_bytes()); // A is a multiple of 8
+    for (std::size_t i = 0; i < bytes.size(); i++)
+        bytes[i] = pack8(d_bits.data() + 8 * i);
     r.header_ok = r.sdu.read(bytes.data(), bytes.size());
     return r;
 }

@@ -169,6 +169,7 @@ def build_base_station(tb, num, opts, dmrs, source):
     # channel estimate removes it before its fit (docs/isac.md, "Backoff slope")
     rx = pusch_receiver(opts.pusch_config(num))
     widen_buffers(delay)
+    rx.set_threads(opts.rx_threads)
     store = blocks.message_debug()
     tb.connect(source, delay, chan, sync, demod, rx)
     tb.msg_connect((rx, "pdus"), (store, "store"))

@@ -542,6 +542,9 @@ class IsacOptions(SimOptions):
                                "(time) or scene_echo on the grid (tf)", choices=["time", "tf"])
     echo_taps: int = option(32, "td_echo fractional-delay FIR length", at_least=2,
                             at_most=1024)
+    rx_threads: int = option(1, "pusch_receiver threads per slot (1, or 2: the code blocks "
+                             "decoded on two); at most the machine's cores", at_least=1,
+                             at_most=2)
 
     def check(self):
         super().check()
@@ -558,6 +561,10 @@ class IsacOptions(SimOptions):
         parse_taps(self.taps)
         params.make_dmrs(self.dmrs)
         self.check_coding()
+        cores = os.cpu_count() or 1
+        if self.rx_threads > cores:
+            raise OptionError(f"--rx-threads = {self.rx_threads} must be at most the {cores} "
+                              f"CPU cores of this machine")
 
     def check_coding(self):
         """The MCS against its table and --modulation; --repetitions needs the LDPC."""

@@ -6,12 +6,16 @@
 #
 """Writes the seed corpus of fuzz_transport_block (tests/fuzz/corpus/fuzz_transport_block/).
 
-The inputs are built here from the standards, not with the module: CRC24A by polynomial
-division (TS 38.212 5.1), the Gold sequence bit by bit (TS 38.211 5.2.1, SPEC 2) and the
-codec's documented c_init (include/gnuradio/nrsar/kernel/transport_block.h). The target's
-codecs: uncoded G = 1000 (TB 125 bytes, payload 117), LDPC n = 300, k = 152, G = 700 (C = 2
-codewords, TB 38 bytes, payload 30), scrambling_id 7. Byte 0 of an input is the mode: bit 0 LDPC,
-bit 1 raw float LLRs (else signed bytes), bit 2 the whole receiver; mode >> 2 is the slot.
+The inputs are built here from the standards, not with the module: the MAC PDU of TS 38.321
+6.1.2 with the RLC UMD header of TS 38.322 6.2.2.3 (the framing of docs/nr_coding.md, "PDU
+framing"), CRC24A by polynomial division (TS 38.212 5.1) and the Gold sequence bit by bit
+(TS 38.211 5.2.1) with c_init = n_RNTI 2^15 + n_ID (38.211 6.3.1.1). The target's codecs use
+pusch_config's defaults on the `tiny` numerology: N = 64, 256-QAM, DMRS pusch2, so G = 12 x 64
+x 8 = 6144 bits per slot; uncoded A = 8 floor((G - 24) / 8) = 6120 bits (765 bytes), CRC24A,
+zeros to G; NR LDPC qam256 MCS 27; n_RNTI 0x4601, n_ID 0, standard scrambling.
+Byte 0 of an input is the mode: bit 0 NR LDPC (else uncoded), bit 1 raw float LLRs (else
+signed bytes), bit 2 also the whole receiver, bit 3 combine with the previous decode
+(LDPC), bits 2-3 the rv, bits 4-7 the slot.
 Rerun after changing the target's input format:  tests/fuzz/make_transport_block_seeds.py
 """
 
@@ -19,10 +23,11 @@ import math
 import os
 import struct
 
-SCRAMBLING_ID = 7
-UNCODED_G, UNCODED_TB = 1000, 125
-LDPC_G, LDPC_USED, LDPC_TB = 700, 600, 38
-PAYLOAD_START, PAYLOAD_END, FILLER = 2, 4, 1
+G = 12 * 64 * 8
+TB_BYTES = (G - 24) // 8
+C_INIT = 0x4601 * 2**15 + 0
+LCID, LCID_PADDING = 4, 63
+COMPLETE, FIRST, LAST, MIDDLE = 0, 1, 2, 3
 
 
 def crc24a(data):
@@ -48,27 +53,29 @@ def gold(c_init, n):
     return [(x1[i + nc] + x2[i + nc]) % 2 for i in range(n)]
 
 
-def c_init(slot):
-    """The codec's documented variant of 38.211 6.3.1.1."""
-    return (((SCRAMBLING_ID << 15) + slot % 32768) * 0x9E3779B1 + 0x2545F491) % 2**31
-
-
-def tb(payload_len, seq, flags, payload, size=UNCODED_TB):
-    """header (payload_len, seq, flags; big endian) | payload, zero padded | CRC24A."""
-    body = struct.pack(">HHB", payload_len, seq, flags) + payload
-    body += bytes(size - 3 - len(body))
-    return body + crc24a(body).to_bytes(3, "big")
+def mac_pdu(data=None, si=COMPLETE, sn=0, so=0, lcid=LCID, size=TB_BYTES):
+    """MAC subheader R F=1 LCID | L(16), RLC SI SN [SO(16)], data, padding subheader (LCID 63),
+    zeros to size; data None: the padding subheader alone (a filler TB)."""
+    if data is None:
+        return bytes([LCID_PADDING]) + bytes(size - 1)
+    rlc = bytes([(si << 6) | (0 if si == COMPLETE else sn & 0x3F)])
+    if si in (LAST, MIDDLE):
+        rlc += struct.pack(">H", so)
+    body = bytes([0x40 | lcid]) + struct.pack(">H", len(rlc) + len(data)) + rlc + data
+    if len(body) < size:
+        body += bytes([LCID_PADDING])
+    return body + bytes(size - len(body))
 
 
 def bits(data):
     return [(b >> (7 - k)) & 1 for b in data for k in range(8)]
 
 
-def int8_llrs(code_bits, g, slot):
-    """Signed-byte LLRs (+100 = bit 0) of the scrambled bits, zeros up to G."""
-    code_bits = code_bits + [0] * (g - len(code_bits))
-    c = gold(c_init(slot), g)
-    return bytes((0x9C if b ^ ci else 0x64) for b, ci in zip(code_bits, c))
+def uncoded_llrs(tb, c_init=C_INIT):
+    """Signed-byte LLRs (+100 = bit 0) of the uncoded slot: TB, CRC24A, zeros to G, scrambled."""
+    f = bits(tb) + bits(crc24a(tb).to_bytes(3, "big"))
+    f += [0] * (G - len(f))
+    return bytes((0x9C if b ^ c else 0x64) for b, c in zip(f, gold(c_init, G)))
 
 
 def floats(values):
@@ -76,27 +83,37 @@ def floats(values):
 
 
 def seeds():
-    hello = tb(5, 2, PAYLOAD_START | PAYLOAD_END, b"hello")
-    bad_crc = bytearray(hello)
-    bad_crc[6] ^= 0x10
+    hello = mac_pdu(b"hello")
+    bad = bytearray(hello)
+    bad[10] ^= 0x10
     nonfinite = [math.nan, math.inf, -math.inf, 1e-45, 3e38, -0.0, -3e38, 1.0] * 16
+    # the all-zero TB has a zero CRC and zero CB CRCs: the all-zero codeword of the linear
+    # code, so its scrambled LLRs are the Gold sequence's alone (the parser refuses LCID 0)
+    zero_codeword = bytes((0x9C if c else 0x64) for c in gold(C_INIT, G))
     return {
-        # bytes as a TB (part 1 of the target)
-        "tb_filler": b"\x00" + tb(0, 1, FILLER, b""),
+        # bytes as a TB (part 1 of the target): what the parser accepts ...
+        "tb_filler": b"\x00" + mac_pdu(),
         "tb_pdu_hello": b"\x00" + hello,
-        "tb_bad_crc": b"\x00" + bytes(bad_crc),
-        "tb_len_over_capacity": b"\x00" + tb(118, 3, 0, b""),   # CRC right, 118 > 117
-        "tb_unknown_flag": b"\x00" + tb(0, 4, 0x80, b""),        # CRC right, flag 0x80
-        "tb_filler_with_payload": b"\x00" + tb(1, 5, FILLER, b"x"),
-        "tb_short": b"\x00\x00\x05",                              # zero-extended to 125 bytes
+        "tb_first_segment": b"\x00" + mac_pdu(b"abc", FIRST, sn=5),
+        "tb_last_segment": b"\x00" + mac_pdu(b"xyz", LAST, sn=5, so=700),
+        "tb_middle_segment_full": b"\x00" + mac_pdu(bytes(range(256)) * 2 + bytes(TB_BYTES - 518),
+                                                    MIDDLE, sn=63, so=65000),
+        # ... and what it refuses
+        "tb_l_beyond_tb": b"\x00" + b"\x44\xff\xff\x00hello",
+        "tb_unknown_lcid": b"\x00" + mac_pdu(b"hello", lcid=5),
+        "tb_reserved_bit": b"\x00" + bytes([0x80 | 0x44]) + mac_pdu(b"hello")[1:],
+        "tb_complete_with_sn": b"\x00" + b"\x44\x00\x06\x05hello\x3f",
+        "tb_no_padding_after_data": b"\x00" + b"\x44\x00\x06\x00hello\x44",
+        "tb_short": b"\x00\x44\x00",                              # zero-extended to 765 bytes
         "empty": b"",
-        # bytes as LLRs (part 2): the hello TB, scrambled for slot 0 and slot 2 (mode 8)
-        "llr_uncoded_slot0": b"\x00" + int8_llrs(bits(hello), UNCODED_G, 0),
-        "llr_uncoded_slot2": b"\x08" + int8_llrs(bits(hello), UNCODED_G, 2),
-        "llr_uncoded_wrong_slot": b"\x00" + int8_llrs(bits(hello), UNCODED_G, 1),
-        # LDPC: the all-zero TB (payload_len 0, flags 0, CRC 0) is the all-zero codeword of
-        # the linear code, so its scrambled LLRs are the Gold sequence's alone
-        "llr_ldpc_zero_tb": b"\x01" + int8_llrs([0] * LDPC_USED, LDPC_G, 0),
+        # bytes as LLRs (part 2): the hello TB uncoded, and with the wrong RNTI / a flipped bit
+        "llr_uncoded_hello": b"\x00" + uncoded_llrs(hello),
+        "llr_uncoded_filler_slot3": b"\x30" + uncoded_llrs(mac_pdu()),
+        "llr_uncoded_other_rnti": b"\x00" + uncoded_llrs(hello, 0x4602 * 2**15),
+        "llr_uncoded_bad_crc": b"\x00" + uncoded_llrs(bytes(bad))[:8 * 765] +
+                               uncoded_llrs(hello)[8 * 765:],
+        "llr_ldpc_zero_tb": b"\x01" + zero_codeword,
+        "llr_ldpc_zero_tb_rv2_combined": b"\x09" + zero_codeword,
         "llr_float_nonfinite": b"\x02" + floats(nonfinite),
         "llr_ldpc_float_nonfinite": b"\x03" + floats(nonfinite),
         # the receiver (part 3): a zero grid (no DMRS energy) and a non-finite one
@@ -109,6 +126,8 @@ if __name__ == "__main__":
     folder = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus",
                           "fuzz_transport_block")
     os.makedirs(folder, exist_ok=True)
+    for name in os.listdir(folder):  # the old format's seeds go
+        os.remove(os.path.join(folder, name))
     for name, data in seeds().items():
         with open(os.path.join(folder, name), "wb") as f:
             f.write(data)

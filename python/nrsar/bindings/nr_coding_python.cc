@@ -262,9 +262,8 @@ void bind_nr_coding(py::module& m)
                 if (buffer->ndim() != 1 || static_cast<std::size_t>(buffer->size()) != N)
                     fail("buffer", "of size " + std::to_string(buffer->size()), "must be 1-D of N = " + std::to_string(N));
                 std::copy(buffer->data(), buffer->data() + N, o);
-            } else
-                std::fill(o, o + N, 0.0f);
-            nr_rate_recover(llrs.data(), p, llrs.size(), o);
+            }
+            nr_rate_recover(llrs.data(), p, llrs.size(), o, buffer.has_value());
             return out;
         },
         py::arg("llrs"),

@@ -17,6 +17,7 @@ import os
 import subprocess
 import sys
 import tempfile
+from unittest import mock
 
 import numpy as np
 
@@ -193,7 +194,8 @@ class qa_isac(gr_unittest.TestCase):
         # delivers the file
         r = self.run_isac(["--coding", "none", "--bs-snr-db", "25"], "uncoded25")
         self.assertGreater(r["blocks_failed"], 0)
-        r = self.run_isac(["--mcs", "20", "--bs-snr-db", "25"], "ldpc")
+        threads = str(min(2, os.cpu_count() or 1))  # the code blocks on two threads where it can
+        r = self.run_isac(["--mcs", "20", "--bs-snr-db", "25", "--rx-threads", threads], "ldpc")
         self.assertTrue(r["payload_identical"])
         self.assertEqual(r["blocks_failed"], 0)
         g = self.g
@@ -217,6 +219,12 @@ class qa_isac(gr_unittest.TestCase):
             parse(["--preset", "sdr20", "--mode", "srs2", "--payload", self.payload])
         with self.assertRaisesRegex(ValueError, "--taps = '0,0' must hold"):
             parse_taps("0,0")
+        with self.assertRaisesRegex(ValueError, "--rx-threads = 3 must be at most 2"):
+            parse(["--rx-threads", "3", "--payload", self.payload])
+        with mock.patch("os.cpu_count", return_value=1):
+            with self.assertRaisesRegex(ValueError, "--rx-threads = 2 must be at most the 1 CPU "
+                                                    "cores of this machine"):
+                parse(["--rx-threads", "2", "--payload", self.payload])
 
 
 if __name__ == "__main__":

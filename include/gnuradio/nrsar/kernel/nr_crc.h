@@ -55,7 +55,9 @@ public:
 private:
     unsigned d_L;
     std::uint32_t d_poly; // g(D) without the D^L term, bit k = coefficient of D^k
-    std::array<std::uint32_t, 256> d_table;
+    //! d_table[k][b] = b D^(8k + L) mod g(D): byte b followed by k zero bytes (slicing by
+    //! L / 8 bytes per step)
+    std::array<std::array<std::uint32_t, 256>, 3> d_table;
 };
 
 } // namespace kernel

@@ -83,9 +83,9 @@ private:
         unsigned degree;
     };
     nr_ldpc_decode_result run(std::uint8_t* c); // decodes d_l over d_active
-    //! d_active = the rows to decode given which columns received LLRs; returns the largest
-    //! column degree over them.
-    unsigned select_layers(const std::vector<bool>& received);
+    //! d_active = the rows to decode given which columns received LLRs (d_received);
+    //! returns the largest column degree over them.
+    unsigned select_layers();
     void gather(const layer& ly); // the row's columns, shifted by P_ij, into d_t
     bool row_ok(const layer& ly); // parity check of one row on the current hard decisions
 
@@ -98,6 +98,7 @@ private:
     std::vector<nr_lifted_edge> d_edges; // all rows, row by row
     std::vector<layer> d_layers;          // every row of H
     std::vector<unsigned> d_row_parity;   // the degree-one column of each row (or none)
+    std::vector<std::uint8_t> d_received; // per column: received a non-zero LLR
     std::vector<std::int8_t> d_l;         // a-posteriori LLRs, cols x zp
     std::vector<std::int8_t> d_r;         // check-to-variable messages, edges x zp
     std::vector<std::int8_t> d_t;         // the gathered columns of one layer, degree x zp

@@ -58,11 +58,15 @@ NRSAR_API void nr_rate_match(const std::uint8_t* d, const nr_rate_match_params& 
  * \brief Rate recovery with soft combining: the E LLRs of f are de-interleaved and added to
  * the circular-buffer positions they were read from, into d_llr (N values, accumulated:
  * a retransmission with another rv adds to the first, HARQ chase / incremental redundancy
- * combining). Filler positions are set to +infinity (known 0 bits); the caller zeroes
- * d_llr before the first transmission.
+ * combining). Filler positions are set to +infinity (known 0 bits). combine = false starts
+ * a new buffer (the first transmission): d_llr need not be initialised, the positions not
+ * read are set to 0 (the same values as zeroing it first, in one pass).
  */
-NRSAR_API void
-nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::size_t e, float* d_llr);
+NRSAR_API void nr_rate_recover(const float* f_llr,
+                               const nr_rate_match_params& p,
+                               std::size_t e,
+                               float* d_llr,
+                               bool combine = true);
 
 } // namespace kernel
 } // namespace nrsar

@@ -101,6 +101,7 @@ private:
     std::vector<gr_complex> d_ls;
     std::vector<std::complex<double>> d_s0, d_s1; // prefix sums of ls(j), j ls(j)
     volk::vector<gr_complex> d_h;   // channel of one data symbol
+    volk::vector<float> d_g;        // |h|^2 of one data symbol
     volk::vector<gr_complex> d_x;   // equalised data REs of the slot
     volk::vector<float> d_nv;       // per-RE noise variance after equalisation
     volk::vector<float> d_llr;

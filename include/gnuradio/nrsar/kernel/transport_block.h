@@ -144,7 +144,6 @@ private:
     std::unique_ptr<nr_ulsch> d_ulsch;
     nr_crc d_crc;
     std::vector<std::uint8_t> d_bits;  // A (+ CRC) unpacked bits
-    std::vector<float> d_llr;          // G cleaned LLRs
 };
 
 } // namespace kernel
