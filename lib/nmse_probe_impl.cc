@@ -80,6 +80,9 @@ void probe_config::validate() const
         if (!(noise_box[3] > noise_box[2]))
             throw_param("noise_box y_max", noise_box[3], "must be > y_min = " + std::to_string(noise_box[2]));
     }
+    if (block_lines > 0 && block_lines < lines_per_aperture)
+        throw_param("block_lines", block_lines,
+                    "must be 0 or >= lines_per_aperture = " + std::to_string(lines_per_aperture));
     check_finite("band_lo_hz", band_lo_hz);
     check_finite("band_hi_hz", band_hi_hz);
     if ((band_lo_hz != 0.0 || band_hi_hz != 0.0) && !(band_hi_hz > band_lo_hz))
@@ -302,7 +305,8 @@ void nmse_probe_impl::finish_aperture(bool partial)
                                               std::min(data0, data0 + span),
                                               std::max(data0, data0 + span), d_cfg.band_lo_hz,
                                               d_cfg.band_hi_hz, d_geo.wavelength_m(),
-                                              d_geo.velocity_mps);
+                                              d_geo.velocity_mps,
+                                              d_cfg.block_lines * std::abs(dy));
     }
     const auto res = d_kernel.compute(d_img.data(), d_ref.data(), lines, bins, exp_line,
                                       exp_bin, cfg, bin_mask.data(), line_mask.data(),

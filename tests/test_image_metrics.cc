@@ -451,6 +451,50 @@ TEST(ImageMetrics, StripPixelWeightsFollowTheWindowsSupport)
                  std::invalid_argument);
 }
 
+TEST(ImageMetrics, StripPixelWeightsCountEveryCopyOfACircularBlock)
+{
+    // A circular block of 150 m (period_m) holds the pulses [0, 100) m and zeros: a window
+    // longer than it wraps and covers the pulses of every copy, counted here pulse by pulse
+    // (1 cm apart) at y_p + j 150 m. Full PRF of 24 kHz: windows of ~24 km, weights -> 1.5.
+    const double lambda = 299792458.0 / 3.5e9, v = 50.0, r0 = std::hypot(300.0, 1000.0);
+    const double period = 150.0, span = 100.0;
+    const std::size_t lines = 40, bins = 2;
+    for (const double f : { 123.45, 12e3 }) {
+        const double f_lo = -f / 3.0, f_hi = f;
+        const auto w = kernel::strip_pixel_weights(lines, bins, 50.0, 3.0, r0, 500.0, 0.0, span,
+                                                   f_lo, f_hi, lambda, v, period);
+        for (std::size_t k = 0; k < bins; ++k) {
+            const double r = r0 + 500.0 * k;
+            const bool parabolic = f > 1000.0; // beyond 2 v / lambda: eq. (40)
+            const double u_lo = parabolic ? r * f_lo * lambda / (2 * v)
+                                          : offset_of_doppler(f_lo, lambda, v, r);
+            const double u_hi = parabolic ? r * f_hi * lambda / (2 * v)
+                                          : offset_of_doppler(f_hi, lambda, v, r);
+            const double window = u_hi - u_lo;
+            const double wraps = std::floor(window / period);
+            const double best = wraps * span + std::min(window - wraps * period, span);
+            for (std::size_t m = 0; m < lines; ++m) {
+                const double y = 50.0 + 3.0 * m;
+                double s = 0.0;
+                const long j0 = static_cast<long>(std::floor((y - u_hi - span) / period));
+                const long j1 = static_cast<long>(std::ceil((y - u_lo) / period));
+                for (long j = j0; j <= j1; ++j)
+                    for (int p = 0; p < 10000; ++p) {
+                        const double yp = 0.005 + 0.01 * p + j * period;
+                        s += (yp >= y - u_hi && yp <= y - u_lo) ? 0.01 : 0.0;
+                    }
+                const double expected = s >= 0.5 * best ? window / s : 0.0;
+                EXPECT_NEAR(w[m * bins + k], expected, 5e-4 * expected + 1e-6) << f << " " << m;
+                if (parabolic)
+                    EXPECT_NEAR(w[m * bins + k], period / span, 0.02 * period / span);
+            }
+        }
+    }
+    EXPECT_THROW(kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, span, -5.0,
+                                             5.0, lambda, v, 0.5 * span),
+                 std::invalid_argument);
+}
+
 TEST(ImageMetrics, PixelWeightsUndoANoiseProfile)
 {
     // Noise whose power per line follows a trapezoid s_m (a zero-padded aperture's edges):

@@ -389,11 +389,17 @@ unsigned aperture_focuser::fft_size() const
 }
 double aperture_focuser::band_lo_hz() const
 {
-    return d_kernel ? d_kernel->band_lo_hz() : d_scene_lo_hz;
+    // Before the first block: the band a kernel of the current parameters processes (the
+    // probe's theory and weights are configured then).
+    return d_kernel ? d_kernel->band_lo_hz()
+                    : rd_focuser::configured_band(d_cfg, d_scene_lo_hz, d_scene_hi_hz, 1.0 / d_T)
+                          .first;
 }
 double aperture_focuser::band_hi_hz() const
 {
-    return d_kernel ? d_kernel->band_hi_hz() : d_scene_hi_hz;
+    return d_kernel ? d_kernel->band_hi_hz()
+                    : rd_focuser::configured_band(d_cfg, d_scene_lo_hz, d_scene_hi_hz, 1.0 / d_T)
+                          .second;
 }
 unsigned aperture_focuser::band_bins() const
 {

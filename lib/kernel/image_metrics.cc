@@ -239,7 +239,8 @@ std::vector<float> strip_pixel_weights(std::size_t lines,
                                        double band_lo_hz,
                                        double band_hi_hz,
                                        double wavelength_m,
-                                       double velocity_mps)
+                                       double velocity_mps,
+                                       double period_m)
 {
     check_finite_positive("wavelength_m", wavelength_m);
     check_finite_positive("velocity_mps", velocity_mps);
@@ -255,6 +256,18 @@ std::vector<float> strip_pixel_weights(std::size_t lines,
         throw_param("band_hi_hz", band_hi_hz, "must be > band_lo_hz = " + std::to_string(band_lo_hz));
     if (!(data_hi_m > data_lo_m) || !std::isfinite(data_lo_m) || !std::isfinite(data_hi_m))
         throw_param("data_hi_m", data_hi_m, "must be finite and > data_lo_m = " + std::to_string(data_lo_m));
+    if (!(period_m >= 0.0) || !std::isfinite(period_m))
+        throw_param("period_m", period_m, "must be finite and >= 0");
+    const double span = data_hi_m - data_lo_m;
+    if (period_m > 0.0 && period_m < span)
+        throw_param("period_m", period_m, "must be 0 or >= the data span " + std::to_string(span));
+    // Data under (-inf, u]: the data in every copy of the block (period_m > 0) or once.
+    const auto data_below = [&](double u) {
+        if (period_m == 0.0)
+            return std::clamp(u - data_lo_m, 0.0, span);
+        const double n = std::floor((u - data_lo_m) / period_m);
+        return n * span + std::min(u - data_lo_m - n * period_m, span);
+    };
     // (y - y_p) / r of Doppler f: f = 2 v d / (lambda sqrt(r^2 + d^2)) solved for d. A band
     // reaching (fl / (2 v))^2 >= 0.99 (towards endfire, e.g. the full PRF) maps parabolically,
     // eq. (40), as the focuser's migration does there.
@@ -270,10 +283,11 @@ std::vector<float> strip_pixel_weights(std::size_t lines,
     for (std::size_t k = 0; k < bins; ++k) {
         const double r = r0_m + static_cast<double>(k) * dr_m;
         const double u_lo = r * c_lo, u_hi = r * c_hi, window = u_hi - u_lo;
-        const double best = std::min(window, data_hi_m - data_lo_m);
+        const double wraps = period_m > 0.0 ? std::floor(window / period_m) : 0.0;
+        const double best = wraps * span + std::min(window - wraps * period_m, span);
         for (std::size_t m = 0; m < lines; ++m) {
             const double y = y0_m + static_cast<double>(m) * dy_m;
-            const double s = std::min(y - u_lo, data_hi_m) - std::max(y - u_hi, data_lo_m);
+            const double s = data_below(y - u_lo) - data_below(y - u_hi);
             if (s >= 0.5 * best)
                 w[m * bins + k] = static_cast<float>(window / s);
         }

@@ -215,7 +215,8 @@ void rd_focuser::select_band()
 {
     d_band_bins.clear();
     const double prf = 1.0 / d_blk.pulse_interval_s;
-    const bool full = d_cfg.band == doppler_band::FULL || (d_band_hi - d_band_lo) >= prf;
+    const auto band = configured_band(d_cfg, d_band_lo, d_band_hi, prf);
+    const bool full = band.second - band.first >= prf;
     for (unsigned p = 0; p < d_nfft; ++p) {
         const double f = doppler_hz(p);
         if (full || (f >= d_band_lo && f <= d_band_hi))
@@ -226,10 +227,17 @@ void rd_focuser::select_band()
         const double f = std::fmod(std::fmod(d_centre, prf) + prf, prf);
         d_band_bins.push_back(static_cast<unsigned>(std::lround(f / prf * d_nfft)) % d_nfft);
     }
-    if (full) {
-        d_band_lo = d_centre - prf / 2.0;
-        d_band_hi = d_centre + prf / 2.0;
-    }
+    d_band_lo = band.first;
+    d_band_hi = band.second;
+}
+
+std::pair<double, double>
+rd_focuser::configured_band(const focuser_config& cfg, double lo, double hi, double prf)
+{
+    if (cfg.band != doppler_band::FULL && hi - lo < prf)
+        return { lo, hi };
+    const double centre = 0.5 * (lo + hi);
+    return { centre - prf / 2.0, centre + prf / 2.0 };
 }
 
 void rd_focuser::estimate_band()

@@ -77,7 +77,12 @@ def range_crop(opts, sc, nfft):
     crop = (max(0.0, extent.min_slant_range_m - margin), extent.max_slant_range_m + margin)
     # the far edge migrates most; back-projection reads no bins beyond the image
     g = rcmc_guard_bins(opts, sc, nfft, crop[1]) if opts.focuser == "rd" else 0
-    return (max(0.0, crop[0] - g * rho), crop[1] + g * rho), g
+    # the focuser drops g bins from both sides: at most the bins above 0 m (--band full's
+    # reach can exceed the near edge's range; a clamped near side would shift the image
+    # out of the swath), so the near columns read zeros beyond the guard at the widest
+    # migrations
+    g = min(g, int(crop[0] / rho))
+    return (crop[0] - g * rho, crop[1] + g * rho), g
 
 
 def bp_config_of(opts, cfg):
@@ -211,7 +216,9 @@ def connect_pulses(graph, source, sink, sc):
 def make_probe(opts, sc, foc, cfg, reference):
     """nmse_probe behind focuser foc. One aperture with zeros around it (linear correlation
     unless overlap_lines = 0): the probe normalises its lines to full correlation windows of
-    the processed band (SPEC 8). Back-projection has no processed band: every pixel
+    the processed band (SPEC 8); a window longer than the focuser's circular block (the full
+    band: tens of seconds of track) wraps, and the probe counts the data in every copy of the
+    block (block_lines). Back-projection has no processed band: every pixel
     correlates all the aperture's pulses along its own history, so its window is full and
     its band the target's own (docs/blocks/bp_focuser.md, "NMSE")."""
     band, zero_padded = (foc.band_lo_hz(), foc.band_hi_hz()), cfg.overlap_lines != 0
@@ -223,7 +230,8 @@ def make_probe(opts, sc, foc, cfg, reference):
                       params.make_filter(opts.filter), opts.snr_db, foc.num_output_bins(),
                       probe_config(reference_input=reference, symbols_per_aperture=sc.symbols,
                                    band_lo_hz=band[0], band_hi_hz=band[1],
-                                   zero_padded=zero_padded))
+                                   zero_padded=zero_padded,
+                                   block_lines=foc.fft_size() if zero_padded else 0))
 
 
 def make_autofocus(opts, bins):

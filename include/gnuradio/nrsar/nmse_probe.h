@@ -87,6 +87,13 @@ struct NRSAR_API probe_config {
      * overlap_lines = 0, or the inner apertures of a stream).
      */
     bool zero_padded = false;
+    /*!
+     * Lines of the focuser's circular block (rd_focuser fft_size()) when a zero-padded
+     * aperture's correlation window can be longer than it and wrap (full-band compression):
+     * the weights count the data in every copy of the block. 0: no wrap. At least
+     * lines_per_aperture when both are set.
+     */
+    unsigned block_lines = 0;
 
     //! Throws std::invalid_argument naming the field, its value and the limit.
     void validate() const;

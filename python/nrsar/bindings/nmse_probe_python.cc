@@ -44,7 +44,8 @@ void bind_nmse_probe(py::module& m)
                          double sidelobe_window_cells,
                          double band_lo_hz,
                          double band_hi_hz,
-                         bool zero_padded) {
+                         bool zero_padded,
+                         unsigned block_lines) {
                  probe_config c;
                  c.reference_input = reference_input;
                  c.lines_per_aperture = lines_per_aperture;
@@ -58,6 +59,7 @@ void bind_nmse_probe(py::module& m)
                  c.band_lo_hz = band_lo_hz;
                  c.band_hi_hz = band_hi_hz;
                  c.zero_padded = zero_padded;
+                 c.block_lines = block_lines;
                  return c;
              }),
              py::arg("reference_input") = false,
@@ -72,6 +74,7 @@ void bind_nmse_probe(py::module& m)
              py::arg("band_lo_hz") = 0.0,
              py::arg("band_hi_hz") = 0.0,
              py::arg("zero_padded") = false,
+             py::arg("block_lines") = 0u,
              "probe_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("reference_input", &probe_config::reference_input)
         .def_readwrite("lines_per_aperture", &probe_config::lines_per_aperture)
@@ -85,6 +88,7 @@ void bind_nmse_probe(py::module& m)
         .def_readwrite("band_lo_hz", &probe_config::band_lo_hz)
         .def_readwrite("band_hi_hz", &probe_config::band_hi_hz)
         .def_readwrite("zero_padded", &probe_config::zero_padded)
+        .def_readwrite("block_lines", &probe_config::block_lines)
         .def("validate", &probe_config::validate);
 
     py::class_<nmse_probe, gr::sync_block, gr::block, gr::basic_block, std::shared_ptr<nmse_probe>>(
@@ -137,34 +141,9 @@ void bind_nmse_probe(py::module& m)
           py::arg("band_hi_hz"),
           py::arg("wavelength_m"),
           py::arg("velocity_mps"),
+          py::arg("period_m") = 0.0,
           "Per-pixel weights W / s (lines x bins, row-major) of the NMSE of a zero-padded "
           "aperture (kernel::strip_pixel_weights, SPEC section 8)");
-
-    using cimage = py::array_t<std::complex<float>, py::array::c_style | py::array::forcecast>;
-    m.def(
-        "image_entropy",
-        [](cimage img) { return gr::nrsar::kernel::image_entropy(img.data(), img.size()); },
-        py::arg("img"),
-        "-sum D ln D, D = |I|^2 / sum |I|^2 (the second paper's section 3.2.1)");
-    m.def(
-        "edge_preservation_index",
-        [](cimage x, cimage y) {
-            if (x.ndim() != 2 || y.ndim() != 2 || x.shape(0) != y.shape(0) || x.shape(1) != y.shape(1))
-                throw std::invalid_argument("x and y must be 2-D images of one shape");
-            return gr::nrsar::kernel::edge_preservation_index(
-                x.data(), y.data(), x.shape(0), x.shape(1));
-        },
-        py::arg("x"),
-        py::arg("y"),
-        "EPI of y against x: correlation coefficient of their amplitudes' 4-neighbour "
-        "Laplacians over the interior pixels (the second paper's section 3.2.1)");
-    m.def("nesz_db",
-          &gr::nrsar::kernel::nesz_db,
-          py::arg("noise_power"),
-          py::arg("target_energy"),
-          py::arg("rcs_m2"),
-          py::arg("pixel_area_m2"),
-          "10 log10(P_n sigma_ref / (E_t A)): NESZ by the integral method");
 
     m.def("nmse_theory_db",
           &gr::nrsar::kernel::nmse_theory_db,

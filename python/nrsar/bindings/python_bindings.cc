@@ -27,6 +27,7 @@ namespace py = pybind11;
     void bind_range_ifft(py::module& m);
     void bind_rd_focuser(py::module& m);
     void bind_nmse_probe(py::module& m);
+    void bind_image_metrics(py::module& m);
     void bind_cheby_presum(py::module& m);
     void bind_extended_scene_echo(py::module& m);
     void bind_pusch_encoder(py::module& m);
@@ -79,6 +80,7 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_range_ifft(m);
     bind_rd_focuser(m);
     bind_nmse_probe(m);
+    bind_image_metrics(m);
     bind_cheby_presum(m);
     bind_extended_scene_echo(m);
     bind_pusch_encoder(m);

@@ -18,8 +18,10 @@ lms (the paper's LMS baseline, kernel/lms_presum.h) and cheby (the proposed meth
 2. table 5: azimuth-cut PSLR / ISLR / IRW, SNR_out, NMSE of the focused point target per
    method (nrsar-sim chain, paper3) -> presum_compare_table5.csv / .png.
 3. table 6: image entropy, NESZ and EPI per method on the extended scene
-   (examples/scenes/ship_and_sea.yaml), --motion none today (gusty once the true-path echo
-   exists) -> presum_compare_table6.csv / .png.
+   (examples/scenes/ship_and_sea.yaml) per flight (--flights: the ideal line, `gusty` with
+   perfect navigation, `gusty` with `rtk` navigation; the presummer and the focuser
+   compensate from the navigation) -> presum_compare_table6.csv / .png. The metrics are the
+   kernel's (nrsar.image_entropy, edge_preservation_index, nesz_db).
 4. table 7: CPU time in work() of the presummer and of the focuser per method, from the
    runs of table 5 -> presum_compare_table7.csv / .png.
 """
@@ -59,32 +61,11 @@ def lms_floor_gain_db(step, taps, rho):
 
 # ---------------------------------------------------------------- image metrics [P-3.2.1]
 
-def image_entropy(img):
-    """eq. (P-37), (P-38): -sum D ln D, D = |I|^2 / sum |I|^2."""
-    p = np.abs(img.astype(np.complex128)) ** 2
-    p = p / p.sum()
-    p = p[p > 0]
-    return float(-(p * np.log(p)).sum())
-
-
-def laplacian(a):
-    """3 x 3 Laplacian (the high-pass edge filter of EPI [34]), valid part."""
-    return (a[:-2, 1:-1] + a[2:, 1:-1] + a[1:-1, :-2] + a[1:-1, 2:] - 4.0 * a[1:-1, 1:-1])
-
-
-def edge_preservation_index(ref, img):
-    """eq. (P-39): correlation of the edge-filtered amplitude images."""
-    dx = laplacian(np.abs(ref.astype(np.complex128)))
-    dy = laplacian(np.abs(img.astype(np.complex128)))
-    dx = dx - dx.mean()
-    dy = dy - dy.mean()
-    return float((dx * dy).sum() / math.sqrt((dx ** 2).sum() * (dy ** 2).sum()))
-
-
-def nesz_db(power_noise, power_scene, sigma0_scene):
-    """NESZ from the image [36]: the sigma0 whose return equals the noise power, calibrated
-    on a distributed target of known mean sigma0: sigma0 P_noise / (P_scene - P_noise)."""
-    return 10.0 * math.log10(sigma0_scene * power_noise / (power_scene - power_noise))
+def nesz_map_db(power_noise, power_scene, sigma0_scene):
+    """NESZ from the image [36], calibrated on a distributed target of known mean sigma0
+    instead of a point target: a pixel of area A holds the return of an RCS sigma0 A with the
+    energy P_scene - P_noise, so kernel::nesz_db gives sigma0 P_noise / (P_scene - P_noise)."""
+    return nrsar.nesz_db(power_noise, power_scene - power_noise, sigma0_scene, 1.0)
 
 
 # ---------------------------------------------------------------- runs
@@ -143,24 +124,29 @@ def chain_rows(preset, d, methods=METHODS, seed=1):
     return t5, t7, cuts
 
 
-def table6_rows(scene_path, workdir, preset, d, snr_db, motion="none", methods=METHODS, seed=1):
+FLIGHTS = ("none", "gusty", "gusty+rtk")  # --motion[+--nav-error] of table 6
+
+
+def table6_rows(scene_path, workdir, preset, d, snr_db, flight="none", methods=METHODS, seed=1):
     """Entropy, NESZ and EPI of the extended scene per method. The full-rate image ("none",
     the image before enhancement) is read at the presummed lines' along-track positions so
     every method is measured on the same pixel grid. NESZ: noise from the range bins beyond
     the map's far edge (+ 4 bins of range sidelobes), scene power over the bins centred on
     the map's footprint, whose mean sigma0 is the map's mean RCS per m^2 (with coarse bins,
     `small`'s 9.8 m, the bins are only partly covered: the offset is common to all methods).
-    EPI and entropy over that footprint (+- 2 bins in range)."""
+    EPI and entropy over that footprint (+- 2 bins in range). flight: --motion, or
+    --motion+--nav-error (FLIGHTS); the full-rate image of the same flight is the reference."""
     mp = scenes.load_scene_file(scene_path).maps[0]
     geo = params.make_geometry("paper")
     rcs = np.abs(np.asarray(mp.values)) ** 2
     sigma0 = float(rcs.mean() / (mp.dx * mp.dy))
     r_lo, r_hi = (math.hypot(mp.x0 + mp.dx * i, geo.height_m) for i in (0, rcs.shape[1] - 1))
     y_lo, y_hi = mp.y0, mp.y0 + mp.dy * (rcs.shape[0] - 1)
-    extra = {} if motion == "none" else {"motion": motion}
+    motion, _, nav_error = flight.partition("+")
+    extra = {"motion": motion, "nav_error": nav_error or "none"}
     images = {}
     for name in ("none",) + tuple(methods):
-        out = os.path.join(workdir, f"table6_{name}")
+        out = os.path.join(workdir, f"table6_{flight}_{name}")
         os.makedirs(out, exist_ok=True)
         res = chain.simulate(SimOptions(
             out=out, json=True, preset=preset, scene=scene_path, snr_db=snr_db, seed=seed,
@@ -187,9 +173,10 @@ def table6_rows(scene_path, workdir, preset, d, snr_db, motion="none", methods=M
         p_noise = float(p[:, noise_r].mean())
         sub = np.ix_(foot_y, near_r)
         rows.append({"method": name, "D": 1 if name == "none" else d, "motion": motion,
-                     "entropy": image_entropy(img[sub]),
-                     "nesz_db": nesz_db(p_noise, p_scene, sigma0),
-                     "epi": edge_preservation_index(ref[sub], img[sub]),
+                     "nav_error": extra["nav_error"],
+                     "entropy": nrsar.image_entropy(img[sub]),
+                     "nesz_db": nesz_map_db(p_noise, p_scene, sigma0),
+                     "epi": nrsar.edge_preservation_index(ref[sub], img[sub]),
                      "scene_to_noise_db": 10.0 * math.log10(p_scene / p_noise)})
     return rows
 
@@ -203,10 +190,11 @@ def main(argv=None):
     ap.add_argument("--preset", default="small")
     ap.add_argument("--decim", type=int, default=D_PAPER)
     ap.add_argument("--snr-db", type=float, default=-40.0, help="SNR_in of table 6")
-    ap.add_argument("--motion", default="none", help="flight of table 6 (none; gusty once "
-                    "the echo generators fly a true path)")
+    ap.add_argument("--flights", default=",".join(FLIGHTS),
+                    help="flights of table 6: --motion[+--nav-error], comma-separated")
     ap.add_argument("--quick", action="store_true",
-                    help="fig. 6 over 0.5 s; tables 5-7 for drop, lms and cheby only")
+                    help="fig. 6 over 0.5 s; tables 5-7 for drop, lms and cheby only, table 6 "
+                    "on the ideal flight")
     ap.add_argument("--only", default="fig6,table5,table6,table7")
     ap.add_argument("--workdir", default=None)
     ap.add_argument("--scene", default=os.path.join("examples", "scenes", "ship_and_sea.yaml"),
@@ -277,18 +265,29 @@ def main(argv=None):
     if "table6" in only:
         import tempfile
         with tempfile.TemporaryDirectory(prefix="presum-compare-") as tmp:
-            rows = table6_rows(a.scene, a.workdir or tmp, a.preset, d, a.snr_db, a.motion,
-                               methods)
+            flights = ["none"] if a.quick else a.flights.split(",")
+            rows = [r for f in flights
+                    for r in table6_rows(a.scene, a.workdir or tmp, a.preset, d, a.snr_db, f,
+                                         methods)]
         write_csv(out("presum_compare_table6.csv"), rows)
         summary["table6"] = rows
         fig, axs = plt.subplots(1, 3, figsize=(12, 3.5))
+        names = list(dict.fromkeys(r["method"] for r in rows))
+        keys = list(dict.fromkeys((r["motion"], r["nav_error"]) for r in rows))
+        width = 0.8 / len(keys)
         for ax, key, label in zip(axs, ("entropy", "nesz_db", "epi"),
                                   ("image entropy", "NESZ [dB]", "EPI")):
-            ax.bar([r["method"] for r in rows], [r[key] for r in rows])
+            for j, (motion, nav) in enumerate(keys):
+                vals = {r["method"]: r[key] for r in rows
+                        if (r["motion"], r["nav_error"]) == (motion, nav)}
+                ax.bar(np.arange(len(names)) + j * width, [vals[n] for n in names], width,
+                       label=f"{motion}, nav {nav}")
+            ax.set_xticks(np.arange(len(names)) + 0.4 - width / 2, names)
             ax.set_title(label, fontsize=9)
             ax.tick_params(axis="x", labelsize=7)
-        fig.suptitle(f"extended scene (ship_and_sea), D = {d}, SNR_in {a.snr_db:g} dB, motion "
-                     f"{a.motion} (table 6)", fontsize=9)
+        axs[0].legend(fontsize=7)
+        fig.suptitle(f"extended scene (ship_and_sea), D = {d}, SNR_in {a.snr_db:g} dB "
+                     f"(table 6)", fontsize=9)
         fig.tight_layout()
         results.save_figure(fig, out("presum_compare_table6.png"), dpi=90)
         plt.close(fig)

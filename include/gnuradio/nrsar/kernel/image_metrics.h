@@ -188,8 +188,14 @@ NRSAR_API std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
  * (circular processing: with W). Returns lines x bins weights (row-major) W / s where
  * s >= min(W, data_hi_m - data_lo_m) / 2, 0 elsewhere (pixels holding less than half the
  * pulses of the bin's best-covered line; no weight exceeds 2 W / min(W, span)).
- * Throws std::invalid_argument for an empty or non-finite band, an empty data span, or a
- * bin at a slant range <= 0.
+ * period_m > 0: the focuser correlated circularly over a block of that length (its azimuth
+ * FFT size times dy) holding the data and zeros, so a window longer than the block wraps
+ * (full-band compression after presumming: W is tens of seconds of track): s counts the
+ * data under the window in every copy of the block, at most n span + min(r, span) for
+ * W = n period_m + r, and the weights tend to period_m / span. 0: no wrap (the overlap
+ * holds the whole window).
+ * Throws std::invalid_argument for an empty or non-finite band, an empty data span, a
+ * negative or non-finite period, or a bin at a slant range <= 0.
  */
 NRSAR_API std::vector<float> strip_pixel_weights(std::size_t lines,
                                                  std::size_t bins,
@@ -202,7 +208,8 @@ NRSAR_API std::vector<float> strip_pixel_weights(std::size_t lines,
                                                  double band_lo_hz,
                                                  double band_hi_hz,
                                                  double wavelength_m,
-                                                 double velocity_mps);
+                                                 double velocity_mps,
+                                                 double period_m = 0.0);
 
 //! Replaces non-finite samples by 0; returns how many there were.
 NRSAR_API std::size_t zero_nonfinite(gr_complex* data, std::size_t n);

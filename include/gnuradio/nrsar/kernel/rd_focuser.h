@@ -16,6 +16,7 @@
 #include <gnuradio/nrsar/kernel/sinc_interpolator.h>
 #include <volk/volk_alloc.hh>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace gr {
@@ -125,6 +126,12 @@ public:
     //! Band processed by the last focus() call (for SCENE / FULL: the configured band).
     double band_lo_hz() const { return d_band_lo; }
     double band_hi_hz() const { return d_band_hi; }
+    /*!
+     * Band [lo, hi] a kernel of cfg processes for the configured band [lo, hi] at pulse
+     * rate prf: FULL (or a band of prf or more) is the pulse rate centred on the band.
+     */
+    static std::pair<double, double>
+    configured_band(const focuser_config& cfg, double lo, double hi, double prf);
     //! Number of Doppler bins processed by the last focus() call.
     unsigned band_bins() const { return static_cast<unsigned>(d_band_bins.size()); }
     //! Largest migration over the processed band [range bins].
