@@ -246,10 +246,8 @@ std::vector<float> strip_pixel_weights(std::size_t lines,
     check_finite_positive("velocity_mps", velocity_mps);
     check_finite("y0_m", y0_m);
     check_finite("dy_m", dy_m);
-    check_finite_positive("r0_m", r0_m);
+    check_finite("r0_m", r0_m);
     check_finite("dr_m", dr_m);
-    if (bins > 0)
-        check_finite_positive("slant range of the last bin", r0_m + (bins - 1.0) * dr_m);
     check_finite("band_lo_hz", band_lo_hz);
     check_finite("band_hi_hz", band_hi_hz);
     if (!(band_hi_hz > band_lo_hz))
@@ -283,6 +281,8 @@ std::vector<float> strip_pixel_weights(std::size_t lines,
     for (std::size_t k = 0; k < bins; ++k) {
         const double r = r0_m + static_cast<double>(k) * dr_m;
         const double u_lo = r * c_lo, u_hi = r * c_hi, window = u_hi - u_lo;
+        if (!(window > 0.0))
+            continue; // a bin at slant range <= 0 (a crop's guard at the radar) holds no echo
         const double wraps = period_m > 0.0 ? std::floor(window / period_m) : 0.0;
         const double best = wraps * span + std::min(window - wraps * period_m, span);
         for (std::size_t m = 0; m < lines; ++m) {

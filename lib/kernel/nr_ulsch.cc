@@ -18,16 +18,20 @@ namespace nrsar {
 namespace kernel {
 
 namespace {
-// out = in with the sign flipped where c = 1 (38.211 6.3.1.1 undone on LLRs); a non-finite
-// LLR is an erasure (0), never a known bit. On the bits, so that the loop vectorises.
+// out = in with the sign flipped where c = 1 (38.211 6.3.1.1 undone on LLRs). A NaN is an
+// erasure (0); +-inf is a known bit, saturated so that HARQ's sums of opposite certainties
+// stay finite. The sign flip on the bits, so that the loop vectorises.
+constexpr float llr_saturation = 1e30f;
+
 void descramble(const float* __restrict in, const std::uint8_t* __restrict c, std::size_t n, float* __restrict out)
 {
     for (std::size_t k = 0; k < n; k++) {
         std::uint32_t u;
         std::memcpy(&u, in + k, 4);
         u ^= std::uint32_t{ c[k] } << 31;
-        u = (u & 0x7f800000u) == 0x7f800000u ? 0u : u;
-        std::memcpy(out + k, &u, 4);
+        float v;
+        std::memcpy(&v, &u, 4);
+        out[k] = v != v ? 0.0f : std::min(std::max(v, -llr_saturation), llr_saturation);
     }
 }
 

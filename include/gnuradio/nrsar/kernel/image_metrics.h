@@ -194,8 +194,9 @@ NRSAR_API std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
  * data under the window in every copy of the block, at most n span + min(r, span) for
  * W = n period_m + r, and the weights tend to period_m / span. 0: no wrap (the overlap
  * holds the whole window).
+ * Bins at a slant range <= 0 (no correlation window, no echo) get weight 0.
  * Throws std::invalid_argument for an empty or non-finite band, an empty data span, a
- * negative or non-finite period, or a bin at a slant range <= 0.
+ * negative or non-finite period or a non-finite axis.
  */
 NRSAR_API std::vector<float> strip_pixel_weights(std::size_t lines,
                                                  std::size_t bins,

@@ -78,8 +78,8 @@ public:
     void encode(const std::uint8_t* a, unsigned rv, std::uint32_t c_init, std::uint8_t* out);
 
     /*!
-     * G LLRs (positive = bit 0, before descrambling; NaN and +-inf count as 0) of redundancy
-     * version rv -> a (A bits).
+     * G LLRs (positive = bit 0, before descrambling; NaN counts as 0, +-inf as a known bit)
+     * of redundancy version rv -> a (A bits).
      * combine = false starts a new transport block (the soft buffers are cleared first).
      */
     nr_ulsch_result
