@@ -271,8 +271,12 @@ class imaging_chain(gr.hier_block2):
         image = foc
         af = None
         if opts.autofocus != "none":
+            # PGA deramps by the focuser's azimuth chirp on a slant-range grid (the axes
+            # from the image's tags; docs/blocks/autofocus.md).
+            slant = opts.focuser == "rd" or opts.image_grid == "slant"
             af = autofocus(k, autofocus_config(
-                method=params.make_autofocus_method(opts.autofocus)))
+                method=params.make_autofocus_method(opts.autofocus),
+                wavelength_m=sc.geo.wavelength_m() if slant else 0.0))
             self.connect(foc, af)
             image = af
         self.connect(image, (self, 0))

@@ -60,7 +60,7 @@ def image(data, nav, method=None):
     if method is None:
         tb.connect(src, foc, snk)
     else:
-        af = autofocus(K, autofocus_config(method=method, max_iterations=100))
+        af = autofocus(K, autofocus_config(method=method, max_iterations=100, wavelength_m=LAM))
         tb.connect(src, foc, af, snk)
     tb.run()
     return np.array(snk.data()).reshape(-1, K), af, foc
