@@ -236,9 +236,7 @@ class qa_autofocus(gr_unittest.TestCase):
                                    np.max(np.abs(clean)) ** 2)
 
         axes = dict(range_first_m=R_FIRST_BP, range_step_m=RHO_BP, line_spacing_m=DY_BP)
-        # A 64-line floor on the window: narrower, it cuts into this 7-line main lobe.
-        cfg = nrsar.autofocus_config(method=nrsar.autofocus_method.PGA, wavelength_m=LAM_BP,
-                                     pga_min_window=64)
+        cfg = nrsar.autofocus_config(method=nrsar.autofocus_method.PGA, wavelength_m=LAM_BP)
         out, res = nrsar.autofocus_image(noisy, cfg, **axes)
         w = np.asarray(res["weight"])
         d = (np.flatnonzero(w) + M_BP // 2) % M_BP - M_BP // 2
@@ -249,7 +247,7 @@ class qa_autofocus(gr_unittest.TestCase):
         # Without the deramp the estimate flattens the focused response's Fresnel phase
         # ripple: it is no fixed point (the test can tell).
         _, plain = nrsar.autofocus_image(noisy, nrsar.autofocus_config(
-            method=nrsar.autofocus_method.PGA, pga_min_window=64), **axes)
+            method=nrsar.autofocus_method.PGA), **axes)
         self.assertGreater(plain["phase_rms_rad"], 2 * bound)
         # The block takes the axes from the focusers' range_axis / azimuth_axis tags.
         tags = []
