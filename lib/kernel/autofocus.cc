@@ -69,6 +69,17 @@ std::size_t weakest(const std::vector<double>& w)
     return static_cast<std::size_t>(std::min_element(s.begin(), s.end()) - s.begin());
 }
 
+// The equivalent width (sum w)^2 / sum w^2 of w in bins: B for a flat band of B bins.
+double equivalent_width(const std::vector<double>& w)
+{
+    double s1 = 0.0, s2 = 0.0;
+    for (double v : w) {
+        s1 += v;
+        s2 += v * v;
+    }
+    return s2 > 0.0 ? s1 * s1 / s2 : 1.0;
+}
+
 // Outside the band (w = 0) phi takes the value of the nearest bin inside it: the fit's
 // ramp continued there would turn the band's skirts (the focused response's edge
 // diffraction) and re-enter PGA's next estimate through its window; held, a focused
@@ -286,18 +297,13 @@ autofocus::focus(gr_complex* img, std::size_t lines, std::size_t bins, const ima
     }
     // The targets' band: only there is the phase estimated, fitted and counted. The
     // moving sum bridges the Fresnel dips of a band but must stay shorter than the band:
-    // a sixteenth of its equivalent width (sum w)^2 / sum w^2 (B for a flat band of B bins).
+    // a sixteenth of its equivalent width.
     // Wider (M / 32 = 750 bins for a 50-bin band at 24 k lines) it took in the band's
     // skirts, the finite aperture's edge diffraction, whose phase is the focuser's
     // azimuth chirp, not the phase history's: both methods "focused" them.
     {
-        double s1 = 0.0, s2 = 0.0;
-        for (double v : d_weight) {
-            s1 += v;
-            s2 += v * v;
-        }
-        const double width = s2 > 0.0 ? s1 * s1 / s2 : 1.0;
-        const auto sm = smoothed(d_weight, static_cast<std::size_t>(width / 16.0));
+        const auto sm =
+            smoothed(d_weight, static_cast<std::size_t>(equivalent_width(d_weight) / 16.0));
         const double floor_v = *std::max_element(sm.begin(), sm.end()) *
                                std::pow(10.0, -d_cfg.support_db / 10.0);
         for (std::size_t p = 0; p < M; ++p)
@@ -336,12 +342,7 @@ unsigned autofocus::run_pga()
     std::vector<std::size_t> at(K);
     std::vector<cd> z(M);
     std::size_t window = M;
-    double s1 = 0.0, s2 = 0.0; // the band's equivalent width, (sum w)^2 / sum w^2 bins
-    for (double v : d_weight) {
-        s1 += v;
-        s2 += v * v;
-    }
-    const double band_bins = s2 > 0.0 ? s1 * s1 / s2 : 1.0;
+    const double band_bins = equivalent_width(d_weight);
     unsigned it = 0;
     while (it < d_cfg.max_iterations) {
         ++it;
@@ -397,7 +398,7 @@ unsigned autofocus::run_pga()
         // (+-0.27 rad on a 50-bin band) and the estimate flattens it.
         const bool deramp = d_cfg.wavelength_m > 0.0 && d_axes.range_first_m > 0.0 &&
                             d_axes.range_step_m > 0.0 && d_axes.line_spacing_m > 0.0;
-        const double kw = 4.0 * pi / d_cfg.wavelength_m;
+        const double kw = deramp ? 4.0 * pi / d_cfg.wavelength_m : 0.0;
         std::fill(z.begin(), z.end(), cd(0.0, 0.0));
         std::fill(z_energy.begin(), z_energy.end(), 0.0);
         for (std::size_t k = 0; k < K; ++k) {
