@@ -100,6 +100,12 @@ private:
     void image_of(const double* phi);       // d_work = IDFT(d_spec exp(-j phi)), range-major
     double entropy_of_work() const;
     unsigned run_pga();
+    void undo_range_coupling(gr_complex* G,
+                             std::size_t k,
+                             double r,
+                             const std::vector<double>& peak,
+                             const std::vector<std::size_t>& at,
+                             double kw) const;
     unsigned run_entropy();
 };
 
