@@ -220,7 +220,8 @@ class qa_autofocus(gr_unittest.TestCase):
         # bin 40 dB: the estimate's error per bin is about 1 / sqrt(2 SNR_bin) = 0.007 rad
         # (less after the sum over range bins); asserted below 3 times that. An estimate
         # at that level moves the target's band by about the band's own noise, so SPEC 8's
-        # NMSE against the noise-free image may rise, but by less than 1 dB (measured: below 0.1).
+        # NMSE against the noise-free image may rise, but by less than 1 dB (measured:
+        # below 0.1 dB).
         clean = bp_point_image()
         k0 = int(np.argmax(np.max(np.abs(clean), axis=0)))
         spec = np.abs(np.fft.fft(clean[:, k0])) ** 2 / M_BP
