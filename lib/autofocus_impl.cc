@@ -70,8 +70,18 @@ void autofocus_impl::handle_tag(const tag_t& tag)
         if (parse_azimuth_lines(v, m)) {
             if (m >= 1 && m <= (1u << 30) && m > d_fill)
                 d_expected = static_cast<unsigned>(m);
+            if (pmt::is_number(pmt::tuple_ref(v, 1)))
+                d_axes.line_spacing_m = pmt::to_double(pmt::tuple_ref(v, 1));
         } else {
             d_logger->warn("ignoring malformed azimuth_axis tag {}", pmt::write_string(v));
+        }
+    } else if (pmt::eq(tag.key, tags::range_axis_key())) {
+        // The slant-range axis PGA's deramp needs (autofocus_config::wavelength_m).
+        double first = 0.0, step = 0.0;
+        std::uint64_t k = 0;
+        if (parse_range_axis(tag.value, first, step, k) && k == d_K) {
+            d_axes.range_first_m = first;
+            d_axes.range_step_m = step;
         }
     }
     tag_t t = tag;
@@ -96,7 +106,7 @@ void autofocus_impl::ingest(const gr_complex* in, unsigned n)
 void autofocus_impl::process_image()
 {
     if (d_fill >= 4) {
-        d_last = d_kernel.focus(d_buf.data(), d_fill, d_K);
+        d_last = d_kernel.focus(d_buf.data(), d_fill, d_K, d_axes);
         ++d_apertures;
         pmt::pmt_t d = pmt::make_dict();
         d = pmt::dict_add(d, pmt::mp("aperture"), pmt::from_uint64(d_index));

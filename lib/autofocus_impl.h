@@ -21,6 +21,7 @@ class autofocus_impl : public autofocus
 private:
     const unsigned d_K;
     kernel::autofocus d_kernel;
+    kernel::image_axes d_axes;      // from the range_axis / azimuth_axis tags
     volk::vector<gr_complex> d_buf; // lines x K of the image being collected or sent
     unsigned d_fill = 0;            // lines collected
     unsigned d_expected = 0;        // M of the image being collected (0: unknown)

@@ -234,11 +234,29 @@ def make_probe(opts, sc, foc, cfg, reference):
                                    block_lines=foc.fft_size() if zero_padded else 0))
 
 
-def make_autofocus(opts, bins):
-    """The data branch's autofocus of --autofocus (None without)."""
+# Sample-rate edges (the ISAC graph's, a recording's source): GNU Radio's default buffers
+# (64 KiB) cut the 245 M samples of the paper aperture into calls of at most 4096 samples, and the thread wake-ups between the blocks
+# cost more than the blocks' work (docs/performance.md, "make demo"); 1 MiB per edge.
+SAMPLE_EDGE_BYTES = 1 << 20
+
+
+def widen_buffers(*blks):
+    """Sets each block's output buffers to SAMPLE_EDGE_BYTES (before the graph starts)."""
+    for b in blks:
+        item = b.output_signature().sizeof_stream_item(0)
+        b.set_min_output_buffer(max(1, SAMPLE_EDGE_BYTES // item))
+
+
+def make_autofocus(opts, sc, bins):
+    """The data branch's autofocus of --autofocus (None without). PGA deramps by the
+    focuser's azimuth chirp on a slant-range grid (the axes from the image's tags;
+    docs/blocks/autofocus.md)."""
     if opts.autofocus == "none":
         return None
-    return autofocus(bins, autofocus_config(method=params.make_autofocus_method(opts.autofocus)))
+    slant = opts.focuser == "rd" or opts.image_grid == "slant"
+    return autofocus(bins, autofocus_config(
+        method=params.make_autofocus_method(opts.autofocus),
+        wavelength_m=sc.geo.wavelength_m() if slant else 0.0))
 
 
 class imaging_chain(gr.hier_block2):
@@ -294,7 +312,7 @@ class imaging_chain(gr.hier_block2):
         # Autofocus on the data branch only: the reference branch is the calibration
         # standard (SPEC 8, the noise-free echo's image), so NMSE and PEL measure how close
         # the autofocused image comes to it.
-        image = af = make_autofocus(opts, k)
+        image = af = make_autofocus(opts, sc, k)
         if af is None:
             image = foc
         else:

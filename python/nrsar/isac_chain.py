@@ -35,19 +35,6 @@ from .options import OptionError, check_out_dir, parse_taps
 from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
                            pusch_receiver, scene_echo, srs_config, td_echo)
 
-# Sample-rate edges: GNU Radio's default buffers (64 KiB) cut the 245 M samples of the paper
-# aperture into calls of at most 4096 samples, and the thread wake-ups between the blocks
-# cost more than the blocks' work (docs/performance.md, "make demo"); 1 MiB per edge.
-SAMPLE_EDGE_BYTES = 1 << 20
-
-
-def widen_buffers(*blks):
-    """Sets each block's output buffers to SAMPLE_EDGE_BYTES (before the graph starts)."""
-    for b in blks:
-        item = b.output_signature().sizeof_stream_item(0)
-        b.set_min_output_buffer(max(1, SAMPLE_EDGE_BYTES // item))
-
-
 def time_domain_front(ofdm_source, record_path=None):
     """echo_front for chain.build: the radar echo through the time domain,
     ofdm_source (ofdm_mod of the grid) -> td_echo -> ofdm_demod (FFT window after the CP:
@@ -59,7 +46,7 @@ def time_domain_front(ofdm_source, record_path=None):
         echo = td_echo(num, geo, scn, opts.snr_db, opts.seed + 1, opts.echo_taps,
                        path=sc.trajectory)
         demod = ofdm_demod(num)
-        widen_buffers(echo)
+        chain.widen_buffers(echo)
         tb.connect(ofdm_source, echo, demod)
         if record_path is not None:
             front.sink = recording.file_sink_of(record_path)
@@ -153,7 +140,7 @@ class chunk_invariant_channel(gr.hier_block2):
         self.connect(mixer, (adder, 1))
         self.connect(noise, (adder, 0))
         self.connect(adder, self)
-        widen_buffers(timing, multipath, lo, mixer, noise, adder)
+        chain.widen_buffers(timing, multipath, lo, mixer, noise, adder)
 
 
 def build_base_station(tb, num, opts, dmrs, source):
@@ -168,7 +155,7 @@ def build_base_station(tb, num, opts, dmrs, source):
     # ofdm_sync's backoff puts a phase slope across the subcarriers; pusch_receiver's
     # channel estimate removes it before its fit (docs/isac.md, "Backoff slope")
     rx = pusch_receiver(opts.pusch_config(num))
-    widen_buffers(delay)
+    chain.widen_buffers(delay)
     rx.set_threads(opts.rx_threads)
     store = blocks.message_debug()
     tb.connect(source, delay, chan, sync, demod, rx)
@@ -288,7 +275,7 @@ def run(opts):
                           f"{len(chunks) * opts.repetitions} slots, the aperture has {slots} "
                           f"(all but its last): shorten the file or lengthen --aperture-s")
     mod = ofdm_mod(num)
-    widen_buffers(mod)
+    chain.widen_buffers(mod)
     with contextlib.ExitStack() as stack:
         if opts.record is not None:  # the radar receiver's samples as SigMF (--record)
             recording.check_recordable(opts, sc)

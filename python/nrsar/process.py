@@ -76,6 +76,7 @@ def recording_front(rec):
         source = blocks.file_source(gr.sizeof_gr_complex, rec.data_path, False,
                                     rec.hardware_delay_samples,
                                     rec.symbols * rec.symbol_samples - lost)
+        chain.widen_buffers(source)  # ofdm_demod needs a whole symbol (4384 samples at paper)
         if rec.gaps:  # the overflows stamped as a radio's source does; lost symbols -> zeros
             stamper = recording.rx_time_stamper(
                 num.sample_rate_hz(),

@@ -137,7 +137,7 @@ def ground_graph(tb, opts, sc, key, address):
         image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
     reference_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
     tb.connect(downlink, range_sink)
-    image = af = chain.make_autofocus(opts, k)  # the data branch's, as imaging_chain's
+    image = af = chain.make_autofocus(opts, sc, k)  # the data branch's, as imaging_chain's
     if af is None:
         image = foc
     else:

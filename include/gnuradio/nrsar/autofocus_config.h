@@ -42,11 +42,16 @@ struct NRSAR_API autofocus_config {
     //! Minimum entropy: 0 = one phase per azimuth frequency bin, 2..16 = a polynomial of
     //! this order in the normalised frequency (the constant and linear terms excluded).
     unsigned entropy_order = 0;
-    //! The targets' band: Doppler bins whose energy (a moving sum over M / 32 bins) lies
-    //! within this many dB of the strongest stretch. Outside it the phase is held (noise
+    //! The targets' band: Doppler bins whose energy (a moving sum over a sixteenth of the
+    //! band's equivalent width) lies within this many dB of the strongest stretch. Outside it the phase is held (noise
     //! alone would otherwise be phased into the targets, or its random gradient integrated),
     //! and the fits and the rms count only the band.
     double support_db = 10.0;
+    //! PGA: carrier wavelength [m] with which the image was focused on a slant-range grid;
+    //! > 0 deramps each range bin's windowed target by the focuser's azimuth chirp
+    //! exp(j 4 pi sqrt(r^2 + y^2) / lambda) before its spectrum, so that a Doppler bin is
+    //! a set of pulses and a focused image a fixed point (needs the image axes). 0: off.
+    double wavelength_m = 0.0;
 
     void validate() const;
 };

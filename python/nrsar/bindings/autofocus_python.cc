@@ -47,7 +47,8 @@ void bind_autofocus(py::module& m)
                          double pga_window_db,
                          unsigned pga_min_window,
                          unsigned entropy_order,
-                         double support_db) {
+                         double support_db,
+                         double wavelength_m) {
                  autofocus_config c;
                  c.method = method;
                  c.lines_per_aperture = lines_per_aperture;
@@ -58,6 +59,7 @@ void bind_autofocus(py::module& m)
                  c.pga_min_window = pga_min_window;
                  c.entropy_order = entropy_order;
                  c.support_db = support_db;
+                 c.wavelength_m = wavelength_m;
                  return c;
              }),
              py::arg("method") = autofocus_method::PGA,
@@ -69,6 +71,7 @@ void bind_autofocus(py::module& m)
              py::arg("pga_min_window") = 8u,
              py::arg("entropy_order") = 0u,
              py::arg("support_db") = 10.0,
+             py::arg("wavelength_m") = 0.0,
              "autofocus_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("method", &autofocus_config::method)
         .def_readwrite("lines_per_aperture", &autofocus_config::lines_per_aperture)
@@ -79,6 +82,7 @@ void bind_autofocus(py::module& m)
         .def_readwrite("pga_min_window", &autofocus_config::pga_min_window)
         .def_readwrite("entropy_order", &autofocus_config::entropy_order)
         .def_readwrite("support_db", &autofocus_config::support_db)
+        .def_readwrite("wavelength_m", &autofocus_config::wavelength_m)
         .def("validate", &autofocus_config::validate);
 
     py::class_<autofocus, gr::block, gr::basic_block, std::shared_ptr<autofocus>>(
@@ -101,7 +105,11 @@ void bind_autofocus(py::module& m)
 
     m.def(
         "autofocus_image",
-        [](cimage img, const autofocus_config& cfg) {
+        [](cimage img,
+           const autofocus_config& cfg,
+           double range_first_m,
+           double range_step_m,
+           double line_spacing_m) {
             if (img.ndim() != 2)
                 throw std::invalid_argument("img must be 2-D (lines x range bins), got " +
                                             std::to_string(img.ndim()) + " dimensions");
@@ -113,7 +121,10 @@ void bind_autofocus(py::module& m)
             gr::nrsar::kernel::autofocus_result r;
             {
                 py::gil_scoped_release release;
-                r = af.focus(out.mutable_data(), lines, bins);
+                r = af.focus(out.mutable_data(),
+                             lines,
+                             bins,
+                             { range_first_m, range_step_m, line_spacing_m });
             }
             py::dict d;
             d["phase_rad"] = py::array_t<double>(r.phase_rad.size(), r.phase_rad.data());
@@ -126,6 +137,10 @@ void bind_autofocus(py::module& m)
         },
         py::arg("img"),
         py::arg("cfg") = autofocus_config(),
+        py::arg("range_first_m") = 0.0,
+        py::arg("range_step_m") = 0.0,
+        py::arg("line_spacing_m") = 0.0,
         "(corrected image, dict of phase_rad, weight, phase_rms_rad, entropy_before, "
-        "entropy_after, iterations) of one image (lines x range bins, kernel::autofocus)");
+        "entropy_after, iterations) of one image (lines x range bins, kernel::autofocus); the "
+        "axes (slant range of bin 0, bin spacing, line spacing [m]) for PGA's deramp");
 }

@@ -44,6 +44,15 @@ struct NRSAR_API autofocus_result {
     unsigned iterations = 0;
 };
 
+//! The image's grid: slant range of bin k = range_first_m + k range_step_m, lines
+//! line_spacing_m apart along track (the focusers' range_axis / azimuth_axis tags).
+//! All three > 0 (and config wavelength_m > 0) turn PGA's deramp on.
+struct NRSAR_API image_axes {
+    double range_first_m = 0.0;
+    double range_step_m = 0.0;
+    double line_spacing_m = 0.0;
+};
+
 /*!
  * \brief Removes the weighted least-squares fit a + b u from phi in place, u = (p - start)
  * mod n the frequency unwrapped from bin `start` (p = 0..n-1; weights w >= 0). The fit
@@ -73,7 +82,8 @@ public:
      * times exp(-j phi)). Method NONE leaves img as it is and returns phi = 0.
      * Throws std::invalid_argument for lines < 4 or bins < 1.
      */
-    autofocus_result focus(gr_complex* img, std::size_t lines, std::size_t bins);
+    autofocus_result
+    focus(gr_complex* img, std::size_t lines, std::size_t bins, const image_axes& axes = {});
 
 private:
     autofocus_config d_cfg;
@@ -84,11 +94,18 @@ private:
     volk::vector<gr_complex> d_work;  // K x M: corrected image / PGA's windowed lines
     std::vector<double> d_phi;        // M: the estimate so far
     std::vector<double> d_weight;     // M
+    image_axes d_axes;
 
     void plan(std::size_t lines, std::size_t bins);
     void image_of(const double* phi);       // d_work = IDFT(d_spec exp(-j phi)), range-major
     double entropy_of_work() const;
     unsigned run_pga();
+    void undo_range_coupling(gr_complex* G,
+                             std::size_t k,
+                             double r,
+                             const std::vector<double>& peak,
+                             const std::vector<std::size_t>& at,
+                             double kw) const;
     unsigned run_entropy();
 };
 
