@@ -24,7 +24,6 @@ so --json output stays clean.
 import contextlib
 import sys
 import threading
-import time
 
 _lock = threading.RLock()
 _state = {"enabled": False, "stream": None, "steps": {}, "task": "", "last_len": 0,

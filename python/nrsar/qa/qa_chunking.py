@@ -21,7 +21,6 @@ multipath fir_filter_ccc picks its dot-product kernel by the input buffer's alig
 the sums round differently (1e-7 here); the tests of the base-station chain run with the
 generic VOLK kernels (VOLK_GENERIC=1, as every QA here), where it is exact."""
 
-import math
 import os
 import shutil
 import tempfile

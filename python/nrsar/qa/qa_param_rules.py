@@ -11,13 +11,11 @@ Python gets a ValueError whose message names the parameter (and its limit).
 `qa_param_rules.py --markdown` prints the table of docs/robustness.md with the messages the
 module really gives, so the document cannot drift from the code."""
 
-import math
 import sys
 
 import numpy as np
 
 from gnuradio import fft, gr, gr_unittest
-from gnuradio import blocks
 from gnuradio import nrsar
 from gnuradio.nrsar import (cheby_presum, focuser_config, probe_config, make_filter, make_geometry,
                             make_dmrs, make_modulation, make_numerology, make_scene, make_srs,

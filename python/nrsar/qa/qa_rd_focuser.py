@@ -28,8 +28,8 @@ except ImportError:
     sys.path.append(os.path.join(dirname, "..", "bindings"))
     from gnuradio import nrsar
 
-from gnuradio.nrsar.focus_scenario import (C, FC, LAM, V, H, N_SUB, NFFT, RHO, K, R_FIRST, SPP,
-                                          NUM, T, numerology, geometry, echo)
+from gnuradio.nrsar.focus_scenario import (LAM, V, H, N_SUB, NFFT, RHO, K, R_FIRST, SPP,
+                                          NUM, T, geometry, echo)
 
 
 def doppler(x, y, yp):
