@@ -235,8 +235,9 @@ def make_probe(opts, sc, foc, cfg, reference):
 
 
 # Sample-rate edges (the ISAC graph's, a recording's source): GNU Radio's default buffers
-# (64 KiB) cut the 245 M samples of the paper aperture into calls of at most 4096 samples, and the thread wake-ups between the blocks
-# cost more than the blocks' work (docs/performance.md, "make demo"); 1 MiB per edge.
+# (64 KiB) cut the 245 M samples of the paper aperture into calls of at most 4096 samples,
+# and the thread wake-ups between the blocks cost more than the blocks' work
+# (docs/performance.md, "make demo"); 1 MiB per edge.
 SAMPLE_EDGE_BYTES = 1 << 20
 
 
