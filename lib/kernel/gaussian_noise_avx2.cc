@@ -10,6 +10,7 @@
 // so the library itself keeps the baseline x86-64 ISA.
 
 #include "gaussian_noise_impl.h"
+#include "cpu_features.h"
 
 #include "noise_avx2.h" // defines NRSAR_HAVE_AVX2_PATH on x86
 
@@ -20,11 +21,7 @@ namespace noise_detail {
 
 #ifdef NRSAR_HAVE_AVX2_PATH
 
-bool avx2_available()
-{
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-}
+bool avx2_available() { return cpu_supports_avx2(true); }
 
 void avx2_run(lane_state& st, float sigma, gr_complex* out, std::size_t groups, bool add)
 {

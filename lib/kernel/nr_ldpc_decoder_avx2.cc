@@ -10,6 +10,7 @@
 // (an AVX2 instantiation could be picked by the linker for the generic code too).
 
 #include "nr_ldpc_decoder_impl.h"
+#include "cpu_features.h"
 #include <cmath>
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -20,11 +21,7 @@ namespace nrsar {
 namespace kernel {
 namespace ldpc_detail {
 
-bool avx2_available()
-{
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
-}
+bool avx2_available() { return cpu_supports_avx2(); }
 
 bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
 {

@@ -9,6 +9,7 @@
 // from the generic loop and from VOLK); called only after avx2_available().
 
 #include "rx_front_impl.h"
+#include "cpu_features.h"
 #if defined(__AVX2__)
 #include <immintrin.h>
 #endif
@@ -21,11 +22,7 @@ namespace rx_front {
 
 #if defined(__AVX2__)
 
-bool avx2_available()
-{
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
-}
+bool avx2_available() { return cpu_supports_avx2(); }
 
 namespace {
 float hsum(__m256 v)

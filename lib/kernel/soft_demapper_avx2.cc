@@ -12,6 +12,7 @@
 // generic code too).
 
 #include "soft_demapper_impl.h"
+#include "cpu_features.h"
 
 #if defined(__AVX2__)
 #include <immintrin.h>
@@ -24,11 +25,7 @@ namespace demap_detail {
 
 #if defined(__AVX2__)
 
-bool avx2_available()
-{
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
-}
+bool avx2_available() { return cpu_supports_avx2(); }
 
 namespace {
 inline __m256 clamp8(__m256 v, __m256 lo, __m256 hi)
