@@ -200,6 +200,12 @@ def main(argv=None):
     ap.add_argument("--scene", default=os.path.join("examples", "scenes", "ship_and_sea.yaml"),
                     help="extended scene of table 6")
     a = ap.parse_args(argv)
+    for f in a.flights.split(","):  # refused before any figure runs
+        motion, plus, nav_error = f.partition("+")
+        if motion not in params.MOTIONS or (plus and nav_error not in params.NAV_ERRORS):
+            ap.error(f"--flights = {a.flights!r}: {f!r} must be MOTION[+NAV_ERROR], MOTION one "
+                     f"of {', '.join(params.MOTIONS)}, NAV_ERROR one of "
+                     f"{', '.join(params.NAV_ERRORS)}")
     runtime.quiet_gnuradio_logs()
     os.makedirs(a.out, exist_ok=True)
     plt = plt_module()
