@@ -41,19 +41,30 @@ def print_result(result, as_json):
             print(f"{key:28s} {value}")
 
 
-def main(prog, options_cls, run, doc, argv=None, verdict=lambda result: 0):
-    """Parses argv into options_cls, validates them and the output folder, runs run(opts)
-    and prints its result dict (JSON with --json); returns the exit code."""
+def parse(prog, options_cls, doc, argv=None):
+    """argv parsed into options_cls and validated with the output folder (`out`, where the
+    options have one), progress configured; None after a one-line error on stderr (the
+    caller exits 2, as argparse's own errors do)."""
     runtime.quiet_gnuradio_logs()
     parser = parser_of(prog, options_cls, doc)
-    namespace = parser.parse_args(argv)  # argparse's own errors exit 2 too
+    namespace = parser.parse_args(argv)
     try:
         opts = options_cls.from_args(namespace)
-        check_out_dir(opts.out)
+        if hasattr(opts, "out"):
+            check_out_dir(opts.out)
     except ValueError as err:
         print(f"{prog}: error: {err}", file=sys.stderr)
-        return EXIT_USAGE
+        return None
     progress.configure(progress.from_args(namespace))
+    return opts
+
+
+def main(prog, options_cls, run, doc, argv=None, verdict=lambda result: 0):
+    """Parses argv into options_cls (parse()), runs run(opts) and prints its result dict
+    (JSON with --json); returns the exit code."""
+    opts = parse(prog, options_cls, doc, argv)
+    if opts is None:
+        return EXIT_USAGE
     try:
         result = run(opts)
     except (runtime.Interrupted, KeyboardInterrupt):

@@ -208,6 +208,18 @@ def check_out_dir(path, flag="--out"):
     return path
 
 
+def check_names(flag, text, allowed):
+    """A comma-separated list of names, each one of `allowed` (OptionError naming the first
+    that is not); returns the names in the given order."""
+    names = [n.strip() for n in str(text).split(",") if n.strip()]
+    if not names:
+        raise OptionError(f"{flag} = {text!r} names nothing: give some of {', '.join(allowed)}")
+    for n in names:
+        if n not in allowed:
+            raise OptionError(f"{flag} = {text!r}: {n!r} is not one of {', '.join(allowed)}")
+    return names
+
+
 # UTM is defined from 80 deg S to 84 deg N (the polar caps use UPS, which geo.py does not
 # write).
 UTM_LAT_RANGE = (-80.0, 84.0)

@@ -32,8 +32,8 @@
 Each figure is one PNG and one CSV in --out; progress goes to stderr.
 """
 
-import argparse
 import csv
+import dataclasses
 import io
 import math
 import os
@@ -43,9 +43,8 @@ import time
 
 import numpy as np
 
-from .. import chain, params, progress, results, runtime, scenario, theory
-from ..options import SimOptions
-from . import presum_compare, presum_study
+from .. import chain, cli, params, progress, results, scenario, theory
+from ..options import SimOptions, _Options, check_names, option
 
 LIGHT_SPEED = 299792458.0
 TARGET1 = "300,100"
@@ -369,15 +368,16 @@ def fig5(out, quick, workdir, seeds):
 
 def presum(out, quick, workdir):
     """The presummer study writes its own PNGs and CSVs (presum_*) into out."""
-    presum_study.main(["--out", out] + (["--quick"] if quick else []))
+    from . import presum_study  # here: `python3 -m` of the study finds it not yet imported
+    presum_study.run(presum_study.PresumStudyOptions(out=out, quick=quick).validate())
     return {}
 
 
 def presum_compare_figure(out, quick, workdir):
     """The second paper's comparisons write their own PNGs and CSVs (presum_compare_*)."""
-    summary = presum_compare.main(["--out", out, "--workdir", workdir,
-                                   "--scene", ship_and_sea_file(workdir)] +
-                                  (["--quick"] if quick else []))
+    from . import presum_compare  # as presum()
+    summary = presum_compare.run(presum_compare.PresumCompareOptions(
+        out=out, workdir=workdir, scene=ship_and_sea_file(workdir), quick=quick).validate())
     return {f"fig6_gain_{r['method']}_db": r["gain_db"] for r in summary["fig6"]
             if r["method"] in ("lms", "cheby")}
 
@@ -870,26 +870,23 @@ def fig8(out, quick, workdir):
     return {f"fig8_corr_{r[0]}": r[1] for r in rows}
 
 
+@dataclasses.dataclass
+class FiguresOptions(_Options):
+    out: str = option("nrsar-figures", "output folder")
+    quick: bool = option(False, "small sizes (small preset N = 512, 0.2 s aperture, few "
+                         "SNRs): the smoke test")
+    seeds: int = option(3, "seeds per fig5 point", at_least=1, at_most=100)
+    only: str = option(",".join(FIGURES), "comma-separated subset of " + ",".join(FIGURES))
+
+    def check(self):
+        check_names("--only", self.only, FIGURES)
+
+
 def main(argv=None):
-    runtime.quiet_gnuradio_logs()
-    parser = argparse.ArgumentParser(prog="nrsar-figures", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", default="nrsar-figures", help="output folder")
-    parser.add_argument("--quick", action="store_true",
-                        help="small sizes (small preset N = 512, 0.2 s aperture, few SNRs): "
-                             "the smoke test")
-    parser.add_argument("--seeds", type=int, default=3, help="seeds per fig5 point")
-    parser.add_argument("--only", default=",".join(FIGURES),
-                        help="comma-separated subset of " + ",".join(FIGURES))
-    progress.add_arguments(parser)
-    args = parser.parse_args(argv)
-    progress.configure(progress.from_args(args))
-    only = [x.strip() for x in args.only.split(",") if x.strip()]
-    bad = [x for x in only if x not in FIGURES]
-    if bad or args.seeds < 1:
-        print(f"nrsar-figures: unknown figure {bad} or --seeds < 1", file=sys.stderr)
-        return 2
-    os.makedirs(args.out, exist_ok=True)
+    args = cli.parse("nrsar-figures", FiguresOptions, __doc__, argv)
+    if args is None:
+        return cli.EXIT_USAGE
+    only = check_names("--only", args.only, FIGURES)
     summary = {}
     with tempfile.TemporaryDirectory(prefix="nrsar-figures-") as work:
         for name in only:

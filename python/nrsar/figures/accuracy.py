@@ -13,15 +13,16 @@ writes accuracy.csv (every run) and accuracy.md (the table: mean over seeds of
 measured - theory, and the headline spread of that difference over all cells).
 """
 
-import argparse
+import dataclasses
 import os
 import sys
 import tempfile
 
 import numpy as np
 
-from .. import results, runtime
-from . import figures
+from .. import cli, results
+from ..options import _Options, option
+from .. import figures
 
 MODULATIONS = ("qam256", "qam16", "qpsk")
 
@@ -67,14 +68,17 @@ def run(out, quick=False, seeds=2):
             "summary": summ, "markdown": text}
 
 
+@dataclasses.dataclass
+class AccuracyOptions(_Options):
+    out: str = option("nrsar-accuracy", "output folder")
+    quick: bool = option(False, "small sizes (the smoke test)")
+    seeds: int = option(2, "seeds per cell", at_least=1, at_most=100)
+
+
 def main(argv=None):
-    runtime.quiet_gnuradio_logs()
-    parser = argparse.ArgumentParser(prog="nrsar-accuracy", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", default="nrsar-accuracy")
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--seeds", type=int, default=2)
-    args = parser.parse_args(argv)
+    args = cli.parse("nrsar-accuracy", AccuracyOptions, __doc__, argv)
+    if args is None:
+        return cli.EXIT_USAGE
     res = run(args.out, args.quick, args.seeds)
     print(res["markdown"])
     return 0

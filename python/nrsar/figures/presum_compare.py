@@ -26,17 +26,20 @@ lms (the paper's LMS baseline, kernel/lms_presum.h) and cheby (the proposed meth
    runs of table 5 -> presum_compare_table7.csv / .png.
 """
 
-import argparse
+import dataclasses
+import json
 import math
 import os
+import sys
+import typing
 
 import numpy as np
 
 from gnuradio import nrsar
-from gnuradio.nrsar import chain, params, results, runtime, scenes
+from gnuradio.nrsar import chain, cli, params, results, scenes
 from .presum_study import (azimuth_cut, image_run, plot_azimuth_cuts, plt_module, single_pulse,
                            write_csv)
-from gnuradio.nrsar.options import SimOptions
+from gnuradio.nrsar.options import OptionError, SimOptions, _Options, check_names, option
 
 D_PAPER = 12
 # the paper's fig. 6 / text [P-3.1]: single-pulse gain at D = 12 [dB]
@@ -183,33 +186,53 @@ def table6_rows(scene_path, workdir, preset, d, snr_db, flight="none", methods=M
 
 # ---------------------------------------------------------------- figures
 
+PARTS = ("fig6", "table5", "table6", "table7")
+
+
+@dataclasses.dataclass
+class PresumCompareOptions(_Options):
+    out: str = option("docs/figures", "output folder")
+    preset: str = option("small", "OFDM numerology preset",
+                         choices=list(nrsar.numerology.preset_names()))
+    decim: int = option(D_PAPER, "presumming factor D", at_least=2, at_most=4096)
+    snr_db: float = option(-40.0, "SNR_in of table 6 [dB]", at_least=-100.0, at_most=100.0)
+    flights: str = option(",".join(FLIGHTS), "flights of table 6: --motion[+--nav-error], "
+                          "comma-separated")
+    quick: bool = option(False, "fig. 6 over 0.5 s; tables 5-7 for drop, lms and cheby only, "
+                         "table 6 on the ideal flight")
+    only: str = option(",".join(PARTS), "comma-separated subset of " + ",".join(PARTS))
+    workdir: typing.Optional[str] = option(None, "folder of table 6's recordings (default: a "
+                                           "temporary one)")
+    scene: str = option(os.path.join("examples", "scenes", "ship_and_sea.yaml"),
+                        "extended scene of table 6")
+
+    def check(self):
+        check_names("--only", self.only, PARTS)
+        for f in self.flights.split(","):
+            motion, plus, nav_error = f.partition("+")
+            if motion not in params.MOTIONS or (plus and nav_error not in params.NAV_ERRORS):
+                raise OptionError(f"--flights = {self.flights!r}: {f!r} must be "
+                                  f"MOTION[+NAV_ERROR], MOTION one of "
+                                  f"{', '.join(params.MOTIONS)}, NAV_ERROR one of "
+                                  f"{', '.join(params.NAV_ERRORS)}")
+        if "table6" in self.only and not os.path.isfile(self.scene):
+            raise OptionError(f"--scene = {self.scene!r} is not a file")
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", default="docs/figures")
-    ap.add_argument("--preset", default="small")
-    ap.add_argument("--decim", type=int, default=D_PAPER)
-    ap.add_argument("--snr-db", type=float, default=-40.0, help="SNR_in of table 6")
-    ap.add_argument("--flights", default=",".join(FLIGHTS),
-                    help="flights of table 6: --motion[+--nav-error], comma-separated")
-    ap.add_argument("--quick", action="store_true",
-                    help="fig. 6 over 0.5 s; tables 5-7 for drop, lms and cheby only, table 6 "
-                    "on the ideal flight")
-    ap.add_argument("--only", default="fig6,table5,table6,table7")
-    ap.add_argument("--workdir", default=None)
-    ap.add_argument("--scene", default=os.path.join("examples", "scenes", "ship_and_sea.yaml"),
-                    help="extended scene of table 6")
-    a = ap.parse_args(argv)
-    for f in a.flights.split(","):  # refused before any figure runs
-        motion, plus, nav_error = f.partition("+")
-        if motion not in params.MOTIONS or (plus and nav_error not in params.NAV_ERRORS):
-            ap.error(f"--flights = {a.flights!r}: {f!r} must be MOTION[+NAV_ERROR], MOTION one "
-                     f"of {', '.join(params.MOTIONS)}, NAV_ERROR one of "
-                     f"{', '.join(params.NAV_ERRORS)}")
-    runtime.quiet_gnuradio_logs()
+    opts = cli.parse("presum_compare", PresumCompareOptions, __doc__, argv)
+    if opts is None:
+        return cli.EXIT_USAGE
+    print(json.dumps(run(opts), indent=1, default=float))
+    return 0
+
+
+def run(a):
+    """The figures and tables of a (PresumCompareOptions, validated) into the folder a.out;
+    returns their rows."""
     os.makedirs(a.out, exist_ok=True)
     plt = plt_module()
-    only = set(a.only.split(","))
+    only = set(check_names("--only", a.only, PARTS))
     seconds = 0.5 if a.quick else 2.0
     d = a.decim
     methods = ("drop", "lms", "cheby") if a.quick else METHODS
@@ -301,5 +324,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    import json
-    print(json.dumps(main(), indent=1, default=float))
+    sys.exit(main())

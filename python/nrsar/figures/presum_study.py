@@ -22,19 +22,21 @@
    (uncompensated) and CHEBY, D up to 2 D_max -> presum_qpe.csv / .png.
 """
 
-import argparse
 import csv
+import dataclasses
+import json
 import io
 import math
 import os
+import sys
 import time
 
 import numpy as np
 from gnuradio import blocks, fft, gr
 
 from gnuradio import nrsar
-from gnuradio.nrsar import chain, params, results, runtime, scenario
-from gnuradio.nrsar.options import SimOptions
+from gnuradio.nrsar import chain, cli, params, results, runtime, scenario
+from gnuradio.nrsar.options import SimOptions, _Options, option
 
 # the methods in the order of the figures' legends
 METHODS = {name: params.PRESUM_METHODS[name] for name in ("drop", "boxcar", "filter_drop", "cheby")}
@@ -207,14 +209,26 @@ def qpe_check(preset, d_list):
     return rows
 
 
+@dataclasses.dataclass
+class PresumStudyOptions(_Options):
+    out: str = option("docs/figures", "output folder")
+    preset: str = option("small", "OFDM numerology preset",
+                         choices=list(nrsar.numerology.preset_names()))
+    decim: int = option(12, "presumming factor D", at_least=2, at_most=4096)
+    quick: bool = option(False, "0.5 s aperture, fewer D values")
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", default="docs/figures")
-    ap.add_argument("--preset", default="small")
-    ap.add_argument("--decim", type=int, default=12)
-    ap.add_argument("--quick", action="store_true", help="0.5 s aperture, fewer D values")
-    a = ap.parse_args(argv)
-    runtime.quiet_gnuradio_logs()
+    opts = cli.parse("presum_study", PresumStudyOptions, __doc__, argv)
+    if opts is None:
+        return cli.EXIT_USAGE
+    print(json.dumps(run(opts), indent=1, default=float))
+    return 0
+
+
+def run(a):
+    """The figures and tables of a (PresumStudyOptions, validated) into the folder a.out;
+    returns their rows."""
     os.makedirs(a.out, exist_ok=True)
     plt = plt_module()
     seconds = 0.5 if a.quick else 2.0
@@ -307,5 +321,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    import json
-    print(json.dumps(main(), indent=1, default=float))
+    sys.exit(main())

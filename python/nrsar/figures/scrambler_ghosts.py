@@ -24,12 +24,14 @@ The DMRS symbols themselves repeat every frame (20 slots at 30 kHz) in every cas
 Run: /usr/bin/python3 -m gnuradio.nrsar.figures.scrambler_ghosts [--preset sdr20] [--slots 160]
 """
 
-import argparse
+import dataclasses
+import sys
 
 import numpy as np
 
 from gnuradio import nrsar
-from gnuradio.nrsar import backhaul
+from gnuradio.nrsar import backhaul, cli
+from gnuradio.nrsar.options import _Options, option
 
 
 def grid_of(preset, slots, coding, scrambling, payload):
@@ -59,11 +61,18 @@ def ghost_level(num, grid):
             10 * np.log10(rd.mean() / peak))
 
 
+@dataclasses.dataclass
+class ScramblerGhostsOptions(_Options):
+    preset: str = option("sdr20", "OFDM numerology preset",
+                         choices=list(nrsar.numerology.preset_names()))
+    slots: int = option(160, "slots of the slow-time record (the ghosts' spectrum needs a "
+                        "few slot periods)", at_least=4, at_most=100000)
+
+
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--preset", default="sdr20")
-    p.add_argument("--slots", type=int, default=160)
-    args = p.parse_args(argv)
+    args = cli.parse("scrambler_ghosts", ScramblerGhostsOptions, __doc__, argv)
+    if args is None:
+        return cli.EXIT_USAGE
     cases = [("nr-ldpc", "standard", "filler"), ("nr-ldpc", "per-slot", "filler"),
              ("nr-ldpc", "standard", "random"), ("none", "standard", "filler")]
     print("| coding | scrambling | payload | strongest sidelobe | at Doppler | mean sidelobe |")
@@ -76,4 +85,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

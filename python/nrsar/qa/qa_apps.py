@@ -86,6 +86,24 @@ BAD_INPUTS = [
     ("nrsar-soak", ["--max-slope-mb-per-min", "-1"], "--max-slope-mb-per-min = -1 must be at least 0"),
 ]
 
+# The figure programs (nrsar-figures, and the studies run as python3 -m MODULE): each row
+# one bad flag, refused before any figure runs.
+BAD_FIGURE_INPUTS = [
+    ("nrsar-figures", ["--seeds", "0"], "--seeds = 0 must be at least 1"),
+    ("nrsar-figures", ["--only", "fig3,fig9"], "--only = 'fig3,fig9': 'fig9' is not one of"),
+    ("nrsar-figures", ["--only", ","], "--only = ',' names nothing"),
+    ("gnuradio.nrsar.figures.presum_compare", ["--decim", "1"], "--decim = 1 must be at least 2"),
+    ("gnuradio.nrsar.figures.presum_compare", ["--only", "table8"], "'table8' is not one of"),
+    ("gnuradio.nrsar.figures.presum_compare", ["--flights", "windy"], "'windy' must be MOTION"),
+    ("gnuradio.nrsar.figures.presum_compare", ["--snr-db", "nan"], "--snr-db = nan must be finite"),
+    ("gnuradio.nrsar.figures.presum_compare", ["--scene", "/no/scene.yaml"],
+     "--scene = '/no/scene.yaml' is not a file"),
+    ("gnuradio.nrsar.figures.presum_study", ["--preset", "huge"], "--preset: invalid choice"),
+    ("gnuradio.nrsar.figures.presum_study", ["--decim", "5000"], "--decim = 5000 must be at most"),
+    ("gnuradio.nrsar.figures.scrambler_ghosts", ["--slots", "2"], "--slots = 2 must be at least 4"),
+    ("gnuradio.nrsar.figures.accuracy", ["--seeds", "-1"], "--seeds = -1 must be at least 1"),
+]
+
 # The small valid scenario each row breaks one rule of.
 BASE = ["--preset", "tiny", "--aperture-s", "0.02"]
 
@@ -115,6 +133,25 @@ class qa_apps(gr_unittest.TestCase):
         for program, flags, expected in BAD_INPUTS:
             with self.subTest(program=program, flags=flags):
                 self.assert_refused(program, flags, expected)
+
+    def test_001b_figure_programs_refuse_bad_flags(self):
+        for program, flags, expected in BAD_FIGURE_INPUTS:
+            with self.subTest(program=program, flags=flags):
+                where = f"{program} {' '.join(flags)}"
+                command = ([os.path.join(APPS, program)] if program.startswith("nrsar-")
+                           else ["-m", program])
+                out = [] if program.endswith("scrambler_ghosts") else \
+                    ["--out", os.path.join(self.dir, "figures")]  # it prints its table
+                proc = subprocess.run([sys.executable] + command + flags + out,
+                                      capture_output=True, text=True, timeout=300)
+                self.assertEqual(proc.returncode, 2, f"{where}: exit {proc.returncode}\n"
+                                 f"{proc.stderr}")
+                self.assertNotIn("Traceback", proc.stderr, where)
+                self.assertIn(expected, proc.stderr, where)
+                self.assertEqual(proc.stdout, "", where)
+                self.assertFalse(os.listdir(os.path.join(self.dir, "figures"))
+                                 if os.path.isdir(os.path.join(self.dir, "figures")) else [],
+                                 f"{where}: wrote something")
 
     def test_002_out_checked_before_the_run(self):
         # a file, a path under a file (refused for root too) and a place that cannot be
