@@ -415,6 +415,10 @@ class array_sink(gr.hier_block2):
     def tags(self):
         return self._tags.current_tags()
 
+    def nitems_read(self, port):
+        """Items that reached the file so far (a hier block has no counter of its own)."""
+        return self._sink.nitems_read(port)
+
 
 def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=False):
     """Wires transmitter -> head (one aperture) -> echo front -> imaging_chain -> sinks into

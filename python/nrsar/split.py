@@ -130,8 +130,7 @@ def ground_graph(tb, opts, sc, key, address):
     probe = chain.make_probe(opts, sc, foc, cfg, True)
     k = foc.num_output_bins()
     if keep:  # the received lines stand for the range-compressed data
-        range_sink = blocks.vector_sink_c(bins, sc.symbols)
-        image_sink = blocks.vector_sink_c(k, sc.symbols)
+        range_sink, image_sink = chain.array_sink(bins), chain.array_sink(k)
     else:
         range_sink = blocks.null_sink(gr.sizeof_gr_complex * bins)
         image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
