@@ -134,12 +134,12 @@ def backhaul_results(num, enc, bs, chunks, payload, out_path, repetitions=1):
     delivered = {}
     failed_slots = []
     for i in range(store.num_messages()):
-        meta, data = backhaul.pdu_to_python(store.get_message(i))
-        tb_index = int(meta.get("slot", -1)) // repetitions
-        if not meta.get("crc_ok"):
-            failed_slots.append(int(meta.get("slot", -1)))
-        elif not meta.get("filler"):
-            delivered[tb_index] = data
+        meta, data = backhaul.pdu_fields(store.get_message(i), ("slot", "crc_ok", "filler"))
+        slot = int(meta["slot"]) if meta["slot"] is not None else -1
+        if not meta["crc_ok"]:
+            failed_slots.append(slot)
+        elif not meta["filler"]:
+            delivered[slot // repetitions] = data()
     decoded = b"".join(delivered[s] for s in sorted(delivered))
     results.write_bytes(out_path, decoded)
     bit_errors = 0
