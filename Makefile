@@ -6,6 +6,8 @@ PREFIX     ?= /usr/local
 JOBS       ?= 2
 PYTHON     := /usr/bin/python3
 DEMO_OUT   ?= demo-out
+# the base station decodes a slot's code blocks on two threads where there are two cores
+DEMO_RX_THREADS ?= $(shell [ "$$(nproc)" -gt 1 ] && echo 2 || echo 1)
 
 # gnuradio-companion needs the introspection data of GTK 3 and PangoCairo (its
 # gi.require_version checks), which the gnuradio package does not depend on: without them it
@@ -100,7 +102,8 @@ demo: install
 	for i in $$(seq 100); do cat /usr/share/common-licenses/GPL-3; done > $(DEMO_OUT)/payload.bin
 	$(PREFIX)/bin/nrsar-isac --preset paper --scene paper3 --filter wf --snr-db -20 \
 		--payload $(DEMO_OUT)/payload.bin --bs-snr-db 50 --cfo-hz 9000 --delay-samples 1234 \
-		--coding nr-ldpc --mcs-table qam256 --mcs 27 --out $(DEMO_OUT) --json
+		--coding nr-ldpc --mcs-table qam256 --mcs 27 --rx-threads $(DEMO_RX_THREADS) \
+		--out $(DEMO_OUT) --json
 
 # Kernel benchmarks (Google Benchmark, outside ctest so VOLK uses its fast kernels), then
 # the flowgraph-level comparisons with peers; results land in docs/bench/.

@@ -8,6 +8,7 @@
 #include "pusch_encoder_impl.h"
 #include "message_ports.h"
 #include "param_check.h"
+#include "kernel/bit_pack.h"
 #include <gnuradio/io_signature.h>
 #include <algorithm>
 
@@ -128,16 +129,30 @@ void pusch_encoder_impl::encode_slot()
         d_last_c_init = c_init;
         d_last_valid = true;
     }
-    // continuous MSB-first bit stream
-    for (std::uint8_t b : d_tb_bits) {
-        d_acc = static_cast<std::uint8_t>((d_acc << 1) | (b & 1u));
-        if (++d_acc_bits == 8) {
-            d_out.push_back(d_acc);
-            d_acc = 0;
-            d_acc_bits = 0;
-        }
-    }
+    // continuous MSB-first bit stream; whole bytes 8 bits at a time (G is a multiple of
+    // the modulation order, so after a byte-aligned slot the next one is aligned too)
+    const std::size_t g = d_tb_bits.size();
+    std::size_t i = 0;
+    for (; i < g && d_acc_bits != 0; i++)
+        push_bit(d_tb_bits[i]);
+    const std::size_t whole = (g - i) / 8;
+    const std::size_t at = d_out.size();
+    d_out.resize(at + whole);
+    for (std::size_t k = 0; k < whole; k++, i += 8)
+        d_out[at + k] = kernel::pack8(&d_tb_bits[i]);
+    for (; i < g; i++)
+        push_bit(d_tb_bits[i]);
     d_slot++;
+}
+
+void pusch_encoder_impl::push_bit(std::uint8_t b)
+{
+    d_acc = static_cast<std::uint8_t>((d_acc << 1) | (b & 1u));
+    if (++d_acc_bits == 8) {
+        d_out.push_back(d_acc);
+        d_acc = 0;
+        d_acc_bits = 0;
+    }
 }
 
 int pusch_encoder_impl::general_work(int noutput_items,
@@ -148,10 +163,19 @@ int pusch_encoder_impl::general_work(int noutput_items,
     gr::thread::scoped_lock guard(d_setlock);
     auto out = static_cast<std::uint8_t*>(output_items[0]);
     const auto want = static_cast<std::size_t>(noutput_items);
-    while (d_out.size() < want)
-        encode_slot();
-    std::copy(d_out.begin(), d_out.begin() + static_cast<std::ptrdiff_t>(want), out);
-    d_out.erase(d_out.begin(), d_out.begin() + static_cast<std::ptrdiff_t>(want));
+    std::size_t done = 0;
+    while (done < want) {
+        if (d_out_head == d_out.size()) {
+            d_out.clear();
+            d_out_head = 0;
+            encode_slot();
+            continue;
+        }
+        const std::size_t n = std::min(want - done, d_out.size() - d_out_head);
+        std::copy_n(d_out.data() + d_out_head, n, out + done);
+        d_out_head += n;
+        done += n;
+    }
     return noutput_items;
 }
 

@@ -35,7 +35,8 @@ private:
     unsigned d_last_rv = 0;
     std::uint32_t d_last_c_init = 0;
     bool d_last_valid = false;
-    std::deque<std::uint8_t> d_out;        // packed bytes ready for the output
+    std::vector<std::uint8_t> d_out;       // packed bytes ready for the output, from d_out_head
+    std::size_t d_out_head = 0;
     std::uint8_t d_acc = 0;                // partial byte
     unsigned d_acc_bits = 0;
 
@@ -48,6 +49,7 @@ private:
     void handle_pdu(const pmt::pmt_t& msg);
     void drop_pdu(const std::string& why);
     void next_tb();
+    void push_bit(std::uint8_t b);
     void encode_slot();
 
 public:

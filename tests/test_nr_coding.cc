@@ -451,6 +451,26 @@ TEST(NrUlsch, ChainOf38212Section62)
     }
 }
 
+TEST(NrUlsch, NanLlrsAreErasuresNextToInfiniteOnes)
+{
+    // Noiseless slot (LLRs +-5, every 7th +-inf: a known bit) with 2 % of them NaN (erasures, decoded as
+    // 0) in the vector body and the scalar tail of the descrambler (G = 28802 = 4 k + 2): the
+    // TB decodes. A NaN that reached the decoder, or an inf that did not saturate, would not.
+    nr_ulsch ul(25104, 0.9, 2, 28802);
+    const auto a = random_bits(25104, 7);
+    std::vector<std::uint8_t> out(28802), back(25104);
+    ul.encode(a.data(), 0, 99, out.data());
+    auto llr = channel(out, INFINITY, 1); // +-5
+    for (std::size_t k = 0; k < llr.size(); k += 7)
+        llr[k] = std::copysign(INFINITY, llr[k]);
+    for (std::size_t k = 3; k < llr.size(); k += 50)
+        llr[k] = NAN;
+    llr[llr.size() - 1] = NAN;
+    const auto res = ul.decode(llr.data(), 0, 99, false, back.data());
+    EXPECT_TRUE(res.tb_crc_ok && res.parity_ok);
+    EXPECT_EQ(back, a);
+}
+
 TEST(NrUlsch, HarqCombiningRecoversWhatOneTransmissionCannot)
 {
     // A = 25104 at R = 0.9 into G = 28800 (effective rate 0.873, QPSK bits as BPSK LLRs).

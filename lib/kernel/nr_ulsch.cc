@@ -12,6 +12,9 @@
 #include <algorithm>
 #include <cstring>
 #include <memory>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace gr {
 namespace nrsar {
@@ -20,12 +23,30 @@ namespace kernel {
 namespace {
 // out = in with the sign flipped where c = 1 (38.211 6.3.1.1 undone on LLRs). A NaN is an
 // erasure (0); +-inf is a known bit, saturated so that HARQ's sums of opposite certainties
-// stay finite. The sign flip on the bits, so that the loop vectorises.
+// stay finite. The sign flip on the bits.
 constexpr float llr_saturation = 1e30f;
 
 void descramble(const float* __restrict in, const std::uint8_t* __restrict c, std::size_t n, float* __restrict out)
 {
-    for (std::size_t k = 0; k < n; k++) {
+    std::size_t k = 0;
+#ifdef __SSE2__
+    // GCC keeps the scalar loop's NaN test as a branch (a tenth of the demo's receiver):
+    // 4 at a time, the same results (maxps/minps equal std::max/min for non-NaN values;
+    // a NaN is masked to 0 by the ordered compare)
+    const __m128 hi = _mm_set1_ps(llr_saturation), lo = _mm_set1_ps(-llr_saturation);
+    const __m128i zero = _mm_setzero_si128();
+    for (; k + 4 <= n; k += 4) {
+        std::int32_t c4;
+        std::memcpy(&c4, c + k, 4);
+        const __m128i bytes = _mm_cvtsi32_si128(c4);
+        const __m128i sign =
+            _mm_slli_epi32(_mm_unpacklo_epi16(_mm_unpacklo_epi8(bytes, zero), zero), 31);
+        const __m128 v = _mm_xor_ps(_mm_loadu_ps(in + k), _mm_castsi128_ps(sign));
+        const __m128 clamped = _mm_min_ps(_mm_max_ps(v, lo), hi);
+        _mm_storeu_ps(out + k, _mm_and_ps(clamped, _mm_cmpord_ps(v, v)));
+    }
+#endif
+    for (; k < n; k++) {
         std::uint32_t u;
         std::memcpy(&u, in + k, 4);
         u ^= std::uint32_t{ c[k] } << 31;

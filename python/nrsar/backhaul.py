@@ -62,6 +62,18 @@ def pdu_to_python(msg):
     return meta, bytes(bytearray(pmt.u8vector_elements(pmt.cdr(msg))))
 
 
+def pdu_fields(msg, keys):
+    """The meta values of keys (None where absent) and the PDU's bytes as a function (only
+    what is asked is converted: pmt.to_python of a whole meta dict costs 0.4 ms per PDU,
+    1.4 s of the demo's 3428 slots)."""
+    meta = pmt.car(msg)
+    fields = {}
+    for key in keys:
+        value = pmt.dict_ref(meta, pmt.intern(key), pmt.PMT_NIL)
+        fields[key] = None if pmt.is_null(value) else pmt.to_python(value)
+    return fields, lambda: bytes(bytearray(pmt.u8vector_elements(pmt.cdr(msg))))
+
+
 def reassemble(messages):
     """PDUs of pusch_receiver (pmt or (meta, bytes) pairs, in slot order) -> list of
     (payload bytes, complete) per transmitted PDU, using seq (mod 2^16) and the

@@ -13,8 +13,8 @@ station and images the ground with the same waveform, in one GNU Radio flowgraph
        -> rd_focuser -> nmse_probe  (reference branch: scene_echo's S = 1 echo, as nrsar-sim)
        --radar-domain tf: scene_echo on the grid (nrsar-sim's chain)
    (a) base station:
-       ofdm_mod -> blocks.delay -> chunk_invariant_channel (channel_model: noise, CFO, taps) -> ofdm_sync
-       -> ofdm_demod -> pusch_receiver -> PDUs -> decoded file
+       ofdm_mod -> uplink_channel (delay, taps, CFO, noise) -> ofdm_sync -> ofdm_demod
+       -> pusch_receiver -> PDUs -> decoded file
 
 The image, its metrics and the JSON keys are nrsar-sim's (SPEC 9); the backhaul adds
 payload_identical, backhaul_ber, backhaul_bler, throughput_mbps and the receiver's numbers.
@@ -33,7 +33,8 @@ from . import (backhaul, chain, params, progress, recording, results, runtime,
                scenario)
 from .options import OptionError, check_out_dir, parse_taps
 from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
-                           pusch_receiver, scene_echo, srs_config, td_echo)
+                           pusch_receiver, scene_echo, srs_config, td_echo, uplink_channel,
+                           uplink_channel_config)
 
 def time_domain_front(ofdm_source, record_path=None):
     """echo_front for chain.build: the radar echo through the time domain,
@@ -103,65 +104,26 @@ def build_transmitter(tb, num, opts, payload):
     return enc, tx, dmrs, chunks
 
 
-class chunk_invariant_channel(gr.hier_block2):
-    """channels.channel_model(noise_voltage, cfo, 1.0, taps, seed) rebuilt from the same
-    stock blocks, except the two whose rounding depends on how the scheduler cuts the stream
-    (qa_chunking): channel_model's fir_filter_ccc picks its VOLK dot-product kernel by the
-    input buffer's alignment, and its multiply_cc runs the FMA kernel on the body of a call
-    and the scalar one on its tail (1e-7 differences, bs_evm_db varying between runs). Here
-    the taps go through fft_filter_ccc (whole FFT blocks) and the CFO mixer takes multiples
-    of 8 samples per call (output multiple 8: no tail, and every call starts 64-byte
-    aligned): the output is a function of the input stream only. Same order
-    as channel_model: timing, multipath, CFO, noise. Timing: channel_model's mmse_resampler
-    at ratio 1 and phase 0 advances the stream by exactly 3 samples (its interpolator's taps
-    at mu = 0 are a unit impulse) and keeps its last 8 for history; a skiphead of 3 gives the
-    same samples without the 8-tap filter per sample. The stream's last < 8 samples are
-    dropped (so with symbol lengths of whole multiples of 8, as every preset has, both end
-    on the same sample)."""
-
-    MIX_VLEN = 8
-
-    def __init__(self, noise_voltage, frequency_offset, taps, noise_seed):
-        gr.hier_block2.__init__(self, "chunk_invariant_channel",
-                                gr.io_signature(1, 1, gr.sizeof_gr_complex),
-                                gr.io_signature(1, 1, gr.sizeof_gr_complex))
-        from gnuradio import filter as gr_filter
-        v = self.MIX_VLEN
-        timing = blocks.skiphead(gr.sizeof_gr_complex, 3)
-        multipath = gr_filter.fft_filter_ccc(1, list(taps), 1)
-        lo = analog.sig_source_c(1.0, analog.GR_SIN_WAVE, frequency_offset, 1.0, 0.0)
-        mixer = blocks.multiply_cc()
-        mixer.set_output_multiple(v)
-        noise = analog.fastnoise_source_c(analog.GR_GAUSSIAN, noise_voltage, noise_seed,
-                                          1024 * 8)
-        adder = blocks.add_cc()
-        self.connect(self, timing, multipath, (mixer, 0))
-        self.connect(lo, (mixer, 1))
-        self.connect(mixer, (adder, 1))
-        self.connect(noise, (adder, 0))
-        self.connect(adder, self)
-        chain.widen_buffers(timing, multipath, lo, mixer, noise, adder)
-
-
 def build_base_station(tb, num, opts, dmrs, source):
-    """source (time-domain uplink) -> delay -> channel_model -> ofdm_sync -> ofdm_demod ->
-    pusch_receiver -> message_debug (store). Returns the blocks by name."""
-    delay = blocks.delay(gr.sizeof_gr_complex, opts.delay_samples)
-    noise_voltage = 10.0 ** (-opts.bs_snr_db / 20.0)  # per sample = per RE (unitary OFDM)
-    chan = chunk_invariant_channel(noise_voltage, opts.cfo_hz / num.sample_rate_hz(),
-                                   parse_taps(opts.taps), opts.seed + 2)
+    """source (time-domain uplink) -> uplink_channel (delay, taps, CFO, noise: one pass) ->
+    ofdm_sync -> ofdm_demod -> pusch_receiver -> message_debug (store). Returns the blocks
+    by name."""
+    # per sample = per RE (unitary OFDM)
+    chan = uplink_channel(uplink_channel_config(
+        delay_samples=opts.delay_samples, taps=parse_taps(opts.taps),
+        cfo=opts.cfo_hz / num.sample_rate_hz(), noise_voltage=10.0 ** (-opts.bs_snr_db / 20.0),
+        seed=opts.seed + 2))
     sync = ofdm_sync(num, dmrs)
     demod = ofdm_demod(num)
     # ofdm_sync's backoff puts a phase slope across the subcarriers; pusch_receiver's
     # channel estimate removes it before its fit (docs/isac.md, "Backoff slope")
     rx = pusch_receiver(opts.pusch_config(num))
-    chain.widen_buffers(delay)
+    chain.widen_buffers(chan, sync)
     rx.set_threads(opts.rx_threads)
     store = blocks.message_debug()
-    tb.connect(source, delay, chan, sync, demod, rx)
+    tb.connect(source, chan, sync, demod, rx)
     tb.msg_connect((rx, "pdus"), (store, "store"))
-    return {"delay": delay, "channel": chan, "sync": sync, "demod": demod, "receiver": rx,
-            "store": store}
+    return {"channel": chan, "sync": sync, "demod": demod, "receiver": rx, "store": store}
 
 
 def backhaul_results(num, enc, bs, chunks, payload, out_path, repetitions=1):
@@ -172,12 +134,12 @@ def backhaul_results(num, enc, bs, chunks, payload, out_path, repetitions=1):
     delivered = {}
     failed_slots = []
     for i in range(store.num_messages()):
-        meta, data = backhaul.pdu_to_python(store.get_message(i))
-        tb_index = int(meta.get("slot", -1)) // repetitions
-        if not meta.get("crc_ok"):
-            failed_slots.append(int(meta.get("slot", -1)))
-        elif not meta.get("filler"):
-            delivered[tb_index] = data
+        meta, data = backhaul.pdu_fields(store.get_message(i), ("slot", "crc_ok", "filler"))
+        slot = int(meta["slot"]) if meta["slot"] is not None else -1
+        if not meta["crc_ok"]:
+            failed_slots.append(slot)
+        elif not meta["filler"]:
+            delivered[slot // repetitions] = data()
     decoded = b"".join(delivered[s] for s in sorted(delivered))
     results.write_bytes(out_path, decoded)
     bit_errors = 0
@@ -306,8 +268,8 @@ def run(opts):
                                    os.path.join(opts.out, "decoded.bin"), opts.repetitions))
     bs_times = {name: bs[name].pc_work_time_total() / 1e9
                 for name in ("sync", "demod", "receiver")}
-    # CPU time in work() of every block we hold (channel_model is a hier block: not counted)
-    named = {"pusch_encoder": enc, "nr_isac_tx": tx, "ofdm_mod": mod, "delay": bs["delay"],
+    # CPU time in work() of every block we hold
+    named = {"pusch_encoder": enc, "nr_isac_tx": tx, "ofdm_mod": mod, "bs_channel": bs["channel"],
              "radar_echo": graph["echo"], **{f"radar_{k}": graph[k] for k in
                                                ("filter", "range_ifft", "focuser", "probe")},
              **{f"bs_{k}": bs[k] for k in ("sync", "demod", "receiver")}}

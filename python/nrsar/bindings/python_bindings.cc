@@ -41,6 +41,7 @@ namespace py = pybind11;
     void bind_trajectory(py::module& m);
     void bind_bp_focuser(py::module& m);
     void bind_autofocus(py::module& m);
+    void bind_uplink_channel(py::module& m);
 // ) END BINDING_FUNCTION_PROTOTYPES
 
 
@@ -93,5 +94,6 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_image_sink(m);
     bind_bp_focuser(m);
     bind_autofocus(m);
+    bind_uplink_channel(m);
     // ) END BINDING_FUNCTION_CALLS
 }

@@ -18,8 +18,8 @@ restarted per call) fails with a difference of at least float rounding.
 
 GNU Radio's channels.channel_model is NOT chunk-invariant with SIMD VOLK kernels: its
 multipath fir_filter_ccc picks its dot-product kernel by the input buffer's alignment, so
-the sums round differently (1e-7 here); the tests of the base-station chain run with the
-generic VOLK kernels (VOLK_GENERIC=1, as every QA here), where it is exact."""
+the sums round differently (1e-7 here); nrsar-isac's uplink_channel must be, with the SIMD
+kernels too (test_007)."""
 
 import os
 import shutil
@@ -94,8 +94,8 @@ def run_radar(extra, chunk=(), time_domain=False):
 
 def run_base_station(chunk=(), coding="none", slots=4, snr_db=50.0):
     """nrsar-isac's transmitter and base station (sdr20, CFO, delay, multipath, 25 dB):
-    pusch_encoder -> nr_isac_tx -> ofdm_mod -> delay -> channel_model -> ofdm_sync ->
-    ofdm_demod -> pusch_receiver; the blocks named in chunk get small max_noutput_items."""
+    pusch_encoder -> nr_isac_tx -> ofdm_mod -> uplink_channel -> ofdm_sync -> ofdm_demod ->
+    pusch_receiver; the blocks named in chunk get small max_noutput_items."""
     payload = np.random.default_rng(5).integers(0, 256, 4000, dtype=np.uint8).tobytes()
     args = options.IsacOptions.parse(
         ["--preset", "sdr20", "--coding", coding, "--bs-snr-db", str(snr_db), "--seed", "4"]
@@ -182,22 +182,22 @@ class qa_chunking(gr_unittest.TestCase):
         # de-rotated samples, hence EVM and (LDPC at 25 dB) decoded bits, depended on the cut
         ref = run_base_station()
         self.assertEqual(ref["blocks_ok"], 4)  # every slot sent in full, none of the half slot
-        for name in ("delay", "sync", "demod", "receiver"):
+        for name in ("channel", "sync", "demod", "receiver"):
             self.assert_same(run_base_station((name,)), ref, name)
-        self.assert_same(run_base_station(("delay", "sync", "demod", "receiver")), ref, "all")
+        self.assert_same(run_base_station(("channel", "sync", "demod", "receiver")), ref, "all")
 
     def test_006_base_station_ldpc(self):
         # the UL-SCH at qam256 MCS 20 and 25 dB (qa_isac test_006)
         ref = run_base_station(coding="nr-ldpc", slots=3, snr_db=25.0)
         self.assertGreater(ref["blocks_ok"], 0)
-        self.assert_same(run_base_station(("delay", "sync", "demod", "receiver"), "nr-ldpc", 3,
+        self.assert_same(run_base_station(("channel", "sync", "demod", "receiver"), "nr-ldpc", 3,
                                           25.0), ref, "ldpc")
 
     def test_007_channel_with_simd_volk(self):
         # The SIMD kernels are where call boundaries change rounding (alignment, FMA body vs
         # scalar tail): this check runs in a child process without VOLK_GENERIC. Stock
         # channel_model is only reported (it differs at ~1e-7 there); nrsar-isac's
-        # chunk_invariant_channel must be bit-identical.
+        # uplink_channel must be bit-identical.
         import subprocess
         import sys
         env = dict(os.environ)
@@ -205,12 +205,12 @@ class qa_chunking(gr_unittest.TestCase):
         out = subprocess.run([sys.executable, os.path.abspath(__file__), "--channel-child"],
                              env=env, capture_output=True, text=True, timeout=300)
         self.assertEqual(out.returncode, 0, out.stdout + out.stderr)
-        self.assertIn("chunk_invariant_channel max diff 0", out.stdout)
+        self.assertIn("uplink_channel max diff 0", out.stdout)
 
 
 def channel_child():
     """Channel output with normal vs tiny work() sizes upstream (SIMD VOLK)."""
-    from gnuradio import channels
+    from gnuradio import channels, nrsar
     x = np.random.default_rng(1).standard_normal((2, 60001)).astype(np.float32)
     x = (x[0] + 1j * x[1]).astype(np.complex64)
     taps = options.parse_taps(options.DEFAULT_TAPS)
@@ -226,8 +226,9 @@ def channel_child():
         return np.asarray(sink.data())
 
     for name, make in (("channel_model", lambda: channels.channel_model(0.05, 0.3 / 64, 1.0, taps, 7)),
-                       ("chunk_invariant_channel",
-                        lambda: isac_chain.chunk_invariant_channel(0.05, 0.3 / 64, taps, 7))):
+                       ("uplink_channel",
+                        lambda: nrsar.uplink_channel(nrsar.uplink_channel_config(
+                            taps=taps, cfo=0.3 / 64, noise_voltage=0.05, seed=7)))):
         a, b = run(make, 0), run(make, 3)
         n = min(a.size, b.size)
         print(f"{name} max diff {np.abs(a[:n] - b[:n]).max():g} ({a.size} / {b.size} samples)")
