@@ -334,6 +334,24 @@ class qa_motion_compensation(gr_unittest.TestCase):
         for i in range(3):
             self.assertAlmostEqual(r["irw_m"][i] / model[i], 1.0, delta=0.05)
 
+    def test_008_resampling_widens_the_overlap_by_the_path_lag(self):
+        # overlap-save: a resampled line reads the pulses up to the path's along-track lag
+        # |y_nav - y| / (v T) plus half the interpolator away, so the block grows that much
+        # on both sides (the lag from the path's positions on a 10 ms grid, here)
+        n = 480
+        geo, scn, path, _ = flight(n, seed=0)
+
+        def overlap(resample):
+            cfg = nrsar.focuser_config(symbols_per_pulse=SPP, moco_resample=resample)
+            blk = nrsar.rd_focuser(NUM, geo, scn, K, R_FIRST, RHO, cfg, path)
+            return blk.overlap_before(), blk.overlap_after()
+        t = np.arange(0.0, n * T + 0.5 + 1e-9, 0.01)
+        t = t[t <= path.end_s()]
+        lag = np.abs(np.array(path.positions(list(t)))[:, 1] - V * t).max()
+        extra = math.ceil(lag / (V * T) + 8)
+        (b0, a0), (b1, a1) = overlap(False), overlap(True)
+        self.assertEqual((b1 - b0, a1 - a0), (extra, extra))
+
     def test_004_moco_on_the_ideal_line_changes_nothing(self):
         n = 200
         geo, scn, path, pos = flight(n, motion=False)
