@@ -90,6 +90,19 @@ TEST(motion_compensation, offset_path_is_the_distance)
                 1e-8);
 }
 
+TEST(motion_compensation, along_track_time_finds_the_ideal_position)
+{
+    // A constant along-track offset d_y (interpolated exactly): y(tau) = y0 + v t at
+    // tau = t - d_y / v; the ideal line: tau = t; outside the path's span: NaN.
+    const double dy = -0.37;
+    kernel::los_reference los(geo, swaying({ 0.1, dy, 0.0 }, 0.2, 3.0), 80.0);
+    for (double t : { 0.3, 1.1, 2.6 })
+        EXPECT_NEAR(los.along_track_time(t), t - dy / geo.velocity_mps, 1e-12);
+    EXPECT_TRUE(std::isnan(los.along_track_time(2.999)));
+    kernel::los_reference ideal(geo, trajectory(), 80.0);
+    EXPECT_EQ(ideal.along_track_time(1.7), 1.7);
+}
+
 TEST(motion_compensation, cheby_presum_sums_along_the_path)
 {
     // Input: every bin's reference scatterer seen from a swaying path (2 m at 0.67 Hz in x,

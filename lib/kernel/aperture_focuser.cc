@@ -98,6 +98,19 @@ void aperture_focuser::configure(double T, double first_range, double range_bin)
         // cover the hyperbolic range history and the RCMC kernel.
         d_before = static_cast<unsigned>(std::ceil(std::max(0.0, e_hi) * 1.02 + 2.0));
         d_after = static_cast<unsigned>(std::ceil(std::max(0.0, -e_lo) * 1.02 + 2.0));
+        // Along-track resampling reads each line up to the path's lag |y_nav - y| / (v T)
+        // plus half the interpolator away: the block reaches that much further both ways.
+        if (d_cfg.moco_resample && d_cfg.moco != moco_order::OFF && !d_los->ideal()) {
+            const trajectory& nav = d_los->path();
+            double lag = 0.0;
+            for (double t = nav.start_s(); t <= nav.end_s(); t += 0.01)
+                lag = std::max(lag, std::abs(nav.position(t)[1] - d_geo.track_start_m -
+                                             d_geo.velocity_mps * t));
+            const unsigned extra = static_cast<unsigned>(
+                std::ceil(lag / (d_geo.velocity_mps * T) + 0.5 * d_cfg.rcmc_taps));
+            d_before += extra;
+            d_after += extra;
+        }
     } else {
         d_before = d_after = static_cast<unsigned>(d_cfg.overlap_lines);
     }

@@ -97,6 +97,28 @@ void los_reference::displacements(
         out[k] -= ideal_range(t_s, first_m + k * spacing_m);
 }
 
+double los_reference::along_track_time(double t_s) const
+{
+    if (d_ideal)
+        return t_s;
+    const double y = d_geo.track_start_m + d_geo.velocity_mps * t_s;
+    double tau = std::min(std::max(t_s, d_nav.start_s()), d_nav.end_s());
+    // Quadratic convergence from a start a few tenths of a second off at most (the
+    // along-track displacement over the speed); 1e-12 s is 5e-11 m at 50 m/s.
+    for (int it = 0; it < 20; ++it) {
+        const double vy = d_nav.velocity(tau)[1];
+        if (!(vy > 0.1 * d_geo.velocity_mps))
+            return NAN;
+        const double step = (d_nav.position(tau)[1] - y) / vy;
+        tau -= step;
+        if (tau < d_nav.start_s() || tau > d_nav.end_s())
+            return NAN;
+        if (std::abs(step) < 1e-12)
+            return tau;
+    }
+    return NAN;
+}
+
 void los_reference::scene_centre(const geometry& geo, const scene& scn, double& y_m, double& r0_m)
 {
     double ylo = INFINITY, yhi = -INFINITY, rlo = INFINITY, rhi = 0.0;

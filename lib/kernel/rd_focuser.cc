@@ -167,6 +167,48 @@ void rd_focuser::set_motion(std::shared_ptr<const los_reference> los,
     d_moco_ref = ref_range_m;
 }
 
+void rd_focuser::resample_along_track(const gr_complex* in, size_t row_stride)
+{
+    const unsigned K = d_blk.num_range_bins;
+    const unsigned P = d_blk.num_lines;
+    const double T = d_blk.pulse_interval_s;
+    // The azimuth signal occupies the processed band around d_centre; as a function of the
+    // along-track position it is exp(j 2 pi d_centre y / v) times a slowly varying envelope,
+    // so it is demodulated by the navigation's y(t_m), interpolated at tau_m (the sinc sees
+    // the envelope near DC) and re-modulated at y(tau_m) = the ideal line's y(t_m).
+    const double ky = 2.0 * M_PI * d_centre / d_blk.velocity_mps;
+    d_moco_tau.assign(P, NAN);
+    d_az_shift.resize(P);
+    d_az_demod.resize(P);
+    d_az_remod.resize(P);
+    d_az_row.resize(P);
+    const trajectory& nav = d_los->path();
+    double y_base = NAN;
+    for (unsigned m = 0; m < P; ++m) {
+        const double t = d_t0 + m * T;
+        const double tau = d_los->covers(t) ? d_los->along_track_time(t) : NAN;
+        d_az_shift[m] = 0.0f;
+        d_az_demod[m] = d_az_remod[m] = gr_complex(1.0f, 0.0f);
+        if (std::isnan(tau))
+            continue; // zeros before the stream or past the path: left as they are
+        d_moco_tau[m] = tau;
+        const double y_m = nav.position(t)[1], y_tau = nav.position(tau)[1];
+        if (std::isnan(y_base))
+            y_base = y_m;
+        d_az_shift[m] = static_cast<float>((tau - t) / T);
+        const double pd = std::remainder(-ky * (y_m - y_base), 2.0 * M_PI);
+        const double pr = std::remainder(ky * (y_tau - y_base), 2.0 * M_PI);
+        d_az_demod[m] = gr_complex(static_cast<float>(std::cos(pd)), static_cast<float>(std::sin(pd)));
+        d_az_remod[m] = gr_complex(static_cast<float>(std::cos(pr)), static_cast<float>(std::sin(pr)));
+    }
+    for (unsigned k = 0; k < K; ++k) {
+        gr_complex* out = &d_moco[static_cast<size_t>(k) * P];
+        volk_32fc_x2_multiply_32fc(d_az_row.data(), in + k * row_stride, d_az_demod.data(), P);
+        d_interp.resample(d_az_row.data(), static_cast<int>(P), d_az_shift.data(), out);
+        volk_32fc_x2_multiply_32fc(out, out, d_az_remod.data(), P);
+    }
+}
+
 void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
 {
     const unsigned K = d_blk.num_range_bins;
@@ -178,29 +220,40 @@ void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
     d_moco_shift.resize(K);
     d_moco_dr.resize(K);
     d_moco_max_m = 0.0;
+    const bool resample = d_cfg.moco_resample;
+    if (resample) { // in place from here on: line m is read whole before it is written
+        resample_along_track(in, row_stride);
+        in = d_moco.data();
+        row_stride = P;
+    }
     for (unsigned m = 0; m < P; ++m) {
         const double t = d_t0 + m * T;
+        // the path's time of the pulse now on line m (resampled: where y is the ideal y(t))
+        const double tp = resample ? d_moco_tau[m] : t;
         gr_complex* col = d_col.data();
         for (unsigned k = 0; k < K; ++k)
             col[k] = in[k * row_stride + m];
-        if (!d_los->covers(t)) { // before the stream or past a flush: zeros, left alone
-            for (unsigned k = 0; k < K; ++k)
+        if (!d_los->covers(t) || std::isnan(tp)) { // zeros before the stream or past a
+            for (unsigned k = 0; k < K; ++k)       // flush: left alone
                 d_moco[static_cast<size_t>(k) * P + m] = col[k];
             continue;
         }
         // First order: the envelope moves by the reference range's displacement (a target
         // at R + dR comes back to R) ...
-        const double dref = d_los->displacement(t, d_moco_ref);
+        const double dref = d_los->range(tp, d_moco_ref) - d_los->ideal_range(t, d_moco_ref);
         d_moco_max_m = std::max(d_moco_max_m, std::abs(dref));
         volk_32fc_x2_multiply_32fc(col, col, d_demod.data(), K);
         std::fill(d_moco_shift.begin(), d_moco_shift.end(), static_cast<float>(dref / rho));
         d_interp.resample(col, static_cast<int>(K), d_moco_shift.data(), d_col2.data());
         // ... and its phase -4 pi f dR / c is removed, at the reference range (FIRST) or
         // per bin (SECOND: the range-dependent residual too); the spectrum centre restored.
-        if (d_cfg.moco == moco_order::SECOND)
-            d_los->displacements(t, r_first, rho, K, d_moco_dr.data());
-        else
+        if (d_cfg.moco == moco_order::SECOND) {
+            d_los->ranges(tp, r_first, rho, K, d_moco_dr.data());
+            for (unsigned k = 0; k < K; ++k)
+                d_moco_dr[k] -= d_los->ideal_range(t, r_first + k * rho);
+        } else {
             std::fill(d_moco_dr.begin(), d_moco_dr.end(), dref);
+        }
         for (unsigned k = 0; k < K; ++k) {
             const double ph = std::fmod(kf * d_moco_dr[k], 2.0 * M_PI);
             const gr_complex c = std::conj(d_demod[k]) *

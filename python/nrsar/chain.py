@@ -106,7 +106,8 @@ def focuser_config_of(opts, sc, guard_bins):
     cfg.lines_per_aperture = sc.symbols // cfg.symbols_per_pulse
     if sc.strip is not None:  # a strip's task: its apertures of the flight (docs/scale.md)
         cfg.lines_per_aperture, cfg.first_aperture, cfg.apertures, cfg.overlap_lines = sc.strip
-    cfg.moco = moco_order.SECOND if opts.moco == "on" else moco_order.OFF
+    cfg.moco = moco_order.OFF if opts.moco == "off" else moco_order.SECOND
+    cfg.moco_resample = opts.moco == "resample"
     return cfg
 
 

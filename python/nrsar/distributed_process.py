@@ -97,11 +97,6 @@ def layout(opts, rec):
     aperture's processing block needs, as the whole flight's focuser would hold them
     (overlap-save history and look-ahead for rd_focuser, the aperture's own pulses for
     bp_focuser), from the first line of that block (stream_first_line())."""
-    if rec.trajectory is not None or rec.navigation is not None or opts.nav is not None:
-        raise OptionError(f"--strip-aperture-s = {opts.strip_aperture_s:g} images along the "
-                          f"straight track: {rec.meta_path} names a flown path "
-                          f"(nrsar:trajectory / nrsar:navigation) or --nav is given, whose "
-                          f"time axis the strip's apertures would have to cut too")
     sim_opts, sc = _scenario(opts, rec)
     if sim_opts.presum != "none" or sim_opts.estimate_snr:
         raise OptionError(f"--presum = {sim_opts.presum!r} / --estimate-snr = "

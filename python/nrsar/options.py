@@ -372,7 +372,8 @@ class SimOptions(_Options):
                           "ffbp = its fast factorized form", choices=["rd", "bp", "ffbp"])
     moco: str = option("on", "rd_focuser's motion compensation from the navigation (first and "
                        "second order, docs/flight.md); a no-op on the ideal line, so 'on' "
-                       "changes no ideal-line output", choices=["on", "off"])
+                       "changes no ideal-line output; 'resample': 'on' after resampling the "
+                       "pulses onto a uniform along-track grid", choices=["on", "off", "resample"])
     ffbp_subaperture: int = option(32, "--focuser ffbp: pulses per subaperture (the speed-up "
                                    "approaches it)", at_least=2, at_most=65536)
     ffbp_beams: float = option(8.0, "--focuser ffbp: beams per Nyquist beam of a subaperture "

@@ -89,6 +89,14 @@ struct NRSAR_API focuser_config {
      */
     moco_order moco = moco_order::SECOND;
     /*!
+     * With moco FIRST or SECOND: before the line-of-sight compensation, the pulses are
+     * resampled in slow time onto the ideal line's uniform along-track grid (line m at
+     * track_start + v t_m, found on the navigation's along-track position), so that the
+     * azimuth FFT sees uniform spacing in y under a varying along-track speed
+     * (docs/flight.md, "Azimuth resampling"). Off by default (an unchanged output).
+     */
+    bool moco_resample = false;
+    /*!
      * A strip cut into tasks (nrsar-process --dask, docs/scale.md): the first aperture to
      * emit. Its input stream then starts at the flight's line stream_first_line() (the first
      * line of that aperture's processing block, or the flight's line 0 if the block starts

@@ -62,7 +62,8 @@ void bind_rd_focuser(py::module& m)
                          unsigned guard_bins,
                          gr::nrsar::moco_order moco,
                          std::uint64_t first_aperture,
-                         std::uint64_t apertures) {
+                         std::uint64_t apertures,
+                         bool moco_resample) {
                  focuser_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -82,6 +83,7 @@ void bind_rd_focuser(py::module& m)
                  c.moco = moco;
                  c.first_aperture = first_aperture;
                  c.apertures = apertures;
+                 c.moco_resample = moco_resample;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -102,6 +104,7 @@ void bind_rd_focuser(py::module& m)
              py::arg("moco") = gr::nrsar::moco_order::SECOND,
              py::arg("first_aperture") = 0u,
              py::arg("apertures") = 0u,
+             py::arg("moco_resample") = false,
              "focuser_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &focuser_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &focuser_config::lines_per_aperture)
@@ -121,6 +124,7 @@ void bind_rd_focuser(py::module& m)
         .def_readwrite("moco", &focuser_config::moco)
         .def_readwrite("first_aperture", &focuser_config::first_aperture)
         .def_readwrite("apertures", &focuser_config::apertures)
+        .def_readwrite("moco_resample", &focuser_config::moco_resample)
         .def("validate", &focuser_config::validate);
 
     py::class_<rd_focuser, gr::block, gr::basic_block, std::shared_ptr<rd_focuser>>(

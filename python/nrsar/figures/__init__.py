@@ -26,7 +26,7 @@
         the chain's run time against D (presum_study.py).
   presum_compare  the second paper's method comparisons at D = 12 (presum_compare.py):
         single-pulse gain per method incl. the LMS baseline (its fig. 6), azimuth-cut metrics
-        (table 5), entropy / NESZ / EPI on an extended scene (table 6), presum and focus
+        (table 5), entropy / NESZ / EPI on an extended scene (table 6, at D = 96), presum and focus
         CPU time (table 7).
 
 Each figure is one PNG and one CSV in --out; progress goes to stderr.

@@ -21,7 +21,11 @@ lms (the paper's LMS baseline, kernel/lms_presum.h) and cheby (the proposed meth
    (examples/scenes/ship_and_sea.yaml) per flight (--flights: the ideal line, `gusty` with
    perfect navigation, `gusty` with `rtk` navigation; the presummer and the focuser
    compensate from the navigation) -> presum_compare_table6.csv / .png. The metrics are the
-   kernel's (nrsar.image_entropy, edge_preservation_index, nesz_db).
+   kernel's (nrsar.image_entropy, edge_preservation_index, nesz_db). At D = --table6-decim
+   (96: PRF / D = 250 Hz, 1.33 x the scene's 188 Hz processed Doppler band, the paper's own
+   oversampling of 1.1-1.4 of its eq. 16): at D = 12 the output rate is 10.6 x the band, a
+   boxcar droops 0.1 dB over it and the focuser's band removes the noise every method
+   aliases, so the methods cannot differ (docs/figures.md).
 4. table 7: CPU time in work() of the presummer and of the focuser per method, from the
    runs of table 5 -> presum_compare_table7.csv / .png.
 """
@@ -42,6 +46,7 @@ from .presum_study import (azimuth_cut, image_run, plot_azimuth_cuts, plt_module
 from gnuradio.nrsar.options import OptionError, SimOptions, _Options, check_names, option
 
 D_PAPER = 12
+D_TABLE6 = 96  # PRF / D near the scene's Doppler band, as in the paper (module doc)
 # the paper's fig. 6 / text [P-3.1]: single-pulse gain at D = 12 [dB]
 PAPER_GAIN_DB = {"drop": 0.0, "lms": 7.0, "cheby": 9.0}
 # table 7 [P-3.2.2]: filter without decimation 155.89 s presum / 629.27 s total,
@@ -195,6 +200,8 @@ class PresumCompareOptions(_Options):
     preset: str = option("small", "OFDM numerology preset",
                          choices=list(nrsar.numerology.preset_names()))
     decim: int = option(D_PAPER, "presumming factor D", at_least=2, at_most=4096)
+    table6_decim: int = option(D_TABLE6, "D of table 6 (--quick: --decim)", at_least=2,
+                               at_most=4096)
     snr_db: float = option(-40.0, "SNR_in of table 6 [dB]", at_least=-100.0, at_most=100.0)
     flights: str = option(",".join(FLIGHTS), "flights of table 6: --motion[+--nav-error], "
                           "comma-separated")
@@ -295,6 +302,7 @@ def run(a):
         import tempfile
         with tempfile.TemporaryDirectory(prefix="presum-compare-") as tmp:
             flights = ["none"] if a.quick else a.flights.split(",")
+            d = d if a.quick else a.table6_decim
             rows = [r for f in flights
                     for r in table6_rows(a.scene, a.workdir or tmp, a.preset, d, a.snr_db, f,
                                          methods)]

@@ -94,6 +94,8 @@ BAD_FIGURE_INPUTS = [
     ("nrsar-figures", ["--only", ","], "--only = ',' names nothing"),
     ("gnuradio.nrsar.figures.presum_compare", ["--decim", "1"], "--decim = 1 must be at least 2"),
     ("gnuradio.nrsar.figures.presum_compare", ["--only", "table8"], "'table8' is not one of"),
+    ("gnuradio.nrsar.figures.presum_compare", ["--table6-decim", "1"],
+     "--table6-decim = 1 must be at least 2"),
     ("gnuradio.nrsar.figures.presum_compare", ["--flights", "windy"], "'windy' must be MOTION"),
     ("gnuradio.nrsar.figures.presum_compare", ["--snr-db", "nan"], "--snr-db = nan must be finite"),
     ("gnuradio.nrsar.figures.presum_compare", ["--scene", "/no/scene.yaml"],

@@ -51,6 +51,13 @@ public:
     void ranges(double t_s, double first_m, double spacing_m, unsigned n, double* out) const;
     //! displacement() for the n bins r0 = first + k spacing.
     void displacements(double t_s, double first_m, double spacing_m, unsigned n, double* out) const;
+    /*!
+     * The path time tau at which the path's along-track position is the ideal line's at t,
+     * y(tau) = track_start + v t (Newton on y(tau) with the path's velocity; t itself on the
+     * ideal line); NaN where the path's span has no such time or its along-track speed
+     * falls below v / 10.
+     */
+    double along_track_time(double t_s) const;
 
     //! The scene's centre: along-track middle of its targets (y) and middle of their
     //! closest-approach slant ranges (r0).

@@ -153,7 +153,11 @@ public:
      * exp(+j 4 pi f dR(R0(k), t) / c) instead (the residual per bin). f: the frequency of the
      * range-compressed phase, fc + (N - 1) Delta f / 2. Lines outside the path's span (the
      * zeros before the stream, a flush's padding) are left as they are. An ideal los or
-     * moco OFF: nothing is done.
+     * moco OFF: nothing is done. cfg.moco_resample: first, every range bin's slow-time
+     * signal is resampled at the times tau_m where the navigation's along-track position is
+     * the ideal line's at t_m (y_nav(tau_m) = track_start + v t_m), by the RCMC windowed sinc
+     * on the signal demodulated by the band centre's spatial frequency f_c y_nav(t) / v and
+     * re-modulated at y(t_m); the line-of-sight compensation then uses p(tau_m).
      */
     void set_motion(std::shared_ptr<const los_reference> los,
                     double phase_frequency_hz,
@@ -199,8 +203,15 @@ private:
     volk::vector<gr_complex> d_moco;       // K x num_lines compensated, range-major
     volk::vector<float> d_moco_shift;      // K, one line's envelope shift
     std::vector<double> d_moco_dr;         // K, one line's displacements
+    std::vector<double> d_moco_tau;        // num_lines, each line's path time
+    volk::vector<float> d_az_shift;        // num_lines, resampling shift [lines]
+    volk::vector<gr_complex> d_az_demod;   // num_lines, exp(-j 2 pi f_c y_nav(t_m) / v)
+    volk::vector<gr_complex> d_az_remod;   // num_lines, exp(+j 2 pi f_c y(t_m) / v)
+    volk::vector<gr_complex> d_az_row;     // num_lines
 
     void compensate_motion(const gr_complex* in, size_t row_stride);
+    // Slow-time resampling onto the uniform along-track grid into d_moco (moco_resample).
+    void resample_along_track(const gr_complex* in, size_t row_stride);
     void select_band(); // from the configuration (SCENE / FULL)
     void estimate_band();
     void build_filter();
