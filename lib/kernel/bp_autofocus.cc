@@ -38,7 +38,7 @@ namespace {
 struct point {
     unsigned line, bin;
     vec3 p;   // the scatterer the pixel stands for
-    double w; // mean power per pulse of its phase history
+    double w; // coherent power per pulse of its smoothed phase history
 };
 
 // The scatterer of pixel (line j, bin k), as bp_focuser images it; false where the slant
@@ -138,19 +138,22 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     for (unsigned it = 0; it < cfg.max_iterations; ++it) {
         image_along(res.antenna);
         std::vector<point> pts = prominent(img, grid, cfg, ex_j, ex_k);
+        if (pts.empty()) // an empty image: nothing to estimate from
+            break;
         // b[i][n]: lambda psi_i(n) / (4 pi), the line-of-sight path change point i sees.
         std::vector<std::vector<double>> b(pts.size(), std::vector<double>(n));
         for (std::size_t i = 0; i < pts.size(); ++i) {
             point& q = pts[i];
-            double w = 0.0;
             for (unsigned p = 0; p < n; ++p) {
                 one.reset(q.p[1]);
                 one.add(pulses + std::size_t(p) * K, 1, &res.antenna[p]);
                 one.image(line.data());
                 c[p] = std::complex<double>(line[q.bin]);
-                w += std::norm(c[p]);
             }
-            q.w = w / n;
+            // Weight: the coherent power of the smoothed history, mean |s / L|^2 (noise of
+            // variance sigma^2 adds only sigma^2 / L to it), the inverse of the phase
+            // noise's variance up to a common factor.
+            double w = 0.0;
             std::complex<double> s(0.0, 0.0);
             unsigned lo = 0, hi = 0; // s = sum of c[lo, hi)
             double prev = 0.0, mean = 0.0;
@@ -160,6 +163,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
                     s += c[hi];
                 for (; lo < want_lo; ++lo)
                     s -= c[lo];
+                w += std::norm(s) / (double(hi - lo) * (hi - lo));
                 const double a = std::arg(s);
                 prev = p == 0 ? a : prev + std::remainder(a - prev, 2.0 * M_PI);
                 b[i][p] = prev * to_m;
@@ -167,6 +171,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
             }
             for (double& v : b[i])
                 v -= mean / n;
+            q.w = w / n;
         }
         res.points.clear();
         for (const point& q : pts)

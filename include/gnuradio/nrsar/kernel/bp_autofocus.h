@@ -64,9 +64,11 @@ struct NRSAR_API trajectory_autofocus_result {
  * from p to the antenna. The phase of the smoothed c (complex moving sum of smooth_pulses,
  * unwrapped over the pulses, its mean removed) gives per pulse and point one equation
  * lambda psi_i(n) / (4 pi) = u_i(n) . d(n) in d = (d_x, d_z); least squares over the
- * points (weights: their mean power per pulse), both components when the look angles
- * spread (config look_spread_rad), else along their mean line of sight. Correcting the
- * path (not a phase) fixes every pixel's phase and range: the error is space-variant.
+ * points (weights: the coherent power of their smoothed histories), both components when
+ * the look angles spread (config look_spread_rad), else along their mean line of sight.
+ * The solution's constant and linear trend over the pulses are removed (they only move
+ * the image). Correcting the path (not a phase) fixes every pixel's phase and range: the
+ * error a position error makes is space-variant.
  * pulses: n x K line-major; image_out: M x K, the image along the corrected path.
  */
 NRSAR_API trajectory_autofocus_result
