@@ -20,6 +20,12 @@ navigation put it (the GNSS along-track error moves the target by decimetres), s
 image is registered to the reference by the sub-line circular shift that maximises their
 correlation before the NMSE, and the shift is reported (geolocation error, not focus).
 
+Autofocus by trajectory estimation (kernel::trajectory_autofocus) corrects the path and
+back-projects again. A position error's constant and linear trend over the aperture defocus
+nothing (they move each target in range phase by its own line of sight, and in Doppler), so
+no autofocus can see them: the *_trend_db columns measure against BP of the noise-free echo
+along the truth plus that trend, the *_db columns against the perfectly navigated image.
+
 The true phase error at the target, 4 pi (R_nav - R_true) / lambda per pulse, is mapped to
 the image's azimuth DFT bins through the target's Doppler history (bin
 p = 2 (y_t - y_p) dy M / (lambda R0)), and plotted against the estimate (constant and
@@ -255,7 +261,7 @@ def main(argv=None):
     ax2.plot(tl, 1e3 * los_true, "k-", lw=2, label="true (first target's line of sight)")
     ax2.plot(tl, 1e3 * los_est, "r.", ms=3, label="estimated, trajectory autofocus")
     ax2.set_xlabel("slow time [s]")
-    ax2.set_ylabel("navigation error along the line of sight [mm], trend removed")
+    ax2.set_ylabel("line-of-sight error [mm], trend removed")
     ax2.set_title("seed 1: trajectory autofocus", fontsize=10)
     ax2.legend(fontsize=8)
     ax2.grid(alpha=0.3)
