@@ -385,6 +385,12 @@ class qa_autofocus(gr_unittest.TestCase):
         self.assertNotIn("autofocus", runs["none"]["rx_block_s"])
         with self.assertRaisesRegex(OptionError, "--autofocus"):
             SimOptions(autofocus="sharpest").validate()
+        with self.assertRaisesRegex(OptionError, "--autofocus = 'trajectory' needs --focuser"):
+            SimOptions(autofocus="trajectory", focuser="rd").validate()
+        # trajectory: in the data branch's bp_focuser, no image autofocus block
+        SimOptions(autofocus="trajectory", focuser="bp").validate()
+        self.assertIsNone(chain.make_autofocus(SimOptions(autofocus="trajectory",
+                                                          focuser="bp"), None, 8))
 
 
 if __name__ == "__main__":
