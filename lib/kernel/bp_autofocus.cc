@@ -38,6 +38,7 @@ namespace {
 struct point {
     unsigned line, bin;
     vec3 p;   // the scatterer the pixel stands for
+    vec3 q;   // the point itself: p moved to the peak interpolated between the pixels
     double w; // coherent power per pulse of its smoothed phase history
 };
 
@@ -55,6 +56,16 @@ bool pixel_position(const bp_grid& g, unsigned j, unsigned k, vec3& p)
         return false;
     p = { std::sqrt(r0 * r0 - g.reference_height_m * g.reference_height_m), y, 0.0 };
     return true;
+}
+
+// Offset of the peak from sample 0 by a parabola through ln|.| of three samples, in
+// [-1/2, 1/2] (0 at an edge or without a maximum).
+double peak_offset(double lm, double l0, double lp)
+{
+    const double den = lm - 2.0 * l0 + lp;
+    if (!(den < 0.0))
+        return 0.0;
+    return std::clamp(0.5 * (lm - lp) / den, -0.5, 0.5);
 }
 
 // The brightest pixels within points_db of the strongest, each at least ex_j lines or
@@ -83,8 +94,29 @@ std::vector<point> prominent(const std::vector<gr_complex>& img,
             near = near || (std::abs(int(j) - int(q.line)) <= int(ex_j) &&
                             std::abs(int(k) - int(q.bin)) <= int(ex_k));
         vec3 p;
-        if (!near && pixel_position(g, j, k, p))
-            pts.push_back({ j, k, p, 0.0 });
+        if (near || !pixel_position(g, j, k, p))
+            continue;
+        // The point's own position: a pixel beside it sees its pulses with the range
+        // difference |a - p| - |a - q| (a quadratic over the aperture), not a path error.
+        const unsigned M = g.num_lines;
+        auto l = [&](unsigned jj, unsigned kk) {
+            return std::log(std::max(double(std::norm(img[std::size_t(jj) * K + kk])), 1e-300));
+        };
+        const double dk =
+            (k > 0 && k + 1 < K) ? peak_offset(l(j, k - 1), l(j, k), l(j, k + 1)) : 0.0;
+        const double dj =
+            (j > 0 && j + 1 < M) ? peak_offset(l(j - 1, k), l(j, k), l(j + 1, k)) : 0.0;
+        vec3 q = p;
+        q[1] += dj * g.line_spacing_m;
+        if (g.ground) {
+            q[0] += dk * g.x_spacing_m;
+        } else {
+            const double r0 = g.first_range_m + (k + dk) * g.range_bin_m;
+            const double h = g.reference_height_m;
+            if (r0 > h)
+                q[0] = std::sqrt(r0 * r0 - h * h);
+        }
+        pts.push_back({ j, k, p, q, 0.0 });
     }
     return pts;
 }
@@ -133,6 +165,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     };
 
     const double to_m = grid.wavelength_m / (4.0 * M_PI);
+    const double cs = 2.0 / grid.wavelength_m + grid.range_centre_cycles / grid.range_bin_m;
     const unsigned h = cfg.smooth_pulses / 2;
     std::vector<std::complex<double>> c(n);
     for (unsigned it = 0; it < cfg.max_iterations; ++it) {
@@ -148,7 +181,17 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
                 one.reset(q.p[1]);
                 one.add(pulses + std::size_t(p) * K, 1, &res.antenna[p]);
                 one.image(line.data());
-                c[p] = std::complex<double>(line[q.bin]);
+                // less the pixel's offset from the point, in the phase BP gave it:
+                // 2 pi (2 / lambda + fc_r / rho) (|a - p| - |a - q|)
+                const vec3& a = res.antenna[p];
+                const double dr = std::sqrt((a[0] - q.p[0]) * (a[0] - q.p[0]) +
+                                            (a[1] - q.p[1]) * (a[1] - q.p[1]) +
+                                            (a[2] - q.p[2]) * (a[2] - q.p[2])) -
+                                  std::sqrt((a[0] - q.q[0]) * (a[0] - q.q[0]) +
+                                            (a[1] - q.q[1]) * (a[1] - q.q[1]) +
+                                            (a[2] - q.q[2]) * (a[2] - q.q[2]));
+                c[p] = std::complex<double>(line[q.bin]) *
+                       std::polar(1.0, -2.0 * M_PI * cs * dr);
             }
             // Weight: the coherent power of the smoothed history, mean |s / L|^2 (noise of
             // variance sigma^2 adds only sigma^2 / L to it), the inverse of the phase
@@ -180,7 +223,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         // Look-angle spread at the middle pulse decides how many components are solved.
         auto los = [&](const point& q, unsigned p) {
             const vec3& a = res.antenna[p];
-            const double dx = a[0] - q.p[0], dy = a[1] - q.p[1], dz = a[2] - q.p[2];
+            const double dx = a[0] - q.q[0], dy = a[1] - q.q[1], dz = a[2] - q.q[2];
             const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
             return std::array<double, 2>{ dx / r, dz / r };
         };
