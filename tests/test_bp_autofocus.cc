@@ -13,6 +13,7 @@
 // (eq. 29), the noise seeded.
 
 #include <gnuradio/nrsar/kernel/bp_autofocus.h>
+#include "bp_test_geometry.h"
 #include <gtest/gtest.h>
 #include <array>
 #include <cmath>
@@ -30,30 +31,12 @@ using vec3 = std::array<double, 3>;
 
 namespace {
 
-// focus_scenario's geometry: N = 32 subcarriers, 64-point range IFFT, 1.5 m bins from 955 m,
-// H = 600 m, v = 50 m/s, PRF 400 Hz; 400 pulses (1 s, 50 m of track).
-constexpr double C = 299792458.0, FC = 3.5e9, LAM = C / FC, V = 50.0, H = 600.0;
-constexpr unsigned N = 32, NFFT = 64, K = 64, M = 400;
-constexpr double RHO = 1.5, FIRST = 955.0, T = 2.5e-3;
-const double FCR = (N - 1) / (2.0 * NFFT);
+using namespace bp_test;
+constexpr unsigned M = 400; // pulses and lines (1 s, 50 m of track)
 // Targets (ground x, y, amplitude): three look angles 52.1 / 53.1 / 54.1 degrees.
 const double TGT[3][3] = { { 800.0, 25.03, 1.0 }, { 830.0, 25.03, 0.5 }, { 770.0, 25.03, 0.3 } };
 
-bp_grid grid()
-{
-    bp_grid g;
-    g.num_range_bins = K;
-    g.first_range_m = FIRST;
-    g.range_bin_m = RHO;
-    g.wavelength_m = LAM;
-    g.range_centre_cycles = FCR;
-    g.upsample = 8;
-    g.num_lines = M;
-    g.first_y_m = 0.0;
-    g.line_spacing_m = V * T;
-    g.reference_height_m = H;
-    return g;
-}
+bp_grid grid() { return bp_test::grid(8, M); }
 
 vec3 truth(unsigned n) { return { 0.0, V * n * T, H }; }
 
