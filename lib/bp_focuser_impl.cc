@@ -10,6 +10,7 @@
 #include "focuser_stream.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
+#include <gnuradio/nrsar/kernel/bp_autofocus.h>
 #include <gnuradio/nrsar/tags.h>
 #include <algorithm>
 #include <cmath>
@@ -213,9 +214,25 @@ void bp_focuser_impl::ingest(const gr_complex* lines, unsigned n)
 
 void bp_focuser_impl::process_aperture()
 {
-    d_kernel->reset(d_next_y);
-    d_kernel->add(d_pulses.data(), d_fill, d_antenna.data());
-    d_kernel->image(d_out.data());
+    if (d_cfg.trajectory_autofocus && d_fill >= 2) {
+        kernel::bp_grid g = d_kernel->grid();
+        g.first_y_m = d_next_y;
+        // Phase histories smoothed over 40 ms (16 pulses at 400 Hz): the GNSS error's sway
+        // reaches 2 Hz, which a 40 ms moving sum keeps to 0.989 (docs/blocks/bp_focuser.md).
+        kernel::trajectory_autofocus_config tc;
+        tc.smooth_pulses = static_cast<unsigned>(
+            std::clamp(std::round(0.04 / d_T), 1.0, static_cast<double>(d_fill)));
+        const auto r = kernel::trajectory_autofocus(
+            d_pulses.data(), d_fill, d_antenna.data(), g, tc, d_out.data(), d_cfg.num_threads);
+        double ss = 0.0;
+        for (double v : r.los_m)
+            ss += v * v;
+        d_los_rms = std::sqrt(ss / r.los_m.size());
+    } else {
+        d_kernel->reset(d_next_y);
+        d_kernel->add(d_pulses.data(), d_fill, d_antenna.data());
+        d_kernel->image(d_out.data());
+    }
     d_out_pos = 0;
     d_out_len = d_M;
     d_out_y0 = d_next_y;

@@ -13,6 +13,7 @@
 #include <gnuradio/nrsar/kernel/finite_guard.h>
 #include "nonfinite_reporter.h"
 #include <array>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -38,6 +39,7 @@ private:
     long long d_line_shift = 0;
     double d_band_lo_hz = 0.0;
     double d_band_hi_hz = 0.0;
+    double d_los_rms = std::numeric_limits<double>::quiet_NaN();
     std::unique_ptr<kernel::bp_focuser> d_kernel;
 
     bool d_pending = false; // axis change from a tag, applied at the next aperture
@@ -107,6 +109,7 @@ public:
     std::uint64_t apertures() const override { return d_apertures - d_cfg.first_aperture; }
     std::uint64_t stream_first_line() const override { return d_cfg.first_aperture * d_M; }
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
+    double trajectory_los_rms_m() const override { return d_los_rms; }
 };
 
 } // namespace nrsar

@@ -12,6 +12,7 @@
 
 #include <gnuradio/nrsar/bp_config.h>
 #include <gnuradio/nrsar/kernel/bp_focuser.h>
+#include "bp_test_geometry.h"
 #include "test_util.h"
 #include <gtest/gtest.h>
 #include <array>
@@ -27,28 +28,10 @@ using vec3 = std::array<double, 3>;
 
 namespace {
 
-// focus_scenario's geometry: N = 32 subcarriers, 64-point range IFFT, 1.5 m bins from 955 m,
-// H = 600 m, v = 50 m/s, PRF 400 Hz; 200 pulses (25 m of track).
-constexpr double C = 299792458.0, FC = 3.5e9, LAM = C / FC, V = 50.0, H = 600.0;
-constexpr unsigned N = 32, NFFT = 64, K = 64, M = 200;
-constexpr double RHO = 1.5, FIRST = 955.0, T = 2.5e-3;
-const double FCR = (N - 1) / (2.0 * NFFT); // range spectrum centre [cycles/bin]
+using namespace bp_test;
+constexpr unsigned M = 200; // pulses and lines (25 m of track)
 
-bp_grid grid(unsigned upsample)
-{
-    bp_grid g;
-    g.num_range_bins = K;
-    g.first_range_m = FIRST;
-    g.range_bin_m = RHO;
-    g.wavelength_m = LAM;
-    g.range_centre_cycles = FCR;
-    g.upsample = upsample;
-    g.num_lines = M;
-    g.first_y_m = 0.0;
-    g.line_spacing_m = V * T;
-    g.reference_height_m = H;
-    return g;
-}
+bp_grid grid(unsigned upsample) { return bp_test::grid(upsample, M); }
 
 // Range-compressed echo of eq. (29) at fractional bin q for a target at slant range r:
 // sum_n exp(j 2 pi n (q - q_r) / NFFT) / sqrt(N) exp(-j 4 pi r / lambda).

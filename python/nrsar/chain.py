@@ -85,14 +85,16 @@ def range_crop(opts, sc, nfft):
     return (crop[0] - g * rho, crop[1] + g * rho), g
 
 
-def bp_config_of(opts, cfg):
-    """bp_focuser's configuration of the options, on rd_focuser's pulse rate and aperture."""
+def bp_config_of(opts, cfg, autofocus=False):
+    """bp_focuser's configuration of the options, on rd_focuser's pulse rate and aperture;
+    autofocus: the data branch, which `--autofocus trajectory` corrects."""
     grid = image_grid.GROUND if opts.image_grid == "ground" else image_grid.SLANT
     return bp_config(symbols_per_pulse=cfg.symbols_per_pulse,
                      lines_per_aperture=cfg.lines_per_aperture, grid=grid,
                      ffbp_subaperture=opts.ffbp_subaperture if opts.focuser == "ffbp" else 0,
                      ffbp_beam_oversample=opts.ffbp_beams,
-                     first_aperture=cfg.first_aperture, apertures=cfg.apertures)
+                     first_aperture=cfg.first_aperture, apertures=cfg.apertures,
+                     trajectory_autofocus=autofocus and opts.autofocus == "trajectory")
 
 
 def focuser_config_of(opts, sc, guard_bins):
@@ -146,12 +148,12 @@ def check_memory(rif, foc, symbols, keep, limit_bytes=None):
             f"--presum cheby, a shorter --aperture-s or --images none")
 
 
-def receive_path(opts, sc, crop, cfg, nav, focuser=True):
+def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False):
     """The blocks of one branch after its tf_filter: (block taking the filtered TF pulses,
     range IFFT, focuser, presummer or None, [the path as one tuple to connect]). nav: the
     path the presummer compensates and the focuser images along (the data branch: the
     navigation; the reference branch: the truth). focuser=False: the path ends before the
-    focuser (None; the split UAV's graph)."""
+    focuser (None; the split UAV's graph). autofocus: the data branch (bp_config_of)."""
     num, geo, scn = sc.num, sc.geo, sc.scene
     n = num.num_subcarriers
     nfft = fft_size_of(opts, n)
@@ -161,7 +163,7 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True):
         foc = None
     elif opts.focuser in ("bp", "ffbp"):
         foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
-                         rif.range_bin_m(), bp_config_of(opts, cfg), nav)
+                         rif.range_bin_m(), bp_config_of(opts, cfg, autofocus), nav)
     else:
         foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                          rif.range_bin_m(), cfg, nav)
@@ -253,7 +255,7 @@ def make_autofocus(opts, sc, bins):
     """The data branch's autofocus of --autofocus (None without). PGA deramps by the
     focuser's azimuth chirp on a slant-range grid (the axes from the image's tags;
     docs/blocks/autofocus.md)."""
-    if opts.autofocus == "none":
+    if opts.autofocus in ("none", "trajectory"):  # trajectory: in the data branch's bp_focuser
         return None
     slant = opts.focuser == "rd" or opts.image_grid == "slant"
     return autofocus(bins, autofocus_config(
@@ -280,7 +282,8 @@ class imaging_chain(gr.hier_block2):
         # The data branch images along the navigation, the reference branch (the same
         # flight's noise-free echo) along the truth: PEL and NMSE measure the data, the noise
         # and what the navigation gets wrong (docs/flight.md).
-        entry, rif, foc, pre, paths = receive_path(opts, sc, crop, cfg, sc.navigation)
+        entry, rif, foc, pre, paths = receive_path(opts, sc, crop, cfg, sc.navigation,
+                                                   autofocus=True)
         branches = [(entry, paths)]
         if reference:
             entry_ref, rif_ref, foc_ref, _, paths_ref = receive_path(opts, sc, crop, cfg,

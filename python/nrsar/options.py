@@ -383,8 +383,10 @@ class SimOptions(_Options):
                              "scene's plane", choices=["slant", "ground"])
     autofocus: str = option("none", "autofocus of the data branch's image after the focuser "
                             "(the reference branch stays the calibration standard): pga = "
-                            "phase gradient, entropy = minimum image entropy",
-                            choices=list(params.AUTOFOCUS_METHODS))
+                            "phase gradient, entropy = minimum image entropy, trajectory = "
+                            "bp/ffbp: the navigation corrected from the prominent points' "
+                            "phase histories and the aperture back-projected again",
+                            choices=list(params.AUTOFOCUS_METHODS) + ["trajectory"])
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "
@@ -509,6 +511,9 @@ class SimOptions(_Options):
         if self.image_grid != "slant" and self.focuser == "rd":
             raise OptionError(f"--image-grid = {self.image_grid!r} needs --focuser bp or ffbp "
                               f"(rd_focuser images slant range)")
+        if self.autofocus == "trajectory" and self.focuser == "rd":
+            raise OptionError("--autofocus = 'trajectory' needs --focuser bp or ffbp (it "
+                              "back-projects along the corrected path)")
 
     def presum_factor(self):
         """D of the presummer (1 without one)."""

@@ -68,6 +68,10 @@ struct NRSAR_API bp_config {
     std::uint64_t first_aperture = 0;
     //! Apertures to emit, then the block is done (0: until the stream ends).
     std::uint64_t apertures = 0;
+    //! Autofocus by trajectory estimation per aperture (kernel::trajectory_autofocus, its
+    //! default options): the navigation corrected along the prominent points' lines of
+    //! sight, the aperture back-projected again (docs/blocks/bp_focuser.md).
+    bool trajectory_autofocus = false;
 
     void validate() const;
 };

@@ -92,6 +92,9 @@ public:
     virtual std::uint64_t nonfinite_count() const = 0;
     //! The flight's line of the first input line this block expects (cfg.first_aperture M).
     virtual std::uint64_t stream_first_line() const = 0;
+    //! cfg.trajectory_autofocus: rms over the pulses of the latest aperture's estimated
+    //! navigation error along the points' mean line of sight [m] (NaN before, or without).
+    virtual double trajectory_los_rms_m() const = 0;
 };
 
 } // namespace nrsar

@@ -23,6 +23,7 @@ namespace py = pybind11;
 
 #include <gnuradio/nrsar/autofocus.h>
 #include <gnuradio/nrsar/kernel/autofocus.h>
+#include <gnuradio/nrsar/kernel/bp_autofocus.h>
 // pydoc.h is automatically generated in the build directory
 #include <autofocus_pydoc.h>
 
@@ -143,4 +144,83 @@ void bind_autofocus(py::module& m)
         "(corrected image, dict of phase_rad, weight, phase_rms_rad, entropy_before, "
         "entropy_after, iterations) of one image (lines x range bins, kernel::autofocus); the "
         "axes (slant range of bin 0, bin spacing, line spacing [m]) for PGA's deramp");
+
+    using gr::nrsar::kernel::bp_grid;
+    using gr::nrsar::kernel::trajectory_autofocus_config;
+    using vec3 = std::array<double, 3>;
+    py::class_<bp_grid>(m, "bp_grid", "kernel::bp_grid: the pulses' range axis and the image grid")
+        .def(py::init<>())
+        .def_readwrite("num_range_bins", &bp_grid::num_range_bins)
+        .def_readwrite("first_range_m", &bp_grid::first_range_m)
+        .def_readwrite("range_bin_m", &bp_grid::range_bin_m)
+        .def_readwrite("wavelength_m", &bp_grid::wavelength_m)
+        .def_readwrite("range_centre_cycles", &bp_grid::range_centre_cycles)
+        .def_readwrite("upsample", &bp_grid::upsample)
+        .def_readwrite("num_lines", &bp_grid::num_lines)
+        .def_readwrite("first_y_m", &bp_grid::first_y_m)
+        .def_readwrite("line_spacing_m", &bp_grid::line_spacing_m)
+        .def_readwrite("reference_height_m", &bp_grid::reference_height_m)
+        .def_readwrite("ground", &bp_grid::ground)
+        .def_readwrite("first_x_m", &bp_grid::first_x_m)
+        .def_readwrite("x_spacing_m", &bp_grid::x_spacing_m)
+        .def_readwrite("ground_height_m", &bp_grid::ground_height_m)
+        .def_readwrite("sinc_taps", &bp_grid::sinc_taps)
+        .def_readwrite("subaperture", &bp_grid::subaperture)
+        .def_readwrite("beam_oversample", &bp_grid::beam_oversample)
+        .def("validate", &bp_grid::validate);
+
+    py::class_<trajectory_autofocus_config>(
+        m, "trajectory_autofocus_config", "Options of trajectory_autofocus")
+        .def(py::init<>())
+        .def_readwrite("max_iterations", &trajectory_autofocus_config::max_iterations)
+        .def_readwrite("points", &trajectory_autofocus_config::points)
+        .def_readwrite("points_db", &trajectory_autofocus_config::points_db)
+        .def_readwrite("smooth_pulses", &trajectory_autofocus_config::smooth_pulses)
+        .def_readwrite("look_spread_rad", &trajectory_autofocus_config::look_spread_rad)
+        .def_readwrite("tolerance_m", &trajectory_autofocus_config::tolerance_m)
+        .def("validate", &trajectory_autofocus_config::validate);
+
+    m.def(
+        "trajectory_autofocus",
+        [](cimage pulses,
+           const std::vector<vec3>& antenna,
+           const bp_grid& grid,
+           const trajectory_autofocus_config& cfg,
+           unsigned num_threads) {
+            if (pulses.ndim() != 2 || pulses.shape(1) != grid.num_range_bins)
+                throw std::invalid_argument(
+                    "pulses must be 2-D (pulses x grid.num_range_bins = " +
+                    std::to_string(grid.num_range_bins) + ")");
+            const auto n = static_cast<unsigned>(pulses.shape(0));
+            if (antenna.size() != n)
+                throw std::invalid_argument("antenna has " + std::to_string(antenna.size()) +
+                                            " positions, must have one per pulse (" +
+                                            std::to_string(n) + ")");
+            cimage img({ std::size_t(grid.num_lines), std::size_t(grid.num_range_bins) });
+            gr::nrsar::kernel::trajectory_autofocus_result r;
+            {
+                py::gil_scoped_release release;
+                r = gr::nrsar::kernel::trajectory_autofocus(
+                    pulses.data(), n, antenna.data(), grid, cfg, img.mutable_data(), num_threads);
+            }
+            py::dict d;
+            d["antenna"] = r.antenna;
+            d["displacement_m"] = r.displacement_m;
+            d["los_m"] = py::array_t<double>(r.los_m.size(), r.los_m.data());
+            d["points"] = r.points;
+            d["look_spread_rad"] = r.look_spread_rad;
+            d["two_dimensional"] = r.two_dimensional;
+            d["last_update_rms_m"] = r.last_update_rms_m;
+            d["iterations"] = r.iterations;
+            return py::make_tuple(img, d);
+        },
+        py::arg("pulses"),
+        py::arg("antenna"),
+        py::arg("grid"),
+        py::arg("cfg") = trajectory_autofocus_config(),
+        py::arg("num_threads") = 1u,
+        "(image along the corrected path, dict of antenna, displacement_m, los_m, points, "
+        "look_spread_rad, two_dimensional, last_update_rms_m, iterations): autofocus by "
+        "trajectory estimation (kernel::trajectory_autofocus) of range-compressed pulses "
+        "(pulses x K) back-projected from antenna positions (one (x, y, z) per pulse)");
 }

@@ -50,7 +50,8 @@ void bind_bp_focuser(py::module& m)
                          unsigned ffbp_subaperture,
                          double ffbp_beam_oversample,
                          std::uint64_t first_aperture,
-                         std::uint64_t apertures) {
+                         std::uint64_t apertures,
+                         bool trajectory_autofocus) {
                  bp_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -67,6 +68,7 @@ void bind_bp_focuser(py::module& m)
                  c.ffbp_beam_oversample = ffbp_beam_oversample;
                  c.first_aperture = first_aperture;
                  c.apertures = apertures;
+                 c.trajectory_autofocus = trajectory_autofocus;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -84,6 +86,7 @@ void bind_bp_focuser(py::module& m)
              py::arg("ffbp_beam_oversample") = 8.0,
              py::arg("first_aperture") = 0u,
              py::arg("apertures") = 0u,
+             py::arg("trajectory_autofocus") = false,
              "bp_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &bp_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &bp_config::lines_per_aperture)
@@ -100,6 +103,7 @@ void bind_bp_focuser(py::module& m)
         .def_readwrite("ffbp_beam_oversample", &bp_config::ffbp_beam_oversample)
         .def_readwrite("first_aperture", &bp_config::first_aperture)
         .def_readwrite("apertures", &bp_config::apertures)
+        .def_readwrite("trajectory_autofocus", &bp_config::trajectory_autofocus)
         .def("validate", &bp_config::validate);
 
     py::class_<bp_focuser, gr::block, gr::basic_block, std::shared_ptr<bp_focuser>>(
@@ -128,5 +132,6 @@ void bind_bp_focuser(py::module& m)
         .def("ground_spacing_m", &bp_focuser::ground_spacing_m)
         .def("apertures", &bp_focuser::apertures)
         .def("nonfinite_count", &bp_focuser::nonfinite_count)
-        .def("stream_first_line", &bp_focuser::stream_first_line);
+        .def("stream_first_line", &bp_focuser::stream_first_line)
+        .def("trajectory_los_rms_m", &bp_focuser::trajectory_los_rms_m);
 }

@@ -1,0 +1,87 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#ifndef INCLUDED_NRSAR_KERNEL_BP_AUTOFOCUS_H
+#define INCLUDED_NRSAR_KERNEL_BP_AUTOFOCUS_H
+
+#include <gnuradio/gr_complex.h>
+#include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/bp_focuser.h>
+#include <array>
+#include <vector>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+
+//! Options of trajectory_autofocus(); validate() throws std::invalid_argument naming the
+//! field, its value and the limit.
+struct NRSAR_API trajectory_autofocus_config {
+    unsigned max_iterations = 4; //!< back-projections that estimate (1..50)
+    unsigned points = 8;         //!< prominent points used (1..64)
+    double points_db = 20.0;     //!< points within this many dB of the brightest (0, 60]
+    //! Pulses of the complex moving sum that smooths each point's phase history (1..n):
+    //! the navigation error must be slow over it.
+    unsigned smooth_pulses = 16;
+    //! Solve both cross-track and vertical displacement per pulse when the points' weighted
+    //! rms look-angle spread reaches this [rad]; below it only the displacement along their
+    //! mean line of sight (the perpendicular one would be noise amplified 1 / spread).
+    double look_spread_rad = 0.05;
+    //! Stop when the rms of one iteration's correction falls below this [m].
+    double tolerance_m = 1e-4;
+
+    void validate() const;
+};
+
+struct NRSAR_API trajectory_autofocus_result {
+    //! The corrected antenna path, one position per pulse [m].
+    std::vector<std::array<double, 3>> antenna;
+    //! Estimated navigation error a_nav - a_true per pulse (x, 0, z) [m], less its
+    //! least-squares constant and linear trend over the pulses (they only move the image:
+    //! a phase and a Doppler shift, not observable by focus).
+    std::vector<std::array<double, 3>> displacement_m;
+    //! The displacement projected on the points' mean line of sight (x-z plane) [m].
+    std::vector<double> los_m;
+    std::vector<std::array<unsigned, 2>> points; //!< (line, bin) of the points used last
+    double look_spread_rad = 0.0;                //!< of the last iteration's points
+    bool two_dimensional = false;                //!< both components solved (last iteration)
+    double last_update_rms_m = 0.0;
+    unsigned iterations = 0;
+};
+
+/*!
+ * \brief Autofocus by trajectory estimation: back-projects the pulses along `antenna`,
+ * takes the image's prominent points, estimates per pulse the antenna displacement that
+ * their phase histories see, corrects the path and back-projects again (docs/blocks/
+ * bp_focuser.md, "Autofocus along the path").
+ *
+ * A point at p seen from a_n contributes to its pixel c(n) = A exp(j 4 pi (R_nav - R_true)
+ * / lambda) (the BP summand), R_nav - R_true = u_n . (a_nav - a_true), u_n the unit vector
+ * from p to the antenna. The phase of the smoothed c (complex moving sum of smooth_pulses,
+ * unwrapped over the pulses, its mean removed) gives per pulse and point one equation
+ * lambda psi_i(n) / (4 pi) = u_i(n) . d(n) in d = (d_x, d_z); least squares over the
+ * points (weights: the coherent power of their smoothed histories), both components when
+ * the look angles spread (config look_spread_rad), else along their mean line of sight.
+ * The solution's constant and linear trend over the pulses are removed (they only move
+ * the image). Correcting the path (not a phase) fixes every pixel's phase and range: the
+ * error a position error makes is space-variant.
+ * pulses: n x K line-major; image_out: M x K, the image along the corrected path.
+ */
+NRSAR_API trajectory_autofocus_result
+trajectory_autofocus(const gr_complex* pulses,
+                     unsigned n,
+                     const std::array<double, 3>* antenna,
+                     const bp_grid& grid,
+                     const trajectory_autofocus_config& cfg,
+                     gr_complex* image_out,
+                     unsigned num_threads = 1);
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
+
+#endif /* INCLUDED_NRSAR_KERNEL_BP_AUTOFOCUS_H */

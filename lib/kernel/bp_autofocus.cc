@@ -1,0 +1,326 @@
+/* -*- c++ -*- */
+/*
+ * Copyright 2026 gr-nrsar authors.
+ *
+ * SPDX-License-Identifier: GPL-3.0-or-later
+ */
+
+#include <gnuradio/nrsar/kernel/bp_autofocus.h>
+
+#include "../param_check.h"
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numeric>
+#include <stdexcept>
+
+namespace gr {
+namespace nrsar {
+namespace kernel {
+
+using vec3 = std::array<double, 3>;
+
+void trajectory_autofocus_config::validate() const
+{
+    check_range("max_iterations", max_iterations, 1u, 50u);
+    check_range("points", points, 1u, 64u);
+    if (!(std::isfinite(points_db) && points_db > 0.0 && points_db <= 60.0))
+        throw_param("points_db", points_db, "must be in (0, 60]");
+    check_at_least("smooth_pulses", smooth_pulses, 1u);
+    if (!(std::isfinite(look_spread_rad) && look_spread_rad >= 0.0 && look_spread_rad <= 1.0))
+        throw_param("look_spread_rad", look_spread_rad, "must be in [0, 1]");
+    if (!(std::isfinite(tolerance_m) && tolerance_m > 0.0 && tolerance_m < 1.0))
+        throw_param("tolerance_m", tolerance_m, "must be in (0, 1)");
+}
+
+namespace {
+
+struct point {
+    unsigned line, bin;
+    vec3 p;   // the scatterer the pixel stands for
+    vec3 q;   // the point itself: p moved to the peak interpolated between the pixels
+    double w; // coherent power per pulse of its smoothed phase history
+};
+
+// The scatterer of pixel (line j, bin k), as bp_focuser images it; false where the slant
+// range does not reach the ground.
+bool pixel_position(const bp_grid& g, unsigned j, unsigned k, vec3& p)
+{
+    const double y = g.first_y_m + j * g.line_spacing_m;
+    if (g.ground) {
+        p = { g.first_x_m + k * g.x_spacing_m, y, g.ground_height_m };
+        return true;
+    }
+    const double r0 = g.first_range_m + k * g.range_bin_m;
+    if (!(r0 > g.reference_height_m))
+        return false;
+    p = { std::sqrt(r0 * r0 - g.reference_height_m * g.reference_height_m), y, 0.0 };
+    return true;
+}
+
+// Offset of the peak from sample 0 by a parabola through ln|.| of three samples, in
+// [-1/2, 1/2] (0 at an edge or without a maximum).
+double peak_offset(double lm, double l0, double lp)
+{
+    const double den = lm - 2.0 * l0 + lp;
+    if (!(den < 0.0))
+        return 0.0;
+    return std::clamp(0.5 * (lm - lp) / den, -0.5, 0.5);
+}
+
+// The brightest pixels within points_db of the strongest, each at least ex_j lines or
+// ex_k bins from the ones already taken (so a target's main lobe and near sidelobes give
+// one point).
+std::vector<point> prominent(const std::vector<gr_complex>& img,
+                             const bp_grid& g,
+                             const trajectory_autofocus_config& cfg,
+                             unsigned ex_j,
+                             unsigned ex_k)
+{
+    const unsigned K = g.num_range_bins;
+    std::vector<std::size_t> order(img.size());
+    std::iota(order.begin(), order.end(), std::size_t{ 0 });
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return std::norm(img[a]) > std::norm(img[b]);
+    });
+    const double floor = std::norm(img[order[0]]) * std::pow(10.0, -cfg.points_db / 10.0);
+    std::vector<point> pts;
+    for (std::size_t i : order) {
+        if (pts.size() >= cfg.points || !(std::norm(img[i]) >= floor) || std::norm(img[i]) == 0.0)
+            break;
+        const unsigned j = static_cast<unsigned>(i / K), k = static_cast<unsigned>(i % K);
+        bool near = false;
+        for (const point& q : pts)
+            near = near || (std::abs(int(j) - int(q.line)) <= int(ex_j) &&
+                            std::abs(int(k) - int(q.bin)) <= int(ex_k));
+        vec3 p;
+        if (near || !pixel_position(g, j, k, p))
+            continue;
+        // The point's own position: a pixel beside it sees its pulses with the range
+        // difference |a - p| - |a - q| (a quadratic over the aperture), not a path error.
+        const unsigned M = g.num_lines;
+        auto l = [&](unsigned jj, unsigned kk) {
+            return std::log(std::max(double(std::norm(img[std::size_t(jj) * K + kk])), 1e-300));
+        };
+        const double dk =
+            (k > 0 && k + 1 < K) ? peak_offset(l(j, k - 1), l(j, k), l(j, k + 1)) : 0.0;
+        const double dj =
+            (j > 0 && j + 1 < M) ? peak_offset(l(j - 1, k), l(j, k), l(j + 1, k)) : 0.0;
+        vec3 q = p;
+        q[1] += dj * g.line_spacing_m;
+        if (g.ground) {
+            q[0] += dk * g.x_spacing_m;
+        } else {
+            const double r0 = g.first_range_m + (k + dk) * g.range_bin_m;
+            const double h = g.reference_height_m;
+            if (r0 > h)
+                q[0] = std::sqrt(r0 * r0 - h * h);
+        }
+        pts.push_back({ j, k, p, q, 0.0 });
+    }
+    return pts;
+}
+
+} // namespace
+
+trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
+                                                 unsigned n,
+                                                 const vec3* antenna,
+                                                 const bp_grid& grid,
+                                                 const trajectory_autofocus_config& cfg,
+                                                 gr_complex* image_out,
+                                                 unsigned num_threads)
+{
+    cfg.validate();
+    grid.validate();
+    if (n < 2)
+        throw_param("n (pulses)", n, "must be at least 2");
+    if (cfg.smooth_pulses > n)
+        throw_param("smooth_pulses", cfg.smooth_pulses, "must be at most the pulses, " +
+                                                            std::to_string(n));
+    const unsigned K = grid.num_range_bins, M = grid.num_lines;
+    trajectory_autofocus_result res;
+    res.antenna.assign(antenna, antenna + n);
+    res.displacement_m.assign(n, vec3{ 0.0, 0.0, 0.0 });
+
+    // Exclusion around a point: 4 azimuth resolutions lambda r / (2 L) and 4 range bins.
+    const double L = std::hypot(antenna[n - 1][0] - antenna[0][0],
+                                antenna[n - 1][1] - antenna[0][1]);
+    const double r_mid = grid.first_range_m + 0.5 * K * grid.range_bin_m;
+    const double res_lines = grid.wavelength_m * r_mid / (2.0 * std::max(L, 1e-9)) /
+                             grid.line_spacing_m;
+    const unsigned ex_j = static_cast<unsigned>(std::min(double(M), std::ceil(4.0 * res_lines)));
+    const unsigned ex_k = 4;
+
+    bp_focuser bp(grid, num_threads);
+    bp_grid g1 = grid; // one line, exact BP: the per-pulse summands of a pixel
+    g1.num_lines = 1;
+    g1.subaperture = 0;
+    bp_focuser one(g1, 1);
+    std::vector<gr_complex> img(std::size_t(M) * K), line(K);
+    auto image_along = [&](const std::vector<vec3>& ant) {
+        bp.reset(grid.first_y_m);
+        bp.add(pulses, n, ant.data());
+        bp.image(img.data());
+    };
+
+    const double to_m = grid.wavelength_m / (4.0 * M_PI);
+    const double cs = 2.0 / grid.wavelength_m + grid.range_centre_cycles / grid.range_bin_m;
+    const unsigned h = cfg.smooth_pulses / 2;
+    std::vector<std::complex<double>> c(n);
+    for (unsigned it = 0; it < cfg.max_iterations; ++it) {
+        image_along(res.antenna);
+        std::vector<point> pts = prominent(img, grid, cfg, ex_j, ex_k);
+        if (pts.empty()) // an empty image: nothing to estimate from
+            break;
+        // b[i][n]: lambda psi_i(n) / (4 pi), the line-of-sight path change point i sees.
+        std::vector<std::vector<double>> b(pts.size(), std::vector<double>(n));
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            point& q = pts[i];
+            for (unsigned p = 0; p < n; ++p) {
+                one.reset(q.p[1]);
+                one.add(pulses + std::size_t(p) * K, 1, &res.antenna[p]);
+                one.image(line.data());
+                // less the pixel's offset from the point, in the phase BP gave it:
+                // 2 pi (2 / lambda + fc_r / rho) (|a - p| - |a - q|)
+                const vec3& a = res.antenna[p];
+                const double dr = std::sqrt((a[0] - q.p[0]) * (a[0] - q.p[0]) +
+                                            (a[1] - q.p[1]) * (a[1] - q.p[1]) +
+                                            (a[2] - q.p[2]) * (a[2] - q.p[2])) -
+                                  std::sqrt((a[0] - q.q[0]) * (a[0] - q.q[0]) +
+                                            (a[1] - q.q[1]) * (a[1] - q.q[1]) +
+                                            (a[2] - q.q[2]) * (a[2] - q.q[2]));
+                c[p] = std::complex<double>(line[q.bin]) *
+                       std::polar(1.0, -2.0 * M_PI * cs * dr);
+            }
+            // Weight: the coherent power of the smoothed history, mean |s / L|^2 (noise of
+            // variance sigma^2 adds only sigma^2 / L to it), the inverse of the phase
+            // noise's variance up to a common factor.
+            double w = 0.0;
+            std::complex<double> s(0.0, 0.0);
+            unsigned lo = 0, hi = 0; // s = sum of c[lo, hi)
+            double prev = 0.0, mean = 0.0;
+            for (unsigned p = 0; p < n; ++p) {
+                const unsigned want_lo = p > h ? p - h : 0, want_hi = std::min(n, p + h + 1);
+                for (; hi < want_hi; ++hi)
+                    s += c[hi];
+                for (; lo < want_lo; ++lo)
+                    s -= c[lo];
+                w += std::norm(s) / (double(hi - lo) * (hi - lo));
+                const double a = std::arg(s);
+                prev = p == 0 ? a : prev + std::remainder(a - prev, 2.0 * M_PI);
+                b[i][p] = prev * to_m;
+                mean += b[i][p];
+            }
+            for (double& v : b[i])
+                v -= mean / n;
+            q.w = w / n;
+        }
+        res.points.clear();
+        for (const point& q : pts)
+            res.points.push_back({ q.line, q.bin });
+
+        // Look-angle spread at the middle pulse decides how many components are solved.
+        auto los = [&](const point& q, unsigned p) {
+            const vec3& a = res.antenna[p];
+            const double dx = a[0] - q.q[0], dy = a[1] - q.q[1], dz = a[2] - q.q[2];
+            const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+            return std::array<double, 2>{ dx / r, dz / r };
+        };
+        double sw = 0.0, st = 0.0, st2 = 0.0;
+        for (const point& q : pts) {
+            const auto u = los(q, n / 2);
+            const double th = std::atan2(u[0], u[1]);
+            sw += q.w;
+            st += q.w * th;
+            st2 += q.w * th * th;
+        }
+        res.look_spread_rad = std::sqrt(std::max(0.0, st2 / sw - (st / sw) * (st / sw)));
+        res.two_dimensional = pts.size() >= 2 && res.look_spread_rad >= cfg.look_spread_rad &&
+                              cfg.look_spread_rad > 0.0;
+
+        std::vector<vec3> d(n, vec3{ 0.0, 0.0, 0.0 });
+        for (unsigned p = 0; p < n; ++p) {
+            if (res.two_dimensional) { // normal equations of (d_x, d_z)
+                double axx = 0.0, axz = 0.0, azz = 0.0, bx = 0.0, bz = 0.0;
+                for (std::size_t i = 0; i < pts.size(); ++i) {
+                    const auto u = los(pts[i], p);
+                    const double w = pts[i].w;
+                    axx += w * u[0] * u[0];
+                    axz += w * u[0] * u[1];
+                    azz += w * u[1] * u[1];
+                    bx += w * u[0] * b[i][p];
+                    bz += w * u[1] * b[i][p];
+                }
+                const double det = axx * azz - axz * axz;
+                d[p] = { (azz * bx - axz * bz) / det, 0.0, (axx * bz - axz * bx) / det };
+            } else { // along the mean line of sight m: d = alpha m
+                double mx = 0.0, mz = 0.0;
+                for (const point& q : pts) {
+                    const auto u = los(q, p);
+                    mx += q.w * u[0];
+                    mz += q.w * u[1];
+                }
+                const double mn = std::hypot(mx, mz);
+                mx /= mn;
+                mz /= mn;
+                double num = 0.0, den = 0.0;
+                for (std::size_t i = 0; i < pts.size(); ++i) {
+                    const auto u = los(pts[i], p);
+                    const double um = u[0] * mx + u[1] * mz;
+                    num += pts[i].w * um * b[i][p];
+                    den += pts[i].w * um * um;
+                }
+                d[p] = { num / den * mx, 0.0, num / den * mz };
+            }
+        }
+        // A constant and a linear displacement only move the image (a phase and a Doppler
+        // shift): removed, so the image stays where the navigation put it.
+        std::array<double, 3> c0{}, c1{};
+        const double tm = 0.5 * (n - 1.0);
+        double stt = 0.0;
+        for (unsigned p = 0; p < n; ++p)
+            stt += (p - tm) * (p - tm);
+        for (unsigned p = 0; p < n; ++p)
+            for (int c3 = 0; c3 < 3; ++c3) {
+                c0[c3] += d[p][c3] / n;
+                c1[c3] += d[p][c3] * (p - tm) / stt;
+            }
+        double ss = 0.0;
+        for (unsigned p = 0; p < n; ++p)
+            for (int c3 = 0; c3 < 3; c3 += 2) {
+                const double v = d[p][c3] - c0[c3] - c1[c3] * (p - tm);
+                res.antenna[p][c3] -= v;
+                res.displacement_m[p][c3] += v;
+                ss += v * v;
+            }
+        res.last_update_rms_m = std::sqrt(ss / n);
+        res.iterations = it + 1;
+        if (res.last_update_rms_m < cfg.tolerance_m)
+            break;
+    }
+    image_along(res.antenna);
+    std::copy(img.begin(), img.end(), image_out);
+
+    // The estimate on the points' mean line of sight at the middle pulse.
+    double mx = 0.0, mz = 0.0;
+    for (const auto& pl : res.points) {
+        vec3 p;
+        pixel_position(grid, pl[0], pl[1], p);
+        const vec3& a = res.antenna[n / 2];
+        const double r = std::sqrt((a[0] - p[0]) * (a[0] - p[0]) + (a[1] - p[1]) * (a[1] - p[1]) +
+                                   (a[2] - p[2]) * (a[2] - p[2]));
+        mx += (a[0] - p[0]) / r;
+        mz += (a[2] - p[2]) / r;
+    }
+    const double mn = std::hypot(mx, mz);
+    res.los_m.resize(n);
+    for (unsigned p = 0; p < n; ++p)
+        res.los_m[p] = mn > 0.0 ? (res.displacement_m[p][0] * mx + res.displacement_m[p][2] * mz) / mn
+                                : 0.0;
+    return res;
+}
+
+} // namespace kernel
+} // namespace nrsar
+} // namespace gr
