@@ -24,13 +24,14 @@ std::string metres(double x)
     return s.str();
 }
 
-// Validates every make() parameter and builds the kernel with the crop in bins.
-kernel::range_ifft make_kernel(const numerology& num,
-                               unsigned fft_size,
-                               gr::fft::window::win_type window,
-                               double window_param,
-                               double r_min_m,
-                               double r_max_m)
+} // namespace
+
+kernel::range_ifft make_range_ifft_kernel(const numerology& num,
+                                          unsigned fft_size,
+                                          gr::fft::window::win_type window,
+                                          double window_param,
+                                          double r_min_m,
+                                          double r_max_m)
 {
     num.validate();
     const unsigned n = num.num_subcarriers;
@@ -67,8 +68,6 @@ kernel::range_ifft make_kernel(const numerology& num,
     return kernel::range_ifft(n, nfft, window, window_param, crop.first, crop.count);
 }
 
-} // namespace
-
 range_ifft::sptr range_ifft::make(const numerology& num,
                                   unsigned fft_size,
                                   gr::fft::window::win_type window,
@@ -77,7 +76,7 @@ range_ifft::sptr range_ifft::make(const numerology& num,
                                   double r_max_m)
 {
     return gnuradio::make_block_sptr<range_ifft_impl>(
-        num, make_kernel(num, fft_size, window, window_param, r_min_m, r_max_m));
+        num, make_range_ifft_kernel(num, fft_size, window, window_param, r_min_m, r_max_m));
 }
 
 unsigned range_ifft::fast_fft_size(unsigned n) { return kernel::fast_fft_size(n); }

@@ -42,6 +42,7 @@ std::size_t filter_pass_avx2(weight_rule rule,
                              float inv_snr,
                              gr_complex* out,
                              std::size_t n,
+                             const float* taps2,
                              pass_sums& sums)
 {
     const __m256 one = _mm256_set1_ps(1.0f);
@@ -72,6 +73,8 @@ std::size_t filter_pass_avx2(weight_rule rule,
             p = _mm256_mul_ps(p,
                               _mm256_div_ps(_mm256_sub_ps(one, e), _mm256_add_ps(m, e)));
         }
+        if (taps2)
+            p = _mm256_mul_ps(p, _mm256_loadu_ps(taps2 + 2 * i));
         _mm256_storeu_ps(reinterpret_cast<float*>(out + i), p);
     }
     sums.empty += empty_lanes / 2;
@@ -95,6 +98,23 @@ std::size_t window_pass_avx2(
     return done;
 }
 
+std::size_t copy_pass_avx2(const gr_complex* in, gr_complex* dst, std::size_t n, float& sum)
+{
+    const float* x = reinterpret_cast<const float*>(in);
+    float* d = reinterpret_cast<float*>(dst);
+    __m256 acc0 = _mm256_setzero_ps(), acc1 = _mm256_setzero_ps();
+    const std::size_t done = n / 8 * 8;
+    for (std::size_t j = 0; j < 2 * done; j += 16) { // two accumulators: no add chain stall
+        const __m256 a = _mm256_loadu_ps(x + j), b = _mm256_loadu_ps(x + j + 8);
+        acc0 = _mm256_add_ps(acc0, a);
+        acc1 = _mm256_add_ps(acc1, b);
+        _mm256_storeu_ps(d + j, a);
+        _mm256_storeu_ps(d + j + 8, b);
+    }
+    sum += hsum(_mm256_add_ps(acc0, acc1));
+    return done;
+}
+
 #else
 
 bool avx2_available() { return false; }
@@ -104,6 +124,7 @@ std::size_t filter_pass_avx2(weight_rule,
                              float,
                              gr_complex*,
                              std::size_t,
+                             const float*,
                              pass_sums&)
 {
     return 0;
@@ -113,6 +134,7 @@ window_pass_avx2(const gr_complex*, const float*, gr_complex*, std::size_t, floa
 {
     return 0;
 }
+std::size_t copy_pass_avx2(const gr_complex*, gr_complex*, std::size_t, float&) { return 0; }
 
 #endif
 

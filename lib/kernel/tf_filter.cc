@@ -267,7 +267,10 @@ bool tf_filter::may_be_constant_modulus(const gr_complex* s)
            constant_modulus(m, prefix, m0);
 }
 
-std::size_t tf_filter::process(const gr_complex* y, const gr_complex* s, gr_complex* out)
+std::size_t tf_filter::process(const gr_complex* y,
+                               const gr_complex* s,
+                               gr_complex* out,
+                               const float* taps2)
 {
     const std::size_t n = d_vlen;
     if (!d_estimate && rx_front::one_pass() && !may_be_constant_modulus(s)) {
@@ -282,7 +285,7 @@ std::size_t tf_filter::process(const gr_complex* y, const gr_complex* s, gr_comp
             type == filter_type::WF
                 ? static_cast<float>(1.0 / static_cast<const wf_filter&>(*d_filter).snr_linear())
                 : 0.0f;
-        const rx_front::pass_sums r = rx_front::filter_pass(rule, y, s, inv_snr, out, n);
+        const rx_front::pass_sums r = rx_front::filter_pass(rule, y, s, inv_snr, out, n, taps2);
         if (std::isfinite(r.sum)) {
             d_empty += r.empty;
             return 0;
@@ -317,6 +320,8 @@ std::size_t tf_filter::process(const gr_complex* y, const gr_complex* s, gr_comp
     } else {
         d_filter->apply(yy, ss, m, out, n);
     }
+    if (taps2) // the same product as range_ifft's window pass
+        rx_front::window_pass(out, taps2, out, n);
     d_nonfinite += bad_y + bad_s;
     return bad_y + bad_s;
 }
