@@ -10,6 +10,7 @@ as the separate blocks (fixed and estimated SNR_in); tags; non-finite input; par
 validation."""
 
 import math
+import tempfile
 
 import numpy as np
 import pmt
@@ -195,6 +196,31 @@ class qa_range_compress(gr_unittest.TestCase):
         blk = nrsar.range_compress(self.num)
         with self.assertRaises(ValueError):
             blk.set_snr_db(float("nan"))
+
+    def test_007_chain_rx_fuse_same_image(self):
+        # nrsar-sim's chain with --rx-fuse on (range_compress in both branches) against the
+        # separate blocks: the same range-compressed data and image within float rounding,
+        # the same metrics, and the receive times under the fused block's own name.
+        from gnuradio.nrsar import chain
+        from gnuradio.nrsar.options import SimOptions
+        runs = {}
+        for fuse in ("off", "on"):
+            out = tempfile.mkdtemp(prefix="qa_range_compress_")
+            runs[fuse] = chain.simulate(SimOptions.parse(
+                ["--preset", "small", "--aperture-s", "0.2", "--target", "300,5",
+                 "--snr-db", "-10", "--presum", "cheby", "--decim", "4", "--rx-fuse", fuse,
+                 "--out", out]))
+        a, b = runs["off"], runs["on"]
+        for key in ("image_npy", "range_compressed_npy"):
+            x, y = np.load(a[key]), np.load(b[key])
+            self.assertEqual(x.shape, y.shape)
+            np.testing.assert_allclose(y, x, rtol=0, atol=1e-5 * np.abs(x).max())
+        for key in ("nmse_db", "snr_out_db", "pel_db"):
+            self.assertAlmostEqual(a[key], b[key], 3)
+        self.assertEqual(set(a["rx_block_s"]), {"filter", "range_ifft", "presum", "focuser",
+                                                "probe"})
+        self.assertEqual(set(b["rx_block_s"]), {"range_compress", "presum", "focuser",
+                                                "probe"})
 
 
 if __name__ == "__main__":
