@@ -95,10 +95,11 @@ int range_compress_impl::work(int noutput_items,
     for (const auto& tag : d_tags)
         add_item_tag(0, tag);
     if (d_tag_pending && noutput_items > 0) {
-        const pmt::pmt_t axis = pmt::make_tuple(pmt::from_double(range_axis_first_m()),
-                                                pmt::from_double(d_bin_m),
-                                                pmt::from_uint64(k));
-        add_item_tag(0, nitems_written(0), tags::range_axis_key(), axis, alias_pmt());
+        add_item_tag(0,
+                     nitems_written(0),
+                     tags::range_axis_key(),
+                     range_axis_value(range_axis_first_m(), d_bin_m, k),
+                     alias_pmt());
         d_tag_pending = false;
     }
     for (int i = 0; i < noutput_items; i++) {

@@ -68,6 +68,12 @@ kernel::range_ifft make_range_ifft_kernel(const numerology& num,
     return kernel::range_ifft(n, nfft, window, window_param, crop.first, crop.count);
 }
 
+pmt::pmt_t range_axis_value(double first_m, double bin_m, std::uint64_t k)
+{
+    return pmt::make_tuple(
+        pmt::from_double(first_m), pmt::from_double(bin_m), pmt::from_uint64(k));
+}
+
 range_ifft::sptr range_ifft::make(const numerology& num,
                                   unsigned fft_size,
                                   gr::fft::window::win_type window,
@@ -132,10 +138,11 @@ int range_ifft_impl::work(int noutput_items,
     const std::size_t k = d_kernel.num_bins();
 
     if (d_tag_pending && noutput_items > 0) {
-        const pmt::pmt_t axis = pmt::make_tuple(pmt::from_double(range_axis_first_m()),
-                                                pmt::from_double(d_bin_m),
-                                                pmt::from_uint64(k));
-        add_item_tag(0, nitems_written(0), tags::range_axis_key(), axis, alias_pmt());
+        add_item_tag(0,
+                     nitems_written(0),
+                     tags::range_axis_key(),
+                     range_axis_value(range_axis_first_m(), d_bin_m, k),
+                     alias_pmt());
         d_tag_pending = false;
     }
     d_bad.assign(noutput_items, 0);

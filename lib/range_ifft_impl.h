@@ -29,6 +29,9 @@ kernel::range_ifft make_range_ifft_kernel(const numerology& num,
                                           double r_min_m,
                                           double r_max_m);
 
+//! The range_axis tag's value: (first bin range [m], bin spacing [m], K).
+pmt::pmt_t range_axis_value(double first_m, double bin_m, std::uint64_t k);
+
 class range_ifft_impl : public range_ifft
 {
 private:

@@ -42,6 +42,8 @@ pass_sums filter_pass(weight_rule rule,
             w = 1.0f / (m + inv_snr);
         else if (rule == weight_rule::rf)
             w = (1.0f - empty) / (m + empty);
+        else if (rule == weight_rule::scale)
+            w = inv_snr;
         float pr = yr * sr + yi * si, pi = yi * sr - yr * si;
         if (rule != weight_rule::mf) {
             pr *= w;

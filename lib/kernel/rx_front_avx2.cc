@@ -66,7 +66,9 @@ std::size_t filter_pass_avx2(weight_rule rule,
         const __m256 b =
             _mm256_mul_ps(_mm256_permute_ps(yv, 0xB1), _mm256_movehdup_ps(sv));
         __m256 p = _mm256_addsub_ps(a, _mm256_xor_ps(b, neg));
-        if (rule == weight_rule::wf) {
+        if (rule == weight_rule::scale) {
+            p = _mm256_mul_ps(p, reg);
+        } else if (rule == weight_rule::wf) {
             p = _mm256_mul_ps(p, _mm256_div_ps(one, _mm256_add_ps(m, reg)));
         } else if (rule == weight_rule::rf) {
             const __m256 e = _mm256_and_ps(is_empty, one);

@@ -25,8 +25,9 @@ namespace kernel {
 namespace rx_front {
 
 //! The per-RE weight of eq. (25) applied to y conj(s): MF 1, RF 1/|s|^2 (0 on an empty
-//! RE), WF 1/(|s|^2 + 1/SNR_in).
-enum class weight_rule { mf, rf, wf };
+//! RE), WF 1/(|s|^2 + 1/SNR_in); scale: one given c for every RE (tf_filter's
+//! constant-modulus shortcut).
+enum class weight_rule { mf, rf, wf, scale };
 
 struct pass_sums {
     std::size_t empty = 0; //!< REs with |s|^2 below FLT_MIN
@@ -34,7 +35,8 @@ struct pass_sums {
 };
 
 /*!
- * out[i] = y[i] conj(s[i]) w(|s[i]|^2) for i < n in one pass (the product first, then the
+ * out[i] = y[i] conj(s[i]) w(|s[i]|^2) for i < n in one pass (inv_snr: WF's 1/SNR_in, or
+ * the scale rule's c) (the product first, then the
  * weight, as tf_filter's VOLK path rounds), with the sums of pass_sums. taps2 (optional, as
  * window_pass's): each product also times taps2, after the weight, so the result is the
  * filter's output windowed by window_pass, bit for bit (range_compress's fused pass).

@@ -273,21 +273,36 @@ std::size_t tf_filter::process(const gr_complex* y,
                                const float* taps2)
 {
     const std::size_t n = d_vlen;
-    if (!d_estimate && rx_front::one_pass() && !may_be_constant_modulus(s)) {
+    if (!d_estimate && rx_front::one_pass()) {
         // One pass over y and s (measured: docs/performance.md, issue 16); the guarded
         // path below only when an input is not finite.
         using rx_front::weight_rule;
         const filter_type type = d_filter->type();
-        const weight_rule rule = type == filter_type::WF   ? weight_rule::wf
-                                 : type == filter_type::RF ? weight_rule::rf
-                                                           : weight_rule::mf;
-        const float inv_snr =
+        weight_rule rule = type == filter_type::WF   ? weight_rule::wf
+                           : type == filter_type::RF ? weight_rule::rf
+                                                     : weight_rule::mf;
+        float param =
             type == filter_type::WF
                 ? static_cast<float>(1.0 / static_cast<const wf_filter&>(*d_filter).snr_linear())
                 : 0.0f;
-        const rx_front::pass_sums r = rx_front::filter_pass(rule, y, s, inv_snr, out, n, taps2);
+        // The constant-modulus shortcut in the same pass (g = c conj(s)): the whole
+        // vector's |s|^2 decides, as on the guarded path (issue 16: the reference branch's
+        // all-ones grid took the five VOLK passes below).
+        bool cm = false;
+        if (may_be_constant_modulus(s)) {
+            float* m = d_s_mag2.data();
+            volk_32fc_magnitude_squared_32f(m, s, n);
+            float m0 = 0.0f;
+            cm = constant_modulus(m, n, m0);
+            if (cm) {
+                rule = weight_rule::scale;
+                param = d_filter->constant_modulus_scale(m0);
+            }
+        }
+        const rx_front::pass_sums r = rx_front::filter_pass(rule, y, s, param, out, n, taps2);
         if (std::isfinite(r.sum)) {
             d_empty += r.empty;
+            d_cm_vectors += cm;
             return 0;
         }
     }
