@@ -7,6 +7,7 @@
 
 #include "rx_front_impl.h"
 #include <volk/volk.h>
+#include <cmath>
 #include <cstring>
 #include <limits>
 
@@ -25,11 +26,13 @@ pass_sums filter_pass(weight_rule rule,
                       float inv_snr,
                       gr_complex* out,
                       std::size_t n,
-                      const float* taps2)
+                      const float* taps2,
+                      float m0,
+                      float tol)
 {
     constexpr float empty_mag2 = std::numeric_limits<float>::min();
     pass_sums sums;
-    std::size_t i = use_avx2 ? filter_pass_avx2(rule, y, s, inv_snr, out, n, taps2, sums) : 0;
+    std::size_t i = use_avx2 ? filter_pass_avx2(rule, y, s, inv_snr, out, n, taps2, m0, tol, sums) : 0;
     for (; i < n; i++) {
         const float yr = y[i].real(), yi = y[i].imag(), sr = s[i].real(),
                     si = s[i].imag();
@@ -42,8 +45,11 @@ pass_sums filter_pass(weight_rule rule,
             w = 1.0f / (m + inv_snr);
         else if (rule == weight_rule::rf)
             w = (1.0f - empty) / (m + empty);
-        else if (rule == weight_rule::scale)
+        else if (rule == weight_rule::scale) {
             w = inv_snr;
+            if (m != 0.0f && std::fabs(m - m0) > tol)
+                sums.off_modulus = true;
+        }
         float pr = yr * sr + yi * si, pi = yi * sr - yr * si;
         if (rule != weight_rule::mf) {
             pr *= w;

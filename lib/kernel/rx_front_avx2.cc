@@ -43,8 +43,13 @@ std::size_t filter_pass_avx2(weight_rule rule,
                              gr_complex* out,
                              std::size_t n,
                              const float* taps2,
+                             float m0,
+                             float tol,
                              pass_sums& sums)
 {
+    const __m256 m0v = _mm256_set1_ps(m0), tolv = _mm256_set1_ps(tol);
+    const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    __m256 off = _mm256_setzero_ps();
     const __m256 one = _mm256_set1_ps(1.0f);
     const __m256 reg = _mm256_set1_ps(inv_snr);
     const __m256 tiny = _mm256_set1_ps(std::numeric_limits<float>::min());
@@ -67,6 +72,11 @@ std::size_t filter_pass_avx2(weight_rule rule,
             _mm256_mul_ps(_mm256_permute_ps(yv, 0xB1), _mm256_movehdup_ps(sv));
         __m256 p = _mm256_addsub_ps(a, _mm256_xor_ps(b, neg));
         if (rule == weight_rule::scale) {
+            // |m - m0| > tol on a non-empty RE (the ordered compares leave a NaN to the sum)
+            const __m256 dev = _mm256_and_ps(_mm256_sub_ps(m, m0v), magnitude);
+            off = _mm256_or_ps(off,
+                               _mm256_and_ps(_mm256_cmp_ps(dev, tolv, _CMP_GT_OQ),
+                                             _mm256_cmp_ps(m, _mm256_setzero_ps(), _CMP_NEQ_OQ)));
             p = _mm256_mul_ps(p, reg);
         } else if (rule == weight_rule::wf) {
             p = _mm256_mul_ps(p, _mm256_div_ps(one, _mm256_add_ps(m, reg)));
@@ -80,6 +90,7 @@ std::size_t filter_pass_avx2(weight_rule rule,
         _mm256_storeu_ps(reinterpret_cast<float*>(out + i), p);
     }
     sums.empty += empty_lanes / 2;
+    sums.off_modulus = sums.off_modulus || _mm256_movemask_ps(off) != 0;
     sums.sum += hsum(acc);
     return done;
 }
@@ -127,6 +138,8 @@ std::size_t filter_pass_avx2(weight_rule,
                              gr_complex*,
                              std::size_t,
                              const float*,
+                             float,
+                             float,
                              pass_sums&)
 {
     return 0;

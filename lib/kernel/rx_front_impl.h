@@ -26,12 +26,13 @@ namespace rx_front {
 
 //! The per-RE weight of eq. (25) applied to y conj(s): MF 1, RF 1/|s|^2 (0 on an empty
 //! RE), WF 1/(|s|^2 + 1/SNR_in); scale: one given c for every RE (tf_filter's
-//! constant-modulus shortcut).
+//! constant-modulus shortcut), checking that every |s|^2 is 0 or within tol of m0.
 enum class weight_rule { mf, rf, wf, scale };
 
 struct pass_sums {
     std::size_t empty = 0; //!< REs with |s|^2 below FLT_MIN
     float sum = 0.0f; //!< sum of every float of y and s: finite iff all are (or overflow)
+    bool off_modulus = false; //!< scale rule: some |s|^2 is neither 0 nor within tol of m0
 };
 
 /*!
@@ -47,7 +48,9 @@ pass_sums filter_pass(weight_rule rule,
                       float inv_snr,
                       gr_complex* out,
                       std::size_t n,
-                      const float* taps2 = nullptr);
+                      const float* taps2 = nullptr,
+                      float m0 = 0.0f,
+                      float tol = 0.0f);
 
 /*!
  * dst[i] = in[i] * taps2[i] over 2n floats (taps2: each complex sample's real tap twice);
@@ -77,6 +80,8 @@ std::size_t filter_pass_avx2(weight_rule rule,
                              gr_complex* out,
                              std::size_t n,
                              const float* taps2,
+                             float m0,
+                             float tol,
                              pass_sums& sums);
 std::size_t window_pass_avx2(
     const gr_complex* in, const float* taps2, gr_complex* dst, std::size_t n, float& sum);

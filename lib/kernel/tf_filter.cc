@@ -253,7 +253,7 @@ void tf_filter::set_estimate_snr(bool estimate)
     push_snr();
 }
 
-bool tf_filter::may_be_constant_modulus(const gr_complex* s)
+bool tf_filter::may_be_constant_modulus(const gr_complex* s, float& m0)
 {
     if (!d_cm_path || d_filter->type() == filter_type::MF)
         return false;
@@ -262,7 +262,7 @@ bool tf_filter::may_be_constant_modulus(const gr_complex* s)
     const std::size_t prefix = std::min<std::size_t>(d_vlen, 256);
     float* m = d_s_mag2.data();
     volk_32fc_magnitude_squared_32f(m, s, prefix);
-    float m0 = 0.0f;
+    m0 = 0.0f;
     return std::all_of(m, m + prefix, [](float x) { return x == 0.0f; }) ||
            constant_modulus(m, prefix, m0);
 }
@@ -278,28 +278,38 @@ std::size_t tf_filter::process(const gr_complex* y,
         // path below only when an input is not finite.
         using rx_front::weight_rule;
         const filter_type type = d_filter->type();
-        weight_rule rule = type == filter_type::WF   ? weight_rule::wf
-                           : type == filter_type::RF ? weight_rule::rf
-                                                     : weight_rule::mf;
-        float param =
+        const weight_rule rule = type == filter_type::WF   ? weight_rule::wf
+                                 : type == filter_type::RF ? weight_rule::rf
+                                                           : weight_rule::mf;
+        const float inv_snr =
             type == filter_type::WF
                 ? static_cast<float>(1.0 / static_cast<const wf_filter&>(*d_filter).snr_linear())
                 : 0.0f;
-        // The constant-modulus shortcut in the same pass (g = c conj(s)): the whole
-        // vector's |s|^2 decides, as on the guarded path (issue 16: the reference branch's
-        // all-ones grid took the five VOLK passes below).
-        bool cm = false;
-        if (may_be_constant_modulus(s)) {
-            float* m = d_s_mag2.data();
-            volk_32fc_magnitude_squared_32f(m, s, n);
-            float m0 = 0.0f;
-            cm = constant_modulus(m, n, m0);
-            if (cm) {
-                rule = weight_rule::scale;
-                param = d_filter->constant_modulus_scale(m0);
-            }
+        // The constant-modulus shortcut (g = c conj(s)) in the same pass, which also checks
+        // the rest of the vector against the first REs' |s|^2 = m0 (issue 16: the
+        // reference branch's all-ones grid took the guarded path's seven passes); a vector
+        // that fails it is filtered again with the per-RE weights.
+        float m0 = 0.0f;
+        bool cm = may_be_constant_modulus(s, m0);
+        if (cm && m0 == 0.0f) { // an all-empty prefix: the whole vector decides
+            volk_32fc_magnitude_squared_32f(d_s_mag2.data(), s, n);
+            cm = constant_modulus(d_s_mag2.data(), n, m0);
         }
-        const rx_front::pass_sums r = rx_front::filter_pass(rule, y, s, param, out, n, taps2);
+        rx_front::pass_sums r;
+        if (cm)
+            r = rx_front::filter_pass(weight_rule::scale,
+                                      y,
+                                      s,
+                                      d_filter->constant_modulus_scale(m0),
+                                      out,
+                                      n,
+                                      taps2,
+                                      m0,
+                                      cm_tolerance * m0);
+        if (!cm || r.off_modulus) {
+            cm = false;
+            r = rx_front::filter_pass(rule, y, s, inv_snr, out, n, taps2);
+        }
         if (std::isfinite(r.sum)) {
             d_empty += r.empty;
             d_cm_vectors += cm;

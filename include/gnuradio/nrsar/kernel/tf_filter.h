@@ -229,8 +229,9 @@ public:
     std::uint64_t nonfinite_count() const { return d_nonfinite; }
 
 private:
-    //! False when the first REs of s already fail the constant-modulus check.
-    bool may_be_constant_modulus(const gr_complex* s);
+    //! False when the first REs of s already fail the constant-modulus check; m0: their
+    //! common |s|^2 (0 when they are all empty).
+    bool may_be_constant_modulus(const gr_complex* s, float& m0);
 
     unsigned d_vlen;
     double d_snr_db;
