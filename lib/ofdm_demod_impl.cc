@@ -107,7 +107,9 @@ void ofdm_demod_impl::forecast(int noutput_items, gr_vector_int& ninput_items_re
 
 void ofdm_demod_impl::demod_one(const gr_complex* in, gr_complex* out, std::uint64_t item)
 {
-    std::size_t bad = 0;
+    if (d_kernel.execute_if_finite(in, out))
+        return;
+    std::size_t bad = 0; // a NaN / Inf, or a sum that overflowed: the guarded pass
     const gr_complex* x = d_guard.guard(in, d_kernel.symbol_length(), bad);
     d_kernel.execute(x, out);
     if (bad > 0)

@@ -24,13 +24,14 @@ std::string metres(double x)
     return s.str();
 }
 
-// Validates every make() parameter and builds the kernel with the crop in bins.
-kernel::range_ifft make_kernel(const numerology& num,
-                               unsigned fft_size,
-                               gr::fft::window::win_type window,
-                               double window_param,
-                               double r_min_m,
-                               double r_max_m)
+} // namespace
+
+kernel::range_ifft make_range_ifft_kernel(const numerology& num,
+                                          unsigned fft_size,
+                                          gr::fft::window::win_type window,
+                                          double window_param,
+                                          double r_min_m,
+                                          double r_max_m)
 {
     num.validate();
     const unsigned n = num.num_subcarriers;
@@ -67,7 +68,11 @@ kernel::range_ifft make_kernel(const numerology& num,
     return kernel::range_ifft(n, nfft, window, window_param, crop.first, crop.count);
 }
 
-} // namespace
+pmt::pmt_t range_axis_value(double first_m, double bin_m, std::uint64_t k)
+{
+    return pmt::make_tuple(
+        pmt::from_double(first_m), pmt::from_double(bin_m), pmt::from_uint64(k));
+}
 
 range_ifft::sptr range_ifft::make(const numerology& num,
                                   unsigned fft_size,
@@ -77,7 +82,7 @@ range_ifft::sptr range_ifft::make(const numerology& num,
                                   double r_max_m)
 {
     return gnuradio::make_block_sptr<range_ifft_impl>(
-        num, make_kernel(num, fft_size, window, window_param, r_min_m, r_max_m));
+        num, make_range_ifft_kernel(num, fft_size, window, window_param, r_min_m, r_max_m));
 }
 
 unsigned range_ifft::fast_fft_size(unsigned n) { return kernel::fast_fft_size(n); }
@@ -133,10 +138,11 @@ int range_ifft_impl::work(int noutput_items,
     const std::size_t k = d_kernel.num_bins();
 
     if (d_tag_pending && noutput_items > 0) {
-        const pmt::pmt_t axis = pmt::make_tuple(pmt::from_double(range_axis_first_m()),
-                                                pmt::from_double(d_bin_m),
-                                                pmt::from_uint64(k));
-        add_item_tag(0, nitems_written(0), tags::range_axis_key(), axis, alias_pmt());
+        add_item_tag(0,
+                     nitems_written(0),
+                     tags::range_axis_key(),
+                     range_axis_value(range_axis_first_m(), d_bin_m, k),
+                     alias_pmt());
         d_tag_pending = false;
     }
     d_bad.assign(noutput_items, 0);

@@ -18,6 +18,20 @@
 namespace gr {
 namespace nrsar {
 
+/*!
+ * Validates range_ifft::make()'s parameters (each error names the parameter, its value and
+ * the limit) and builds the kernel with the crop in bins (range_ifft, range_compress).
+ */
+kernel::range_ifft make_range_ifft_kernel(const numerology& num,
+                                          unsigned fft_size,
+                                          gr::fft::window::win_type window,
+                                          double window_param,
+                                          double r_min_m,
+                                          double r_max_m);
+
+//! The range_axis tag's value: (first bin range [m], bin spacing [m], K).
+pmt::pmt_t range_axis_value(double first_m, double bin_m, std::uint64_t k);
+
 class range_ifft_impl : public range_ifft
 {
 private:

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -100,6 +101,34 @@ TEST_P(modem, demodulator_matches_direct_dft)
         ref[n] = acc / std::sqrt(double(p.f));
     }
     EXPECT_LT(max_err(y.data(), ref), 1e-4);
+}
+
+TEST_P(modem, checked_demodulator_matches_direct_dft_and_refuses_nonfinite)
+{
+    // execute_if_finite: the direct DFT of the window (window mid-CP) when every sample is
+    // finite; false, out untouched, when a NaN or Inf lies anywhere in the symbol (before,
+    // inside or after the FFT window).
+    const auto p = GetParam();
+    const unsigned k0 = (p.n / 2) & ~1u, start = p.cp / 2;
+    auto x = nrsar_test::gaussian_samples(p.cp + p.f, 6);
+    kernel::ofdm_demodulator dem(p.n, p.f, p.cp, k0, start);
+    std::vector<gr_complex> y(p.n);
+    ASSERT_TRUE(dem.execute_if_finite(x.data(), y.data()));
+    std::vector<cd> ref(p.n);
+    for (unsigned n = 0; n < p.n; n++) {
+        cd acc = 0;
+        for (unsigned t = 0; t < p.f; t++)
+            acc += cd(x[start + t]) * std::polar(1.0, -2 * M_PI * (double(n) - k0) * t / p.f);
+        ref[n] = acc / std::sqrt(double(p.f));
+    }
+    EXPECT_LT(max_err(y.data(), ref), 1e-4);
+    for (unsigned at : { 0u, start + p.f / 2, p.cp + p.f - 1 }) {
+        auto bad = x;
+        bad[at] = gr_complex(0.0f, std::numeric_limits<float>::infinity());
+        std::vector<gr_complex> z(p.n, gr_complex(7.0f, 7.0f));
+        EXPECT_FALSE(dem.execute_if_finite(bad.data(), z.data())) << "sample " << at;
+        EXPECT_EQ(z[0], gr_complex(7.0f, 7.0f));
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(layouts,

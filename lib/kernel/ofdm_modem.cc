@@ -6,6 +6,7 @@
  */
 
 #include "param_check.h"
+#include "rx_front_impl.h"
 #include <gnuradio/nrsar/kernel/ofdm_modem.h>
 #include <volk/volk.h>
 #include <algorithm>
@@ -73,6 +74,30 @@ ofdm_demodulator::ofdm_demodulator(
 void ofdm_demodulator::execute(const gr_complex* in, gr_complex* out)
 {
     std::memcpy(d_fft->get_inbuf(), in + d_fft_start, sizeof(gr_complex) * d_fft_size);
+    transform(out);
+}
+
+bool ofdm_demodulator::execute_if_finite(const gr_complex* in, gr_complex* out)
+{
+    // A NaN or Inf anywhere in the symbol (the cyclic prefix outside the window too, as
+    // finite_guard counts it) makes the sum non-finite. Measured: docs/performance.md.
+    float sum = rx_front::copy_pass(in + d_fft_start, d_fft->get_inbuf(), d_fft_size);
+    float rest = 0.0f;
+    volk_32f_accumulator_s32f(&rest, reinterpret_cast<const float*>(in), 2 * d_fft_start);
+    sum += rest;
+    const unsigned tail = d_fft_start + d_fft_size;
+    rest = 0.0f;
+    volk_32f_accumulator_s32f(
+        &rest, reinterpret_cast<const float*>(in + tail), 2 * (symbol_length() - tail));
+    sum += rest;
+    if (!std::isfinite(sum))
+        return false;
+    transform(out);
+    return true;
+}
+
+void ofdm_demodulator::transform(gr_complex* out)
+{
     d_fft->execute();
     const gr_complex* bins = d_fft->get_outbuf();
     volk_32f_s32f_multiply_32f(reinterpret_cast<float*>(out + d_k0),

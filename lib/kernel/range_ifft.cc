@@ -102,9 +102,14 @@ std::size_t range_ifft::execute(const gr_complex* in, gr_complex* out)
             }
         }
     }
+    transform(out);
+    return zeroed;
+}
+
+void range_ifft::transform(gr_complex* out)
+{
     d_fft->execute(); // FFTW backward: sum_n x[n] exp(+j 2 pi n k / fft_size)
     std::memcpy(out, d_fft->get_outbuf() + d_first, sizeof(gr_complex) * d_count);
-    return zeroed;
 }
 
 bin_range range_ifft::crop_bins(double bin_m, unsigned fft_size, double r_min_m, double r_max_m)

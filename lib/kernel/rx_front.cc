@@ -7,6 +7,8 @@
 
 #include "rx_front_impl.h"
 #include <volk/volk.h>
+#include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace gr {
@@ -23,11 +25,14 @@ pass_sums filter_pass(weight_rule rule,
                       const gr_complex* s,
                       float inv_snr,
                       gr_complex* out,
-                      std::size_t n)
+                      std::size_t n,
+                      const float* taps2,
+                      float m0,
+                      float tol)
 {
     constexpr float empty_mag2 = std::numeric_limits<float>::min();
     pass_sums sums;
-    std::size_t i = use_avx2 ? filter_pass_avx2(rule, y, s, inv_snr, out, n, sums) : 0;
+    std::size_t i = use_avx2 ? filter_pass_avx2(rule, y, s, inv_snr, out, n, taps2, m0, tol, sums) : 0;
     for (; i < n; i++) {
         const float yr = y[i].real(), yi = y[i].imag(), sr = s[i].real(),
                     si = s[i].imag();
@@ -40,9 +45,21 @@ pass_sums filter_pass(weight_rule rule,
             w = 1.0f / (m + inv_snr);
         else if (rule == weight_rule::rf)
             w = (1.0f - empty) / (m + empty);
-        const float pr = yr * sr + yi * si, pi = yi * sr - yr * si;
-        out[i] =
-            rule == weight_rule::mf ? gr_complex(pr, pi) : gr_complex(pr * w, pi * w);
+        else if (rule == weight_rule::scale) {
+            w = inv_snr;
+            if (m != 0.0f && std::fabs(m - m0) > tol)
+                sums.off_modulus = true;
+        }
+        float pr = yr * sr + yi * si, pi = yi * sr - yr * si;
+        if (rule != weight_rule::mf) {
+            pr *= w;
+            pi *= w;
+        }
+        if (taps2) {
+            pr *= taps2[2 * i];
+            pi *= taps2[2 * i + 1];
+        }
+        out[i] = gr_complex(pr, pi);
     }
     return sums;
 }
@@ -65,6 +82,22 @@ float window_pass(const gr_complex* in,
     for (; i < n; i++) {
         sum += in[i].real() + in[i].imag();
         dst[i] = gr_complex(in[i].real() * taps2[2 * i], in[i].imag() * taps2[2 * i + 1]);
+    }
+    return sum;
+}
+
+float copy_pass(const gr_complex* in, gr_complex* dst, std::size_t n)
+{
+    float sum = 0.0f;
+    if (!use_avx2) {
+        volk_32f_accumulator_s32f(&sum, reinterpret_cast<const float*>(in), 2 * n);
+        std::memcpy(dst, in, sizeof(gr_complex) * n);
+        return sum;
+    }
+    std::size_t i = copy_pass_avx2(in, dst, n, sum);
+    for (; i < n; i++) {
+        sum += in[i].real() + in[i].imag();
+        dst[i] = in[i];
     }
     return sum;
 }

@@ -42,8 +42,14 @@ std::size_t filter_pass_avx2(weight_rule rule,
                              float inv_snr,
                              gr_complex* out,
                              std::size_t n,
+                             const float* taps2,
+                             float m0,
+                             float tol,
                              pass_sums& sums)
 {
+    const __m256 m0v = _mm256_set1_ps(m0), tolv = _mm256_set1_ps(tol);
+    const __m256 magnitude = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    __m256 off = _mm256_setzero_ps();
     const __m256 one = _mm256_set1_ps(1.0f);
     const __m256 reg = _mm256_set1_ps(inv_snr);
     const __m256 tiny = _mm256_set1_ps(std::numeric_limits<float>::min());
@@ -65,16 +71,26 @@ std::size_t filter_pass_avx2(weight_rule rule,
         const __m256 b =
             _mm256_mul_ps(_mm256_permute_ps(yv, 0xB1), _mm256_movehdup_ps(sv));
         __m256 p = _mm256_addsub_ps(a, _mm256_xor_ps(b, neg));
-        if (rule == weight_rule::wf) {
+        if (rule == weight_rule::scale) {
+            // |m - m0| > tol on a non-empty RE (the ordered compares leave a NaN to the sum)
+            const __m256 dev = _mm256_and_ps(_mm256_sub_ps(m, m0v), magnitude);
+            off = _mm256_or_ps(off,
+                               _mm256_and_ps(_mm256_cmp_ps(dev, tolv, _CMP_GT_OQ),
+                                             _mm256_cmp_ps(m, _mm256_setzero_ps(), _CMP_NEQ_OQ)));
+            p = _mm256_mul_ps(p, reg);
+        } else if (rule == weight_rule::wf) {
             p = _mm256_mul_ps(p, _mm256_div_ps(one, _mm256_add_ps(m, reg)));
         } else if (rule == weight_rule::rf) {
             const __m256 e = _mm256_and_ps(is_empty, one);
             p = _mm256_mul_ps(p,
                               _mm256_div_ps(_mm256_sub_ps(one, e), _mm256_add_ps(m, e)));
         }
+        if (taps2)
+            p = _mm256_mul_ps(p, _mm256_loadu_ps(taps2 + 2 * i));
         _mm256_storeu_ps(reinterpret_cast<float*>(out + i), p);
     }
     sums.empty += empty_lanes / 2;
+    sums.off_modulus = sums.off_modulus || _mm256_movemask_ps(off) != 0;
     sums.sum += hsum(acc);
     return done;
 }
@@ -95,6 +111,23 @@ std::size_t window_pass_avx2(
     return done;
 }
 
+std::size_t copy_pass_avx2(const gr_complex* in, gr_complex* dst, std::size_t n, float& sum)
+{
+    const float* x = reinterpret_cast<const float*>(in);
+    float* d = reinterpret_cast<float*>(dst);
+    __m256 acc0 = _mm256_setzero_ps(), acc1 = _mm256_setzero_ps();
+    const std::size_t done = n / 8 * 8;
+    for (std::size_t j = 0; j < 2 * done; j += 16) { // two accumulators: no add chain stall
+        const __m256 a = _mm256_loadu_ps(x + j), b = _mm256_loadu_ps(x + j + 8);
+        acc0 = _mm256_add_ps(acc0, a);
+        acc1 = _mm256_add_ps(acc1, b);
+        _mm256_storeu_ps(d + j, a);
+        _mm256_storeu_ps(d + j + 8, b);
+    }
+    sum += hsum(_mm256_add_ps(acc0, acc1));
+    return done;
+}
+
 #else
 
 bool avx2_available() { return false; }
@@ -104,6 +137,9 @@ std::size_t filter_pass_avx2(weight_rule,
                              float,
                              gr_complex*,
                              std::size_t,
+                             const float*,
+                             float,
+                             float,
                              pass_sums&)
 {
     return 0;
@@ -113,6 +149,7 @@ window_pass_avx2(const gr_complex*, const float*, gr_complex*, std::size_t, floa
 {
     return 0;
 }
+std::size_t copy_pass_avx2(const gr_complex*, gr_complex*, std::size_t, float&) { return 0; }
 
 #endif
 

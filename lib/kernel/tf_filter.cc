@@ -253,7 +253,7 @@ void tf_filter::set_estimate_snr(bool estimate)
     push_snr();
 }
 
-bool tf_filter::may_be_constant_modulus(const gr_complex* s)
+bool tf_filter::may_be_constant_modulus(const gr_complex* s, float& m0)
 {
     if (!d_cm_path || d_filter->type() == filter_type::MF)
         return false;
@@ -262,15 +262,18 @@ bool tf_filter::may_be_constant_modulus(const gr_complex* s)
     const std::size_t prefix = std::min<std::size_t>(d_vlen, 256);
     float* m = d_s_mag2.data();
     volk_32fc_magnitude_squared_32f(m, s, prefix);
-    float m0 = 0.0f;
+    m0 = 0.0f;
     return std::all_of(m, m + prefix, [](float x) { return x == 0.0f; }) ||
            constant_modulus(m, prefix, m0);
 }
 
-std::size_t tf_filter::process(const gr_complex* y, const gr_complex* s, gr_complex* out)
+std::size_t tf_filter::process(const gr_complex* y,
+                               const gr_complex* s,
+                               gr_complex* out,
+                               const float* taps2)
 {
     const std::size_t n = d_vlen;
-    if (!d_estimate && rx_front::one_pass() && !may_be_constant_modulus(s)) {
+    if (!d_estimate && rx_front::one_pass()) {
         // One pass over y and s (measured: docs/performance.md, issue 16); the guarded
         // path below only when an input is not finite.
         using rx_front::weight_rule;
@@ -282,9 +285,34 @@ std::size_t tf_filter::process(const gr_complex* y, const gr_complex* s, gr_comp
             type == filter_type::WF
                 ? static_cast<float>(1.0 / static_cast<const wf_filter&>(*d_filter).snr_linear())
                 : 0.0f;
-        const rx_front::pass_sums r = rx_front::filter_pass(rule, y, s, inv_snr, out, n);
+        // The constant-modulus shortcut (g = c conj(s)) in the same pass, which also checks
+        // the rest of the vector against the first REs' |s|^2 = m0 (issue 16: the
+        // reference branch's all-ones grid took the guarded path's seven passes); a vector
+        // that fails it is filtered again with the per-RE weights.
+        float m0 = 0.0f;
+        bool cm = may_be_constant_modulus(s, m0);
+        if (cm && m0 == 0.0f) { // an all-empty prefix: the whole vector decides
+            volk_32fc_magnitude_squared_32f(d_s_mag2.data(), s, n);
+            cm = constant_modulus(d_s_mag2.data(), n, m0);
+        }
+        rx_front::pass_sums r;
+        if (cm)
+            r = rx_front::filter_pass(weight_rule::scale,
+                                      y,
+                                      s,
+                                      d_filter->constant_modulus_scale(m0),
+                                      out,
+                                      n,
+                                      taps2,
+                                      m0,
+                                      cm_tolerance * m0);
+        if (!cm || r.off_modulus) {
+            cm = false;
+            r = rx_front::filter_pass(rule, y, s, inv_snr, out, n, taps2);
+        }
         if (std::isfinite(r.sum)) {
             d_empty += r.empty;
+            d_cm_vectors += cm;
             return 0;
         }
     }
@@ -317,6 +345,8 @@ std::size_t tf_filter::process(const gr_complex* y, const gr_complex* s, gr_comp
     } else {
         d_filter->apply(yy, ss, m, out, n);
     }
+    if (taps2) // the same product as range_ifft's window pass
+        rx_front::window_pass(out, taps2, out, n);
     d_nonfinite += bad_y + bad_s;
     return bad_y + bad_s;
 }

@@ -35,7 +35,7 @@ from gnuradio import blocks, fft, gr
 from . import params, progress, recording, results, runtime, scenario
 from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_config,
                            nmse_probe, nr_isac_tx, presum_config, presum_domain, probe_config,
-                           range_ifft,
+                           range_ifft, range_compress, range_compress_config,
                            rd_focuser, scene_echo, tf_filter, bp_config, bp_focuser,
                            moco_order, image_grid, autofocus, autofocus_config)
 from .options import check_out_dir
@@ -148,17 +148,33 @@ def check_memory(rif, foc, symbols, keep, limit_bytes=None):
             f"--presum cheby, a shorter --aperture-s or --images none")
 
 
-def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False):
+def fusable(opts, sc):
+    """Whether --rx-fuse puts range_compress in place of tf_filter -> range_ifft: only where
+    nothing comes between them (full-rate pulses, presum after the IFFT) and one filter
+    thread."""
+    return (opts.rx_fuse == "on" and sc.pulse_symbols == 1 and opts.filter_threads == 1
+            and (opts.presum_factor() == 1 or opts.presum_domain != "tf"))
+
+
+def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=None):
     """The blocks of one branch after its tf_filter: (block taking the filtered TF pulses,
     range IFFT, focuser, presummer or None, [the path as one tuple to connect]). nav: the
     path the presummer compensates and the focuser images along (the data branch: the
     navigation; the reference branch: the truth). focuser=False: the path ends before the
-    focuser (None; the split UAV's graph). autofocus: the data branch (bp_config_of)."""
+    focuser (None; the split UAV's graph). autofocus: the data branch (bp_config_of).
+    fused = (estimate_snr, constant-modulus path): the range IFFT is a range_compress with
+    the branch's filter, taking echo and grid."""
     num, geo, scn = sc.num, sc.geo, sc.scene
     n = num.num_subcarriers
     nfft = fft_size_of(opts, n)
     decim = opts.presum_factor()
-    rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
+    if fused is None:
+        rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
+    else:
+        rif = range_compress(num, range_compress_config(
+            filter=params.make_filter(opts.filter), snr_db=opts.snr_db,
+            estimate_snr=fused[0], fft_size=nfft, r_min_m=crop[0], r_max_m=crop[1]))
+        rif.set_constant_modulus_path(fused[1])
     if not focuser:
         foc = None
     elif opts.focuser in ("bp", "ffbp"):
@@ -282,12 +298,14 @@ class imaging_chain(gr.hier_block2):
         # The data branch images along the navigation, the reference branch (the same
         # flight's noise-free echo) along the truth: PEL and NMSE measure the data, the noise
         # and what the navigation gets wrong (docs/flight.md).
-        entry, rif, foc, pre, paths = receive_path(opts, sc, crop, cfg, sc.navigation,
-                                                   autofocus=True)
+        fuse = fusable(opts, sc)
+        entry, rif, foc, pre, paths = receive_path(
+            opts, sc, crop, cfg, sc.navigation, autofocus=True,
+            fused=(opts.estimate_snr, opts.cm_path == "on") if fuse else None)
         branches = [(entry, paths)]
         if reference:
-            entry_ref, rif_ref, foc_ref, _, paths_ref = receive_path(opts, sc, crop, cfg,
-                                                                     sc.trajectory)
+            entry_ref, rif_ref, foc_ref, _, paths_ref = receive_path(
+                opts, sc, crop, cfg, sc.trajectory, fused=(False, True) if fuse else None)
             branches.append((entry_ref, paths_ref))
         k = foc.num_output_bins()  # the image's bins (the crop minus the guard bins)
         vec = gr.sizeof_gr_complex
@@ -301,18 +319,22 @@ class imaging_chain(gr.hier_block2):
         for _, path in branches:
             for blocks_in_path in path:
                 self.connect(*blocks_in_path)
-        tff = data_filter(opts, n)
+        # --rx-fuse: range_compress is filter and range IFFT (it takes echo and grid).
+        tff = rif if fuse else data_filter(opts, n)
         probe = make_probe(opts, sc, foc, cfg, reference)
         self.connect((self, 0), (tff, 0))
         self.connect((self, 1), (tff, 1))
         filters = [tff]
         if reference:
             tff_ref, ones = reference_filter(opts, n)
+            if fuse:
+                tff_ref = rif_ref
             self.connect((self, 2), (tff_ref, 0))
             self.connect(ones, (tff_ref, 1))
             filters.append(tff_ref)
-        for source, (sink, _) in zip(filters, branches):
-            connect_pulses(self, source, sink, sc)
+        if not fuse:
+            for source, (sink, _) in zip(filters, branches):
+                connect_pulses(self, source, sink, sc)
         check_memory(rif, foc, sc.symbols, keep_images)
         # Autofocus on the data branch only: the reference branch is the calibration
         # standard (SPEC 8, the noise-free echo's image), so NMSE and PEL measure how close

@@ -16,6 +16,8 @@ duration; processing time = wall time of the flowgraph. Variants:
     paper TD:  the same behind ofdm_demod, fed the time-domain echo at 122.88 Msps
     sdr20 TD + TX: the sdr20 radar receive path as above (30.72 Msps) and, in the same
                graph, the transmitter pusch_encoder -> nr_isac_tx -> ofdm_mod into a sink
+    paper TF / TD, range_compress: the first two with --rx-fuse on (the filter and the
+               range IFFT in one block, range_compress)
 
 Profile: CPU time of every block thread (/proc/self/task/*/schedstat, sampled while the
 graph runs; GNU Radio names a block's thread after the block) against the time its work()
@@ -115,10 +117,11 @@ def recorded(opts, sc, time_domain):
     return np.array(out.data(), np.complex64), np.array(grid.data(), np.complex64)
 
 
-def run_variant(preset, time_domain, transmit, symbols, chunk=0):
+def run_variant(preset, time_domain, transmit, symbols, chunk=0, fuse="off"):
     """One run: (radio s, wall s, process CPU s, {block: (thread CPU s, work() s)},
-    steady processing rate in radio s per s, [(other thread, CPU s)] busiest first)."""
-    opts = SimOptions(preset=preset, images="none", presum="cheby", decim=10)
+    steady processing rate in radio s per s, [(other thread, CPU s)] busiest first).
+    fuse: --rx-fuse (range_compress in place of tf_filter -> range_ifft)."""
+    opts = SimOptions(preset=preset, images="none", presum="cheby", decim=10, rx_fuse=fuse)
     sc = scenario.of(opts.validate())
     n = sc.num.num_subcarriers
     echo, grid = recorded(opts, sc, time_domain)
@@ -130,6 +133,9 @@ def run_variant(preset, time_domain, transmit, symbols, chunk=0):
                        symbols * (per_symbol if time_domain else 1))
     named = {"tf_filter": rx.filter, "range_ifft": rx.range_ifft, "cheby_presum": rx.presum,
              "rd_focuser": rx.focuser, "nmse_probe": rx.probe}
+    if rx.filter is rx.range_ifft:  # one range_compress
+        named = {"range_compress": named.pop("tf_filter"), **named}
+        del named["range_ifft"]
     tb.connect(src, head)
     if chunk:  # the sample buffer in front of ofdm_demod: up to `chunk` symbols per call
         head.set_min_output_buffer(2 * chunk * per_symbol)
@@ -171,11 +177,14 @@ def run_variant(preset, time_domain, transmit, symbols, chunk=0):
 CHUNK = 16
 VARIANTS = (("paper TF", "paper", False, False), ("paper TD", "paper", True, False),
             ("sdr20 TD + TX", "sdr20", True, True))
+# The same paths with range_compress (--rx-fuse on): the filter and the IFFT in one pass.
+FUSED = (("paper TF, range_compress", "paper", False, False),
+         ("paper TD, range_compress", "paper", True, False))
 
 
 def run(quick=False):
     symbols = 4800 if quick else 24000
-    rows = []
+    rows, unfused = [], {}
     radio, _, proc_default, _, _, _ = run_variant("paper", True, False, symbols)
     for label, preset, td, tx in VARIANTS:
         radio, wall, proc, profile, steady, _ = run_variant(preset, td, tx, symbols,
@@ -196,6 +205,16 @@ def run(quick=False):
                 f"radar rx path paper TD, {CHUNK}-symbol sample buffer", radio / proc,
                 "GNU Radio's default sample buffer", radio / proc_default,
                 unit="radio s / CPU s"))
+        if label.startswith("paper"):
+            unfused[label] = radio / proc
+    for label, preset, td, tx in FUSED:
+        radio, wall, proc, profile, steady, _ = run_variant(
+            preset, td, tx, symbols, CHUNK if td else 0, fuse="on")
+        rows.append(benchutil.row(
+            f"radar rx path {label}: radio s per CPU s", radio / proc,
+            "tf_filter > range_ifft (run before)", unfused[label.split(",")[0]],
+            unit="radio s / CPU s", **{f"{k}_cpu_per_radio_s": round(c / radio, 4)
+                                       for k, (c, _) in profile.items()}))
     return rows
 
 
@@ -205,9 +224,11 @@ def main():
     p.add_argument("--quick", action="store_true")
     a = p.parse_args()
     symbols = 4800 if a.quick else 24000
-    for label, preset, td, tx in VARIANTS + (("paper TD, default buffer", "paper", True, False),):
+    for label, preset, td, tx in (VARIANTS + FUSED +
+                                  (("paper TD, default buffer", "paper", True, False),)):
         chunk = CHUNK if td and "default" not in label else 0
-        radio, wall, proc, profile, steady, others = run_variant(preset, td, tx, symbols, chunk)
+        radio, wall, proc, profile, steady, others = run_variant(
+            preset, td, tx, symbols, chunk, fuse="on" if "range_compress" in label else "off")
         print(f"{label}: radio {radio:.3f} s, wall {wall:.3f} s with start-up, steady rate "
               f"x{steady:.2f} real time; process CPU {proc:.3f} s = {proc / radio:.2f} CPU s "
               f"per radio s; load {os.getloadavg()[0]:.1f}")

@@ -25,6 +25,7 @@ namespace py = pybind11;
     void bind_scene_echo(py::module& m);
     void bind_tf_filter(py::module& m);
     void bind_range_ifft(py::module& m);
+    void bind_range_compress(py::module& m);
     void bind_rd_focuser(py::module& m);
     void bind_nmse_probe(py::module& m);
     void bind_image_metrics(py::module& m);
@@ -79,6 +80,7 @@ PYBIND11_MODULE(nrsar_python, m)
     bind_scene_echo(m);
     bind_tf_filter(m);
     bind_range_ifft(m);
+    bind_range_compress(m);
     bind_rd_focuser(m);
     bind_nmse_probe(m);
     bind_image_metrics(m);

@@ -73,6 +73,12 @@ public:
 
     //! in: symbol_length() samples, out: n() REs.
     void execute(const gr_complex* in, gr_complex* out);
+    /*!
+     * execute() when every sample of in is finite (the copy into the transform's input
+     * carries the check: one pass over the symbol); false, and out untouched, when one is
+     * not (the caller then guards the input and calls execute()).
+     */
+    bool execute_if_finite(const gr_complex* in, gr_complex* out);
 
     unsigned n() const { return d_n; }
     unsigned fft_size() const { return d_fft_size; }
@@ -81,6 +87,9 @@ public:
     unsigned symbol_length() const { return d_cp + d_fft_size; }
 
 private:
+    //! The transform of the window in the FFT's input, scaled into the n() REs of out.
+    void transform(gr_complex* out);
+
     unsigned d_n, d_fft_size, d_cp, d_k0, d_fft_start;
     float d_scale;
     std::unique_ptr<gr::fft::fft_complex_fwd> d_fft;

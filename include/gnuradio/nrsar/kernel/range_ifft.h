@@ -62,6 +62,18 @@ public:
      */
     std::size_t execute(const gr_complex* in, gr_complex* out);
 
+    /*!
+     * The two halves of execute() for a caller that writes the windowed symbol itself
+     * (kernel::range_compress: the filter's pass writes it, so the symbol is touched once):
+     * input() is the transform's zero-padded input, of which the first n() samples are the
+     * caller's to write (w[n] x[n] / sqrt(N), finite); the padding stays zero. transform()
+     * runs the IFFT on it and writes the num_bins() cropped bins to out.
+     */
+    gr_complex* input() { return d_fft->get_inbuf(); }
+    void transform(gr_complex* out);
+    //! w[n] / sqrt(N) for each float of the n() complex inputs (each tap twice).
+    const float* window_taps2() const { return d_taps.data(); }
+
     void set_window(gr::fft::window::win_type window, double window_param);
 
     unsigned n() const { return d_n; }

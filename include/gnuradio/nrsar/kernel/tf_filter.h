@@ -184,9 +184,14 @@ public:
 
     /*!
      * Filters one vector of vlen REs: y (echo), s (reference), out. Returns the number of
-     * non-finite input samples (in y or s) that were replaced by 0.
+     * non-finite input samples (in y or s) that were replaced by 0. taps2 (optional): a
+     * window, each RE's real tap twice (range_ifft::window_taps2()), multiplied into out
+     * after the filter in the same pass (kernel::range_compress).
      */
-    std::size_t process(const gr_complex* y, const gr_complex* s, gr_complex* out);
+    std::size_t process(const gr_complex* y,
+                        const gr_complex* s,
+                        gr_complex* out,
+                        const float* taps2 = nullptr);
 
     void set_filter_type(filter_type type);
     void set_snr_db(double snr_db);
@@ -224,8 +229,9 @@ public:
     std::uint64_t nonfinite_count() const { return d_nonfinite; }
 
 private:
-    //! False when the first REs of s already fail the constant-modulus check.
-    bool may_be_constant_modulus(const gr_complex* s);
+    //! False when the first REs of s already fail the constant-modulus check; m0: their
+    //! common |s|^2 (0 when they are all empty).
+    bool may_be_constant_modulus(const gr_complex* s, float& m0);
 
     unsigned d_vlen;
     double d_snr_db;
