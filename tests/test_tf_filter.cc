@@ -330,8 +330,9 @@ TEST_P(ConstantModulus, ShortcutMatchesGeneralPathAndFormula)
             // shortcut vs per-RE weights: float rounding apart (relative 1e-6)
             EXPECT_NEAR(std::abs(cd(a[i]) - cd(b[i])), 0.0, 1e-6 * (1e-30 + std::abs(cd(b[i]))))
                 << i;
-            if (d.s[i] == gr_complex(0, 0))
+            if (d.s[i] == gr_complex(0, 0)) {
                 EXPECT_EQ(a[i], gr_complex(0, 0));
+            }
         }
     }
 }

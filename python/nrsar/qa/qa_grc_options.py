@@ -115,10 +115,10 @@ class qa_grc_options(gr_unittest.TestCase):
         self.blocks = load_blocks()
 
     def test_every_block_definition_loaded(self):
-        # the 18 C++ blocks of the module (docs/architecture.md), the imaging_chain hier
+        # the 19 C++ blocks of the module (docs/architecture.md), the imaging_chain hier
         # block, image_sink's Python GeoTIFF writer and the split chain's uav_link and
         # ground_link, one .block.yml each
-        self.assertEqual(len(self.blocks), 22)
+        self.assertEqual(len(self.blocks), 23)
         self.assertTrue(all(k.startswith("nrsar_") for k in self.blocks))
 
     def test_builders_map_each_name_to_its_member(self):
