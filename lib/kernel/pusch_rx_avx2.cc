@@ -5,12 +5,13 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
-// AVX2 path of pusch_rx's equaliser: 8 REs at a time, the operations of the generic pass in
-// its order (no FMA: the same floats). This file alone is compiled with -mavx2
-// (lib/CMakeLists.txt) and called only after a runtime CPU check. No std:: templates here.
+// AVX2 path of pusch_rx's equaliser: 8 REs at a time, the operations of the generic pass
+// in its order (no FMA: the same floats). This file alone is compiled with -mavx2
+// (lib/CMakeLists.txt) and called only after a runtime CPU check. No std:: templates
+// here.
 
-#include "pusch_rx_impl.h"
 #include "cpu_features.h"
+#include "pusch_rx_impl.h"
 
 #if defined(__AVX2__)
 #include <immintrin.h>
@@ -44,20 +45,22 @@ std::uint32_t equalise_avx2(const gr_complex* y,
     __m256i bad = _mm256_setzero_si256();
     unsigned k = 0;
     for (; k + 8 <= n; k += 8) {
-        const __m256 h0 = _mm256_loadu_ps(hf + 2 * k), h1 = _mm256_loadu_ps(hf + 2 * k + 8);
-        const __m256 y0 = _mm256_loadu_ps(yf + 2 * k), y1 = _mm256_loadu_ps(yf + 2 * k + 8);
+        const __m256 h0 = _mm256_loadu_ps(hf + 2 * k),
+                     h1 = _mm256_loadu_ps(hf + 2 * k + 8);
+        const __m256 y0 = _mm256_loadu_ps(yf + 2 * k),
+                     y1 = _mm256_loadu_ps(yf + 2 * k + 8);
         const __m256 hr = _mm256_shuffle_ps(h0, h1, _MM_SHUFFLE(2, 0, 2, 0));
         const __m256 hi = _mm256_shuffle_ps(h0, h1, _MM_SHUFFLE(3, 1, 3, 1));
         const __m256 yr = _mm256_shuffle_ps(y0, y1, _MM_SHUFFLE(2, 0, 2, 0));
         const __m256 yi = _mm256_shuffle_ps(y0, y1, _MM_SHUFFLE(3, 1, 3, 1));
         // max(floor, a) returns a when a is NaN, as std::max(a, floor) does
-        const __m256 gk =
-            _mm256_max_ps(floor, _mm256_add_ps(_mm256_mul_ps(hr, hr), _mm256_mul_ps(hi, hi)));
+        const __m256 gk = _mm256_max_ps(
+            floor, _mm256_add_ps(_mm256_mul_ps(hr, hr), _mm256_mul_ps(hi, hi)));
         const __m256 inv = _mm256_div_ps(one, gk);
-        const __m256 xr =
-            _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(yr, hr), _mm256_mul_ps(yi, hi)), inv);
-        const __m256 xi =
-            _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(yi, hr), _mm256_mul_ps(yr, hi)), inv);
+        const __m256 xr = _mm256_mul_ps(
+            _mm256_add_ps(_mm256_mul_ps(yr, hr), _mm256_mul_ps(yi, hi)), inv);
+        const __m256 xi = _mm256_mul_ps(
+            _mm256_sub_ps(_mm256_mul_ps(yi, hr), _mm256_mul_ps(yr, hi)), inv);
         const __m256 v = _mm256_mul_ps(vs2, inv);
         // unpack restores the interleaved layout of the loads
         _mm256_storeu_ps(xf + 2 * k, _mm256_unpacklo_ps(xr, xi));
@@ -65,9 +68,15 @@ std::uint32_t equalise_avx2(const gr_complex* y,
         _mm256_storeu_ps(nv + k, _mm256_permutevar8x32_ps(v, natural));
         _mm256_storeu_ps(g + k, _mm256_permutevar8x32_ps(gk, natural));
         // exponent all ones: inf or NaN
-        bad = _mm256_or_si256(bad, _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_castps_si256(xr), expo), expo));
-        bad = _mm256_or_si256(bad, _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_castps_si256(xi), expo), expo));
-        bad = _mm256_or_si256(bad, _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_castps_si256(v), expo), expo));
+        bad = _mm256_or_si256(
+            bad,
+            _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_castps_si256(xr), expo), expo));
+        bad = _mm256_or_si256(
+            bad,
+            _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_castps_si256(xi), expo), expo));
+        bad = _mm256_or_si256(
+            bad,
+            _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_castps_si256(v), expo), expo));
     }
     std::uint32_t any = _mm256_movemask_epi8(bad) != 0;
     if (k < n)

@@ -67,11 +67,10 @@ def uplink(preset, slots, snr_db, seed=1, periodic=False):
     return num, cfg, x.astype(np.complex64), pdus
 
 
-def run(preset="sdr20", slots=200, snr_db=35.0, threads=1):
-    num, cfg, x, pdus = uplink(preset, slots, snr_db)
-    cfg.max_iterations = 8
+def base_station(src, num, cfg, threads):
+    """src -> ofdm_sync -> ofdm_demod -> pusch_receiver run to the end: (wall s, process CPU s,
+    the receiver, each block's work time [s])."""
     tb = gr.top_block()
-    src = blocks.vector_source_c(x.tolist(), False)
     sync = nrsar.ofdm_sync(num, cfg.dmrs)
     demod = nrsar.ofdm_demod(num)
     rx = nrsar.pusch_receiver(cfg)
@@ -80,10 +79,17 @@ def run(preset="sdr20", slots=200, snr_db=35.0, threads=1):
     wall, cpu = time.perf_counter(), time.process_time()
     runtime.run(tb)
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    work = {name: b.pc_work_time_total() / 1e9
+            for name, b in (("ofdm_sync", sync), ("ofdm_demod", demod), ("pusch_receiver", rx))}
+    return wall, cpu, rx, work
+
+
+def run(preset="sdr20", slots=200, snr_db=35.0, threads=1):
+    num, cfg, x, pdus = uplink(preset, slots, snr_db)
+    cfg.max_iterations = 8
+    wall, cpu, rx, blocks_cpu = base_station(blocks.vector_source_c(x.tolist(), False), num,
+                                             cfg, threads)
     air = slots * num.symbols_per_slot * num.symbol_s()
-    blocks_cpu = {name: b.pc_work_time_total() / 1e9
-                  for name, b in (("ofdm_sync", sync), ("ofdm_demod", demod),
-                                  ("pusch_receiver", rx))}
     return {"preset": preset, "slots": slots, "snr_db": snr_db, "threads": threads, "air_s": air, "wall_s": wall,
             "cpu_s": cpu, "realtime_factor": air / wall, "cores_needed": cpu / air,
             "block_cpu_per_air": {k: v / air for k, v in blocks_cpu.items()},
@@ -144,20 +150,9 @@ def run_paced(preset="sdr20", seconds=10.0, snr_db=35.0, threads=2, fifo_ms=2.0)
     num, cfg, x, _ = uplink(preset, slots, snr_db, periodic=True)
     cfg.max_iterations = 8
     fs = num.sample_rate_hz()
-    tb = gr.top_block()
     src = paced_source(x, fs, seconds, int(fifo_ms * 1e-3 * fs))
     src.set_min_output_buffer(1 << 16)
-    sync = nrsar.ofdm_sync(num, cfg.dmrs)
-    demod = nrsar.ofdm_demod(num)
-    rx = nrsar.pusch_receiver(cfg)
-    rx.set_threads(threads)
-    tb.connect(src, sync, demod, rx)
-    wall, cpu = time.perf_counter(), time.process_time()
-    runtime.run(tb)
-    wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
-    blocks_cpu = {name: b.pc_work_time_total() / 1e9
-                  for name, b in (("ofdm_sync", sync), ("ofdm_demod", demod),
-                                  ("pusch_receiver", rx))}
+    wall, cpu, rx, blocks_cpu = base_station(src, num, cfg, threads)
     return {"preset": preset, "air_s": seconds, "threads": threads, "fifo_ms": fifo_ms,
             "wall_s": wall, "wall_over_air": wall / seconds, "cpu_s": cpu,
             "cores_used": cpu / seconds, "overflows": src.overflows(),
