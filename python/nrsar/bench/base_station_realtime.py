@@ -157,6 +157,7 @@ def run_paced(preset="sdr20", seconds=10.0, snr_db=35.0, threads=2, fifo_ms=2.0)
             "wall_s": wall, "wall_over_air": wall / seconds, "cpu_s": cpu,
             "cores_used": cpu / seconds, "overflows": src.overflows(),
             "dropped_samples": src.dropped(), "first_overflow_s": src.first,
+            "symbols_received": int(rx.nitems_read(0)),
             "block_cpu_per_air": {k: v / seconds for k, v in blocks_cpu.items()},
             "blocks_ok": int(rx.blocks_ok()), "blocks_failed": int(rx.blocks_failed()),
             "ldpc_iterations_mean": rx.ldpc_iterations_mean(),
