@@ -115,6 +115,8 @@ bench: build install
 			--benchmark_out=docs/bench/$$(basename $$b).csv; \
 	done
 	$(PREFIX)/bin/nrsar-bench --out docs/bench
+	/usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --published --blocks 1000 \
+		> docs/bench/nr_bler_published.md
 
 # perf: soak test (issue #8), on demand, not in make test: 10 minutes of radar time at
 # paper scale through the whole chain; fails when the RSS grows (docs/soak.md).

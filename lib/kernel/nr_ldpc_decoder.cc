@@ -17,7 +17,7 @@ namespace nrsar {
 namespace kernel {
 namespace ldpc_detail {
 
-bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
+bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc, std::int8_t offset)
 {
     std::int8_t min1[lanes], min2[lanes], sgn[lanes], sgnl[lanes];
     bool ok = true;
@@ -43,7 +43,7 @@ bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, un
             std::int8_t* pr = r + e * zp + v;
             for (unsigned z = 0; z < lanes; z++) {
                 const int x = pt[z];
-                const int m = std::abs(x) == min1[z] ? min2[z] - (min2[z] >> 2) : min1[z] - (min1[z] >> 2);
+                const int m = std::max((std::abs(x) == min1[z] ? min2[z] : min1[z]) - offset, 0);
                 const int s = (sgn[z] ^ x) < 0 ? -m : m;
                 pr[z] = static_cast<std::int8_t>(s);
                 pt[z] = static_cast<std::int8_t>(std::clamp(x + s, -127, 127));
@@ -194,6 +194,7 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
     const double target = std::clamp(168.0 / (1.0 + d_max), 8.0, 32.0);
     const double root_mean = count > 0.0 ? sum / count : 0.0;
     const float scale = root_mean > 0.0 ? static_cast<float>(target / (root_mean * root_mean)) : 1.0f;
+    d_offset = static_cast<std::int8_t>(std::min(std::lround(offset_llr * scale), 127L));
     std::fill(d_l.begin(), d_l.begin() + 2 * d_zp, 0);
     for (std::size_t j = 2; j < d_cols; j++) {
         const float* in = llr + (j - 2) * d_zc;
@@ -208,8 +209,9 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
     return run(c);
 }
 
-nr_ldpc_decode_result nr_ldpc_decoder::decode_int8(const std::int8_t* llr, std::uint8_t* c)
+nr_ldpc_decode_result nr_ldpc_decoder::decode_int8(const std::int8_t* llr, std::uint8_t* c, std::int8_t offset)
 {
+    d_offset = std::max<std::int8_t>(offset, 0);
     std::fill(d_l.begin(), d_l.end(), 0);
     for (std::size_t j = 2; j < d_cols; j++) {
         const std::int8_t* in = llr + (j - 2) * d_zc;
@@ -274,8 +276,8 @@ nr_ldpc_decode_result nr_ldpc_decoder::run(std::uint8_t* c)
         for (const layer& ly : d_active) {
             gather(ly);
             std::int8_t* r = d_r.data() + std::size_t{ ly.first_edge } * zp;
-            const bool ok = d_simd ? layer_avx2(t, r, ly.degree, zp, zc)
-                                   : layer_generic(t, r, ly.degree, zp, zc);
+            const bool ok = d_simd ? layer_avx2(t, r, ly.degree, zp, zc, d_offset)
+                                   : layer_generic(t, r, ly.degree, zp, zc, d_offset);
             if (!ok)
                 d_failed.push_back(&ly);
             for (unsigned k = 0; k < ly.degree; k++) { // scatter back

@@ -23,11 +23,11 @@ namespace ldpc_detail {
 
 bool avx2_available() { return cpu_supports_avx2(); }
 
-bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
+bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc, std::int8_t offset)
 {
     const __m256i lo = _mm256_set1_epi8(-127);
     const __m256i one = _mm256_set1_epi8(1);
-    const __m256i low6 = _mm256_set1_epi8(0x3f);
+    const __m256i off = _mm256_set1_epi8(offset);
     const __m256i ramp = _mm256_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16,
                                           17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30, 31);
     __m256i bad = _mm256_setzero_si256();
@@ -45,9 +45,9 @@ bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsig
             min1 = _mm256_min_epi8(min1, a);
             sgn = _mm256_xor_si256(sgn, x);
         }
-        // 0.75 m = m - (m >> 2) on bytes (0 <= m <= 127): a 16-bit shift, masked per byte.
-        const __m256i m1 = _mm256_sub_epi8(min1, _mm256_and_si256(_mm256_srli_epi16(min1, 2), low6));
-        const __m256i m2 = _mm256_sub_epi8(min2, _mm256_and_si256(_mm256_srli_epi16(min2, 2), low6));
+        // max(m - offset, 0): unsigned saturating subtraction (0 <= m <= 127)
+        const __m256i m1 = _mm256_subs_epu8(min1, off);
+        const __m256i m2 = _mm256_subs_epu8(min2, off);
         for (unsigned e = 0; e < deg; e++) {
             __m256i* pt = reinterpret_cast<__m256i*>(t + e * zp + v);
             __m256i* pr = reinterpret_cast<__m256i*>(r + e * zp + v);
@@ -153,7 +153,7 @@ namespace nrsar {
 namespace kernel {
 namespace ldpc_detail {
 bool avx2_available() { return false; }
-bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc)
+bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc, std::int8_t offset)
 {
     return layer_generic(t, r, deg, zp, zc);
 }

@@ -22,14 +22,14 @@ namespace ldpc_detail {
 constexpr unsigned lanes = 32; //!< int8 lanes of an AVX2 register; zp is a multiple of it
 
 /*!
- * Min-sum update of one layer: t holds the deg gathered a-posteriori columns (deg x zp,
+ * Offset min-sum update of one layer (messages max(min' - offset, 0), offset >= 0): t holds the deg gathered a-posteriori columns (deg x zp,
  * column e at t + e zp), r their check-to-variable messages; both are updated in place.
  * Returns true when, after the update, the product of the signs of t is positive in
  * every lane below zc (the row's parity check holds on its new hard decisions).
  */
-bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc);
+bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc, std::int8_t offset);
 bool avx2_available();
-bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc);
+bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc, std::int8_t offset);
 
 /*!
  * out[k] = round(clamp(in[k] scale, -63, 63)) (to nearest, ties to even), NaN -> 0,

@@ -6,6 +6,7 @@
  */
 
 #include "param_check.h"
+#include "pusch_rx_impl.h"
 #include <gnuradio/nrsar/kernel/dmrs.h>
 #include <gnuradio/nrsar/kernel/pusch_rx.h>
 #include <algorithm>
@@ -27,16 +28,18 @@ const dmrs_config& checked_dmrs(const numerology& num, const dmrs_config& dmrs)
     check_at_least("num_subcarriers", num.num_subcarriers, 6u);
     return dmrs;
 }
-// x = y conj(h) / |h|^2 and nv = sigma^2 / |h|^2 for n REs; returns sum |h|^2 (in
-// double). Branch-free so that it vectorises; non-finite results (overflow on garbage
-// input) are found after the pass and become erasures.
-double equalise(const gr_complex* __restrict y,
-                const gr_complex* __restrict h,
-                float s2,
-                unsigned n,
-                gr_complex* __restrict x,
-                float* __restrict nv,
-                float* __restrict g)
+} // namespace
+
+namespace pusch_detail {
+
+// Branch-free so that it vectorises for the baseline ISA too.
+std::uint32_t equalise_generic(const gr_complex* __restrict y,
+                               const gr_complex* __restrict h,
+                               float s2,
+                               unsigned n,
+                               gr_complex* __restrict x,
+                               float* __restrict nv,
+                               float* __restrict g)
 {
     const float* yf = reinterpret_cast<const float*>(y);
     const float* hf = reinterpret_cast<const float*>(h);
@@ -61,6 +64,20 @@ double equalise(const gr_complex* __restrict y,
                static_cast<std::uint32_t>((ui & 0x7f800000u) == 0x7f800000u) |
                static_cast<std::uint32_t>((uv & 0x7f800000u) == 0x7f800000u);
     }
+    return bad;
+}
+
+} // namespace pusch_detail
+
+// x = y conj(h) / |h|^2 and nv = sigma^2 / |h|^2 for n REs (AVX2 or generic pass, the same
+// floats); returns sum |h|^2 (in double). Non-finite results (overflow on garbage input)
+// are found by the pass and become erasures.
+double pusch_rx::equalise(const gr_complex* y, float s2, unsigned n, gr_complex* x, float* nv)
+{
+    const gr_complex* h = d_h.data();
+    float* g = d_g.data();
+    const std::uint32_t bad = d_simd ? pusch_detail::equalise_avx2(y, h, s2, n, x, nv, g)
+                                     : pusch_detail::equalise_generic(y, h, s2, n, x, nv, g);
     if (bad)
         for (unsigned k = 0; k < n; k++)
             if (!std::isfinite(x[k].real()) || !std::isfinite(x[k].imag()) || !std::isfinite(nv[k])) {
@@ -74,7 +91,6 @@ double equalise(const gr_complex* __restrict y,
         sum += g[k];
     return sum;
 }
-} // namespace
 
 pusch_rx::pusch_rx(const pusch_config& cfg)
     : d_num(cfg.num),
@@ -82,7 +98,8 @@ pusch_rx::pusch_rx(const pusch_config& cfg)
       d_demapper(cfg.mod),
       d_codec(cfg),
       d_window(cfg.freq_window),
-      d_cfg(cfg)
+      d_cfg(cfg),
+      d_simd(pusch_detail::avx2_available())
 {
     const unsigned n = d_num.num_subcarriers;
     for (unsigned l = 0; l < d_num.symbols_per_slot; l++)
@@ -109,6 +126,8 @@ void pusch_rx::set_threads(unsigned threads)
     d_codec.set_threads(threads);
     d_threads = threads;
 }
+
+void pusch_rx::set_simd(bool allow) { d_simd = allow && pusch_detail::avx2_available(); }
 
 pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, gr_complex* eq)
 {
@@ -213,7 +232,7 @@ pusch_slot_result pusch_rx::process(const gr_complex* grid, std::uint64_t slot, 
         }
         gr_complex* x = d_x.data() + s * n;
         float* nv = d_nv.data() + s * n;
-        gain += equalise(y, d_h.data(), static_cast<float>(sigma2), n, x, nv, d_g.data());
+        gain += equalise(y, static_cast<float>(sigma2), n, x, nv);
     }
     // the EVM comes with the LLRs: distance of each RE to its nearest point
     d_demapper.demap(d_x.data(), d_nv.data(), d_data_res, d_llr.data(), &evm);

@@ -202,7 +202,7 @@ def record_meta(opts, sc, tmp, sink, dmrs, payload):
         payload=(opts.payload, payload),
         echo={"model": "td_echo", "taps": opts.echo_taps, "noise": "td_echo",
               "noise_seed": opts.seed + 1},
-        gaps=recording.file_gaps(gaps))
+        gaps=recording.file_gaps(gaps), tx_underruns=recording.SIMULATED_TX_UNDERRUNS)
 
 
 def check_link(opts, num):

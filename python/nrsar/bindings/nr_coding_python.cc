@@ -304,7 +304,7 @@ void bind_nr_coding(py::module& m)
         py::arg("llrs"),
         py::arg("base_graph"),
         py::arg("max_iter") = 8,
-        "Layered normalised min-sum (int8, AVX2) decoding of N LLRs of d (1-D, or 2-D C x N; "
+        "Layered offset min-sum (int8, AVX2; offset 0.5 in LLR units) decoding of N LLRs of d (1-D, or 2-D C x N; "
         "positive = bit 0, 0 = punctured, +inf = filler). Returns (bits c of K = 22 Zc / 10 Zc, "
         "fillers 0; iterations; parity_ok), per row for 2-D input.");
     m.def(

@@ -14,6 +14,8 @@ the constellation (normal_approximation_snr_db): the reference the curves are he
 
 Run: /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler [--blocks 100] [--max-iter 20]
      [--only qam64:4,qam256:24]
+     /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --published [--blocks 1000]
+--published: the decoder against AFF3CT's published 5G NR LDPC curves (PUBLISHED).
 """
 
 import argparse
@@ -59,6 +61,47 @@ def bler_curve(table, mcs, n_prb, snrs_db, blocks, max_iter, seed=1, rvs=(0,)):
     return {"table": table, "mcs": mcs, "qm": qm, "tbs": a, "g": g, "code_rate": rate,
             "info_rate": info_rate, "shannon_db": 10 * np.log10(2 ** info_rate - 1),
             "snr_db": list(snrs_db), "bler": out}
+
+
+# Published FER of the NR LDPC code over BPSK-AWGN: AFF3CT's error_rate_references
+# (github.com/aff3ct/error_rate_references, LDPC/AWGN/BPSK/BP_HORIZONTAL_LAYERED/{SPA,OMS}/
+# LDPC_N<E>_K<K'>_hlayered_{SPA,OMS}_i10_5G.txt, AFF3CT v4.4-4.5, >= 100 frame errors per
+# point): K' information bits, BG and Zc of 38.212, rv 0 rate matching to E bits (the 2 Zc
+# first columns punctured, fillers skipped and known), horizontal layered decoding, 10
+# iterations without syndrome stop, float32, SPA (belief propagation) and offset min-sum
+# (offset 0.5). {(bg, zc, K', E): {decoder: [(Eb/N0 dB, FER), ...]}}
+PUBLISHED = {
+    (1, 288, 6144, 12288): {
+        "SPA": [(1.0, 0.597), (1.1, 0.327), (1.2, 0.0664), (1.3, 0.0101), (1.4, 9.06e-4)],
+        "OMS 0.5": [(1.2, 0.661), (1.3, 0.257), (1.4, 0.0617), (1.5, 7.98e-3), (1.6, 4.11e-4)],
+    },
+    (2, 64, 512, 1024): {
+        "SPA": [(1.0, 0.505), (1.25, 0.246), (1.5, 0.0738), (1.75, 0.0202), (2.0, 3.65e-3),
+                (2.25, 6.28e-4)],
+        "OMS 0.5": [(1.25, 0.384), (1.5, 0.186), (1.75, 0.0556), (2.0, 9.14e-3),
+                    (2.25, 1.14e-3)],
+    },
+}
+
+
+def bpsk_fer(bg, zc, k_prime, e, ebn0_db, frames, max_iter=10, seed=1):
+    """Frame error rate of nrsar.ldpc_decode over BPSK-AWGN in the set-up of PUBLISHED:
+    K' random bits and K - K' fillers, ldpc_encode, rate_match(rv 0) to E bits, LLRs
+    2 y / sigma^2 at Eb/N0 = Es/N0 - 10 log10(K' / E), rate_recover, at most max_iter
+    iterations. Returns the number of frames whose K' bits came back wrong."""
+    k = (22 if bg == 1 else 10) * zc  # K of 38.212 5.3.2
+    rng = np.random.default_rng(seed)
+    sigma2 = 1.0 / (2.0 * 10 ** ((ebn0_db + 10 * np.log10(k_prime / e)) / 10))
+    errors = 0
+    for _ in range(frames):
+        info = rng.integers(0, 2, k_prime).astype(np.int8)
+        d = nrsar.ldpc_encode(np.concatenate([info, -np.ones(k - k_prime, np.int8)]), bg)
+        x = nrsar.rate_match(d, e, 0, 1, bg)
+        y = 1.0 - 2.0 * x + np.sqrt(sigma2) * rng.normal(size=e)
+        soft = nrsar.rate_recover((2.0 * y / sigma2).astype(np.float32), bg, zc, k_prime, 0, 1)
+        c, _, _ = nrsar.ldpc_decode(soft, bg, max_iter)
+        errors += not np.array_equal(c[:k_prime], info)
+    return errors
 
 
 def bicm_capacity_dispersion(qm, snr_db, symbols=100000, seed=7):
@@ -125,10 +168,32 @@ def main(argv=None):
     parser.add_argument("--max-iter", type=int, default=20, help="LDPC iterations at most")
     parser.add_argument("--only", default="",
                         help="table:mcs,... of CASES to run (default: all)")
+    parser.add_argument("--published", action="store_true",
+                        help="instead: BPSK FER against AFF3CT's published curves "
+                             "(PUBLISHED), --blocks frames per point, 10 iterations")
     parser.add_argument("--harq", action="store_true",
                         help="HARQ gain instead: qam64 MCS 13 sent once (rv 0) and twice "
                              "(rv 0 + rv 2, combined)")
     args = parser.parse_args(argv)
+    if args.published:
+        print("| code | Eb/N0 (dB): FER, ours | ours 10 % / 1 % | SPA 10 % / 1 % | "
+              "OMS 0.5 10 % / 1 % | ours - SPA at 10 % / 1 % |")
+        print("|---|---|---|---|---|---|")
+        for (bg, zc, kp, e), pub in PUBLISHED.items():
+            pts = np.round(np.arange(pub["SPA"][0][0], pub["SPA"][-1][0] + 0.76, 0.1), 2)
+            fer = [bpsk_fer(bg, zc, kp, e, p, args.blocks) / args.blocks for p in pts]
+            ours = {"snr_db": list(pts), "bler": fer}
+            at = {name: [snr_at({"snr_db": [p for p, _ in c], "bler": [f for _, f in c]}, t)
+                         for t in (0.1, 0.01)] for name, c in pub.items()}
+            mine = [snr_at(ours, t) for t in (0.1, 0.01)]
+
+            def fmt(v):
+                return "/".join("n/a" if x is None else f"{x:.2f}" for x in v)
+            gap = [None if m is None or s_ is None else m - s_ for m, s_ in zip(mine, at["SPA"])]
+            print(f"| BG{bg} Zc {zc} K' {kp} E {e} | "
+                  + ", ".join(f"{p:g}: {f:.3f}" for p, f in zip(pts, fer))
+                  + f" | {fmt(mine)} | {fmt(at['SPA'])} | {fmt(at['OMS 0.5'])} | {fmt(gap)} |")
+        return
     if args.harq:
         print("| transmissions | SNR (dB): BLER | BLER 10 % at |")
         print("|---|---|---|")

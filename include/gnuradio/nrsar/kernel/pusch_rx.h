@@ -82,7 +82,14 @@ public:
     void set_threads(unsigned threads);
     unsigned threads() const { return d_threads; }
 
+    //! Use the equaliser's AVX2 path when the CPU has it (default); false forces the generic
+    //! path. Both give the same floats.
+    void set_simd(bool allow);
+    bool simd() const { return d_simd; }
+
 private:
+    double equalise(const gr_complex* y, float s2, unsigned n, gr_complex* x, float* nv);
+
     numerology d_num;
     dmrs_config d_dmrs;
     soft_demapper d_demapper;
@@ -92,6 +99,7 @@ private:
     std::size_t d_data_res;
     std::vector<unsigned> d_data_symbols;
     pusch_config d_cfg;
+    bool d_simd;                       // equaliser's AVX2 path (runtime check)
     bool d_done = false;               // the current TB decoded at an earlier repetition
     unsigned d_transmissions = 0;      // of the current TB, combined so far
     std::uint64_t d_last_slot = ~std::uint64_t{ 0 };
