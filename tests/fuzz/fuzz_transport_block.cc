@@ -5,13 +5,7 @@
  */
 
 // libFuzzer target: arbitrary bytes as LLRs and as TB bytes (MAC PDU) into transport_block_codec
-// decode() and parse() (uncoded and LDPC). Build by hand, e.g.
-//   clang++ -std=c++17 -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude -Ilib \
-//     tests/fuzz/fuzz_transport_block.cc lib/kernel/transport_block.cc \
-//     lib/kernel/gold_sequence.cc lib/kernel/constellation.cc lib/params.cc \
-//     lib/kernel/soft_demapper.cc lib/kernel/pusch_rx.cc lib/kernel/dmrs.cc lib/kernel/nr_*.cc \
-//     -lgnuradio-runtime -lfmt -lvolk -o fuzz_transport_block
-//   ./fuzz_transport_block -max_total_time=60 -max_len=8192 corpus/
+// decode() and parse() (uncoded and LDPC). Built and run by `make fuzz` (tests/fuzz/README.md).
 
 #include <gnuradio/nrsar/kernel/pusch_rx.h>
 #include <gnuradio/nrsar/kernel/transport_block.h>
