@@ -207,6 +207,18 @@ cheby_presum::cheby_presum(const numerology& num,
     }
     }
     d_centre = 0.5 * (d_a + d_b) - d_a;
+    if (cfg.first_output != 0 && d_lms)
+        throw_param("first_output", cfg.first_output,
+                    "must be 0 for LMS: its filter adapts from the stream's first pulse");
+    if (cfg.first_output != 0 && cfg.method == presum_method::CHEBY && !d_los.ideal())
+        throw_param("first_output", cfg.first_output,
+                    "must be 0 with a navigation path: its phase segments chain from the "
+                    "flight's first pulse");
+    // a strip's task: the window of output g0 from its first pulse (class doc)
+    const std::uint64_t g0 = cfg.first_output * cfg.decim;
+    d_first_pulse = g0 > d_a ? g0 - d_a : 0;
+    d_pushed = d_first_pulse;
+    d_out = cfg.first_output;
     d_ring.assign(d_lms ? 0 : static_cast<std::size_t>(d_l) * d_k, gr_complex(0.0f, 0.0f));
     d_ring_t.assign(d_l, 0.0);
     for (unsigned s = 0; s < d_l; ++s) // slots of the pulses before the stream start
@@ -382,6 +394,10 @@ void cheby_presum::set_range_axis(double first_range_m, double range_bin_m)
 void cheby_presum::set_pulse_interval(double seconds)
 {
     check_finite_positive("pulse_interval", seconds);
+    if (d_pushed != d_first_pulse) { // the new interval from this pulse on
+        d_t0 = slow_time(d_pushed);
+        d_p0 = d_pushed;
+    } // before the first pulse: the flight's time base from its pulse 0
     d_t_in = seconds;
     update_segment();
 }
@@ -400,6 +416,7 @@ void cheby_presum::update_segment()
     const double p = std::sqrt(8.0 * 1e-4 / std::max(curv, 1e-300));
     d_seg = static_cast<unsigned>(std::clamp(std::floor(p), 1.0, 64.0));
     d_seg_left = 0;
+    d_seg_origin = d_pushed == d_first_pulse ? 0 : d_pushed; // before the stream: pulse 0
 }
 
 void cheby_presum::path_ranges(double t, double* r) const
@@ -447,12 +464,22 @@ void cheby_presum::start_path_segment(double t)
     d_seg = d_seg_left = p;
 }
 
-void cheby_presum::start_segment(double t)
+double cheby_presum::slow_time(std::uint64_t pulse) const
 {
-    if (!d_los.ideal()) {
-        start_path_segment(t);
+    // a product, not a running sum: a task starting mid-flight gets the same times
+    return d_t0 + static_cast<double>(pulse - d_p0) * d_t_in;
+}
+
+void cheby_presum::start_segment(std::uint64_t pulse)
+{
+    if (!d_los.ideal()) { // segments chain from pulse 0 (first_output is 0 here)
+        start_path_segment(slow_time(pulse));
         return;
     }
+    // Segments start every d_seg pulses from d_seg_origin; a stream that starts inside one
+    // (a strip's task) steps its rows there by the same recurrence as the whole stream.
+    const std::uint64_t start = pulse - (pulse - d_seg_origin) % d_seg;
+    const double t = slow_time(start);
     // Exact rows at t; per-pulse rotation w = exp(+j dphi / P) with dphi the exact
     // (double) phase change over the segment: the phase is interpolated linearly, error
     // at most curvature P^2 / 8 (paper preset: 6e-7 rad per pulse^2 -> 3e-4 rad).
@@ -473,11 +500,13 @@ void cheby_presum::start_segment(double t)
         }
     }
     d_seg_left = d_seg;
+    for (std::uint64_t p = start; p < pulse; ++p, --d_seg_left)
+        volk_32fc_x2_multiply_32fc(d_z.data(), d_z.data(), d_w.data(), d_k);
 }
 
 bool cheby_presum::next_push_completes() const
 {
-    return d_pushed >= d_b && (d_pushed - d_b) % d_cfg.decim == 0;
+    return d_pushed >= d_b + d_out * d_cfg.decim && (d_pushed - d_b) % d_cfg.decim == 0;
 }
 
 std::uint64_t cheby_presum::pulses_needed(std::uint64_t n) const
@@ -493,19 +522,17 @@ bool cheby_presum::push(const gr_complex* in, gr_complex* out)
     if (d_lms) {
         const bool done = d_lms->push(in, out);
         ++d_pushed;
-        d_t_next += d_t_in;
         d_out += done;
         return done;
     }
     const bool completes = next_push_completes();
     const std::size_t slot = d_pushed % d_l;
     gr_complex* dst = d_ring.data() + slot * d_k;
-    const double t = d_t_next;
-    d_ring_t[slot] = t;
+    d_ring_t[slot] = slow_time(d_pushed);
     if (d_cfg.method == presum_method::CHEBY) {
         // u = s exp(+j phi_ref): after this, s_j C(j) of eq. (P-28) is u_j exp(-j phi(t_c)).
         if (d_seg_left == 0)
-            start_segment(t);
+            start_segment(d_pushed);
         volk_32fc_x2_multiply_32fc(dst, in, d_z.data(), d_k);
         volk_32fc_x2_multiply_32fc(d_z.data(), d_z.data(), d_w.data(), d_k);
         --d_seg_left;
@@ -513,7 +540,6 @@ bool cheby_presum::push(const gr_complex* in, gr_complex* out)
         std::memcpy(dst, in, sizeof(gr_complex) * d_k);
     }
     ++d_pushed;
-    d_t_next = t + d_t_in;
     if (!completes)
         return false;
 

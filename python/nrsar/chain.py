@@ -168,15 +168,17 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True):
     if decim == 1:
         return rif, rif, foc, None, [(rif,) + tail]
     method = params.PRESUM_METHODS[opts.presum]
+    # a strip's task: the presummer's first output is the focuser's first line
+    first = foc.stream_first_line() if focuser else 0
     if opts.presum_domain == "tf":  # presum the TF pulses, range-compress D x fewer
         pre = cheby_presum(num, geo, scn, n, cfg=presum_config(
             method=method, decim=decim, domain=presum_domain.TF,
-            symbols_per_pulse=sc.pulse_symbols), nav=nav)
+            symbols_per_pulse=sc.pulse_symbols, first_output=first), nav=nav)
         return pre, rif, foc, pre, [(pre, rif) + tail]
     pre = cheby_presum(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                        rif.range_bin_m(), presum_config(
                            method=method, decim=decim, domain=presum_domain.RANGE,
-                           symbols_per_pulse=sc.pulse_symbols), nav)
+                           symbols_per_pulse=sc.pulse_symbols, first_output=first), nav)
     return rif, rif, foc, pre, [(rif, pre) + tail]
 
 

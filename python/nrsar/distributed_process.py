@@ -103,11 +103,14 @@ def layout(opts, rec):
                           f"(nrsar:trajectory / nrsar:navigation) or --nav is given, whose "
                           f"time axis the strip's apertures would have to cut too")
     sim_opts, sc = _scenario(opts, rec)
-    if sim_opts.presum != "none" or sim_opts.estimate_snr:
-        raise OptionError(f"--presum = {sim_opts.presum!r} / --estimate-snr = "
-                          f"{sim_opts.estimate_snr} with --strip-aperture-s: the presummer's "
-                          f"compensation and the SNR estimate run on the task's own stream "
-                          f"(strip tasks are built for --presum none, no --estimate-snr)")
+    if sim_opts.presum == "lms":
+        raise OptionError("--presum = 'lms' with --strip-aperture-s: its filter adapts from "
+                          "the flight's first pulse, so a task starting mid-flight cannot "
+                          "reproduce it (use cheby, boxcar, drop or filter_drop)")
+    if sim_opts.estimate_snr:
+        raise OptionError(f"--estimate-snr = {sim_opts.estimate_snr} with --strip-aperture-s: "
+                          f"the SNR estimate runs on the task's own stream (strip tasks are "
+                          f"built without --estimate-snr)")
     if rec.gaps:
         raise OptionError(f"--strip-aperture-s with {rec.meta_path}: its {len(rec.gaps)} "
                           f"overflow gaps would shift a task's samples (strips of recordings "
@@ -122,11 +125,14 @@ def layout(opts, rec):
     # the focuser the tasks build, asked for its layout (no FFT plans are made for this)
     sim_opts, sc = _scenario(opts, rec, m)
     crop, guard = chain.range_crop(sim_opts, sc, fft_size_of(sim_opts, rec.num.num_subcarriers))
-    foc = chain.receive_path(sim_opts, sc, crop, chain.focuser_config_of(sim_opts, sc, guard),
-                             sc.navigation)[2]
+    _, _, foc, pre, _ = chain.receive_path(
+        sim_opts, sc, crop, chain.focuser_config_of(sim_opts, sc, guard), sc.navigation)
     shift = foc.line_shift()
     before = foc.overlap_before() if sim_opts.focuser == "rd" else 0
     after = foc.overlap_after() if sim_opts.focuser == "rd" else 0
+    # a presummer's output line g needs the pulses [g D - history, g D + lookahead]
+    d = sim_opts.presum_factor()
+    history, lookahead = (pre.history(), pre.lookahead()) if pre else (0, 0)
     slices = []
     for a in range(total // m):
         lo, hi = a * m, a * m + m
@@ -134,7 +140,9 @@ def layout(opts, rec):
             lo, hi = lo + shift - before, hi + shift + after
         lo = 0 if a == 0 else max(0, lo)
         hi = min(total, hi)  # a block past the end (overlap below the shift) reads nothing
-        slices.append(Slice(a, 1, m, lo * step, max(0, hi - lo) * step))
+        first = max(0, lo * d - history)  # pulses
+        end = min(total * d, (hi - 1) * d + lookahead + 1) if hi > lo else first
+        slices.append(Slice(a, 1, m, first * sc.pulse_symbols, (end - first) * sc.pulse_symbols))
     return Layout(m, step, total, before, after, shift, slices)
 
 
@@ -166,11 +174,11 @@ def focus_slice(opts, meta_path, sl):
     tb = gr.top_block("nrsar-strip")
     tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
     graph = chain.build(tb, sim_opts, sc, tx=tx, echo_front=process.recording_front(part))
-    step = sc.pulse_symbols * sim_opts.presum_factor()
-    if graph["focuser"].stream_first_line() * step != sl.first:
-        raise RuntimeError(f"aperture {sl.index}: the focuser expects its stream from line "
-                           f"{graph['focuser'].stream_first_line()}, the slice starts at "
-                           f"symbol {sl.first}")
+    pre = graph["presum"]  # its first output is the focuser's first line
+    first = pre.first_pulse() if pre else graph["focuser"].stream_first_line()
+    if first * sc.pulse_symbols != sl.first:
+        raise RuntimeError(f"aperture {sl.index}: the chain expects its stream from pulse "
+                           f"{first}, the slice starts at symbol {sl.first}")
     k = graph["focuser"].num_output_bins()
     if sl.symbols == 0:  # its block lies past the recording's end: zeros, as one graph's
         return {"index": sl.index, "image": np.zeros((sl.apertures * sl.lines, k), np.complex64),

@@ -170,6 +170,27 @@ class qa_distributed_process(gr_unittest.TestCase):
                          [[a * M * STEP, M * STEP] for a in range(4)])
         np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
 
+    def test_003c_presummed_strip(self):
+        # behind a presummer (D = 2: 54 lines of 56 symbols per aperture) with 25 lines of
+        # overlap: task 2 starts mid-flight, at the presummer's window of its first line
+        # (line g needs pulses from g D - a, a = (L - 1) / 2 = 3 for cheby's L = 4 D taps, 0
+        # for boxcar's sum of g D .. g D + D - 1), task 1's window reaches back to pulse 0;
+        # the strip is one graph's
+        overlap = 25 * 2 * STEP * recording.read(self.meta).num.symbol_s()
+        for presum, a in (("cheby", 3), ("boxcar", 0)):
+            opts = self.opts("presum_" + presum, presum=presum, decim=2, strip_overlap_s=overlap)
+            res = dp.run(opts)
+            m, shift = res["strip_aperture_lines"], res["strip_line_shift"]
+            self.assertEqual((m, res["strip_overlap_lines"]), (54, [25, 25]))
+            self.assertEqual([first for first, _ in res["strip_slices"]],
+                             [0] + [STEP * max(0, 2 * (i * m + shift - 25) - a)
+                                    for i in (1, 2)])
+            self.assertEqual(res["strip_failed"], [])
+            image = np.load(res["strip_image_npy"])
+            self.assertEqual(image.shape[0], 3 * m)
+            np.testing.assert_array_equal(image, self.whole(opts))
+            self.assertGreater(np.abs(image).max(), 0)
+
     def test_004_tls_refuses_a_client_without_certificate(self):
         import distributed
         from distributed.security import Security
@@ -193,9 +214,9 @@ class qa_distributed_process(gr_unittest.TestCase):
             ProcessOptions(recording=self.meta, dask="local:2",
                            out=os.path.join(self.dir, "o")).validate()
         rec = recording.read(self.meta)
-        for kw in (dict(presum="cheby", decim=4), dict(estimate_snr=True)):
-            with self.assertRaisesRegex(OptionError, "strip tasks are built for --presum none"):
-                dp.layout(self.opts("o", **kw), rec)
+        with self.assertRaisesRegex(OptionError, "--presum = 'lms' with --strip-aperture-s: "
+                                    "its filter adapts from the flight's first pulse"):
+            dp.layout(self.opts("o", presum="lms", decim=2), rec)
         for aperture_s in (0.001, 0.6):
             with self.assertRaisesRegex(OptionError, "--strip-aperture-s = .* at most the "
                                         "recording's 428 lines"):
