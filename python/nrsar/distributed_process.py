@@ -97,24 +97,23 @@ def layout(opts, rec):
     aperture's processing block needs, as the whole flight's focuser would hold them
     (overlap-save history and look-ahead for rd_focuser, the aperture's own pulses for
     bp_focuser), from the first line of that block (stream_first_line())."""
-    if rec.trajectory is not None or rec.navigation is not None or opts.nav is not None:
-        raise OptionError(f"--strip-aperture-s = {opts.strip_aperture_s:g} images along the "
-                          f"straight track: {rec.meta_path} names a flown path "
-                          f"(nrsar:trajectory / nrsar:navigation) or --nav is given, whose "
-                          f"time axis the strip's apertures would have to cut too")
     sim_opts, sc = _scenario(opts, rec)
     if sim_opts.presum == "lms":
         raise OptionError("--presum = 'lms' with --strip-aperture-s: its filter adapts from "
                           "the flight's first pulse, so a task starting mid-flight cannot "
                           "reproduce it (use cheby, boxcar, drop or filter_drop)")
+    flown = rec.navigation is not None or rec.trajectory is not None or opts.nav is not None
+    if sim_opts.presum == "cheby" and flown:
+        raise OptionError(f"--presum = 'cheby' with --strip-aperture-s: {rec.meta_path} "
+                          f"names a flown path (nrsar:trajectory / nrsar:navigation, or --nav), "
+                          f"along which the presummer's phase segments chain from the "
+                          f"flight's first pulse, so a task starting mid-flight cannot "
+                          f"reproduce them (use --presum boxcar, or no presummer)")
     if sim_opts.estimate_snr:
         raise OptionError(f"--estimate-snr = {sim_opts.estimate_snr} with --strip-aperture-s: "
-                          f"the SNR estimate runs on the task's own stream (strip tasks are "
-                          f"built without --estimate-snr)")
-    if rec.gaps:
-        raise OptionError(f"--strip-aperture-s with {rec.meta_path}: its {len(rec.gaps)} "
-                          f"overflow gaps would shift a task's samples (strips of recordings "
-                          f"with gaps are not built; process it whole, without the flag)")
+                          f"the Wiener filter's SNR estimate slides over the 2^24 REs before "
+                          f"each symbol from the stream's start, which a task starting "
+                          f"mid-flight does not see (give --snr-db instead)")
     step = sc.pulse_symbols * sim_opts.presum_factor()  # symbols per image line
     total = rec.symbols // step
     m = int(round(opts.strip_aperture_s / (rec.num.symbol_s() * step)))
@@ -152,6 +151,27 @@ def whole(opts, rec, lay):
     return Slice(0, len(lay.slices), lay.lines, 0, lay.total_lines * lay.step)
 
 
+def part_of(rec, first, symbols):
+    """The recording's symbols [first, first + symbols) as a Recording of their own: the
+    data file from the first sample at or after the part's start, its overflows [(file
+    index, lost)] within it (a gap past its end clipped), and one at its first sample where
+    it starts inside a gap, so that rx_time_stamper's stamps put the lost symbols back as
+    zeros where one graph over the whole recording puts them (docs/recording.md, "Gaps")."""
+    f0, f1 = first * rec.symbol_samples, (first + symbols) * rec.symbol_samples
+    head, gaps, lost = rec.hardware_delay_samples + f0, [], 0  # lost: before the gap
+    for index, count in rec.gaps:
+        g0 = index - rec.hardware_delay_samples + lost  # the flight's samples [g0, g0 + count)
+        lost += count
+        if g0 + count <= f0:  # before the part: the file is that much shorter
+            head -= count
+        elif g0 <= f0:  # the part starts inside it: its first sample is the gap's end
+            head = index
+            gaps.append((index, min(g0 + count, f1) - f0))
+        elif g0 < f1:
+            gaps.append((index, min(g0 + count, f1) - g0))
+    return dataclasses.replace(rec, symbols=symbols, hardware_delay_samples=head, gaps=gaps)
+
+
 def _grid_from(tx, n, first):
     """nr_isac_tx's grid from symbol `first` on (a hier block for chain.build's tx=)."""
     hier = gr.hier_block2("grid_from", gr.io_signature(0, 0, 0),
@@ -168,9 +188,7 @@ def focus_slice(opts, meta_path, sl):
     rec = recording.read(meta_path)
     sim_opts, sc = _scenario(opts, rec, sl.lines, sl.index, sl.apertures)
     sc = dataclasses.replace(sc, symbols=sl.symbols)
-    # the samples from the slice's first symbol on (file_source's offset)
-    part = dataclasses.replace(rec, symbols=sl.symbols, hardware_delay_samples=(
-        rec.hardware_delay_samples + sl.first * rec.symbol_samples))
+    part = part_of(rec, sl.first, sl.symbols)  # file_source's offset, its overflows
     tb = gr.top_block("nrsar-strip")
     tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
     graph = chain.build(tb, sim_opts, sc, tx=tx, echo_front=process.recording_front(part))
@@ -296,7 +314,8 @@ def run(opts, client=None):
             "strip_line_shift": lay.shift,
             "strip_read_factor": lay.read_factor(), "strip_image_npy": path,
             "strip_lines": int(image.shape[0]), "strip_failed": failed,
-            "strip_task_s": [r["compute_s"] for r in ok], "dask": opts.dask,
+            "strip_task_s": [r["compute_s"] for r in ok], "overflows": len(rec.gaps),
+            "lost_samples": sum(count for _, count in rec.gaps), "dask": opts.dask,
             "dask_workers": workers, "wall_s": time.perf_counter() - start}
 
 

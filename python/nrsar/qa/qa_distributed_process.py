@@ -191,6 +191,64 @@ class qa_distributed_process(gr_unittest.TestCase):
             np.testing.assert_array_equal(image, self.whole(opts))
             self.assertGreater(np.abs(image).max(), 0)
 
+    def _recording(self, name, extra):
+        rec = os.path.join(self.dir, name)
+        sim = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-sim")] + FLIGHT + extra +
+                             ["--record", rec, "--images", "none", "--quiet",
+                              "--out", os.path.join(self.dir, name + "_sim")],
+                             capture_output=True, text=True, timeout=900)
+        self.assertEqual(sim.returncode, 0, sim.stderr)
+        return os.path.join(rec, "flight.sigmf-meta")
+
+    def test_003d_recording_with_gaps(self):
+        # two overflows: 3000 samples from 500 before task 2's first symbol (3024, with 50
+        # lines of overlap), so task 2 starts inside the gap, and 20000 samples 200 symbols
+        # later, inside tasks 2 and 3: each task zero-fills the symbols a gap touched where
+        # one graph over the whole recording does (ofdm_demod's rx_time alignment)
+        sym = 1280  # samples per symbol at sdr20
+        start = STEP * (2 * M - 56 - 50)
+        meta = self._recording("gaps", ["--record-gap", f"{start * sym - 500}:3000",
+                                        "--record-gap", f"{(start + 200) * sym}:20000"])
+        opts = self.opts("gaps_out", meta=meta, strip_overlap_s=50 * STEP * 1280 / 30.72e6)
+        res = dp.run(opts)
+        self.assertEqual(res["strip_slices"][2][0], start)
+        self.assertEqual((res["overflows"], res["lost_samples"]), (2, 23000))
+        self.assertEqual(res["strip_failed"], [])
+        image = np.load(res["strip_image_npy"])
+        np.testing.assert_array_equal(image, self.whole(opts))
+        # a part from task 2's first symbol: its data from the first gap's end, the 2500
+        # samples it lost in the part stamped at its first sample; the second gap clipped at
+        # the part's end (10 of its symbols lost inside a part of 210)
+        rec = recording.read(meta)
+        gap_end = rec.hardware_delay_samples + start * sym - 500  # the first overflow's index
+        second = gap_end + 200 * sym + 500 - 3000  # the second's: less the 3000 lost before
+        self.assertEqual(rec.gaps, [(gap_end, 3000), (second, 20000)])
+        for symbols, gaps in ((100, [(gap_end, 2500)]),
+                              (210, [(gap_end, 2500), (second, 10 * sym)]),
+                              (1000, [(gap_end, 2500), (second, 20000)])):
+            part = dp.part_of(rec, start, symbols)
+            self.assertEqual((part.hardware_delay_samples, part.gaps), (gap_end, gaps))
+        # a part after both: the file that much shorter before it
+        self.assertEqual(dp.part_of(rec, start + 300, 10).hardware_delay_samples,
+                         rec.hardware_delay_samples + (start + 300) * sym - 23000)
+
+    def test_003e_flown_path(self):
+        # a gusty flight imaged along an RTK navigation (nrsar:trajectory, nrsar:navigation):
+        # rd_focuser's motion compensation and bp_focuser's positions take the flight's slow
+        # time from the task's first aperture, so the strip is one graph's; cheby's phase
+        # segments along a path chain from pulse 0: refused
+        meta = self._recording("flown", ["--motion", "gusty", "--nav-error", "rtk"])
+        for focuser in ("rd", "bp"):
+            opts = self.opts("flown_" + focuser, meta=meta, focuser=focuser,
+                             strip_overlap_s=50 * STEP * 1280 / 30.72e6)
+            res = dp.run(opts)
+            self.assertEqual(res["strip_failed"], [])
+            self.assertGreater(res["strip_slices"][2][0], 0)
+            np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
+        with self.assertRaisesRegex(OptionError, "--presum = 'cheby' with --strip-aperture-s: "
+                                    ".* names a flown path"):
+            dp.layout(self.opts("o", meta=meta, presum="cheby", decim=2), recording.read(meta))
+
     def test_004_tls_refuses_a_client_without_certificate(self):
         import distributed
         from distributed.security import Security
@@ -217,6 +275,9 @@ class qa_distributed_process(gr_unittest.TestCase):
         with self.assertRaisesRegex(OptionError, "--presum = 'lms' with --strip-aperture-s: "
                                     "its filter adapts from the flight's first pulse"):
             dp.layout(self.opts("o", presum="lms", decim=2), rec)
+        with self.assertRaisesRegex(OptionError, "--estimate-snr = True with "
+                                    "--strip-aperture-s: the Wiener filter's SNR estimate"):
+            dp.layout(self.opts("o", estimate_snr=True), rec)
         for aperture_s in (0.001, 0.6):
             with self.assertRaisesRegex(OptionError, "--strip-aperture-s = .* at most the "
                                         "recording's 428 lines"):
