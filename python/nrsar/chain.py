@@ -418,10 +418,13 @@ class array_sink(gr.hier_block2):
         return self._tags.current_tags()
 
 
-def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=False):
+def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=False,
+          reference=True):
     """Wires transmitter -> head (one aperture) -> echo front -> imaging_chain -> sinks into
     tb. The sinks hold the range-compressed data, the focused image (vector sinks, or null
-    sinks with --images none) and, with keep_reference, the reference image. Returns the
+    sinks with --images none) and, with keep_reference, the reference image; reference=False
+    leaves the reference branch out (the echo front's reference endpoint is None; the
+    probe measures against its PSF model, reference_sink None). Returns the
     blocks by name (tx, head, echo, chain, filter, range_ifft, presum, focuser, focuser_ref,
     probe, range_sink, image_sink, reference_sink, autofocus (None without))."""
     n = sc.num.num_subcarriers
@@ -431,21 +434,23 @@ def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=Fal
     head = blocks.head(gr.sizeof_gr_complex * n, sc.symbols)
     tb.connect(tx, head)
     echo, echo_out, ref_out = echo_front(tb, opts, sc, head)
-    chain = imaging_chain(opts, sc, keep)
+    chain = imaging_chain(opts, sc, keep, reference)
     k, bins = chain.focuser.num_output_bins(), chain.range_ifft.num_bins()
     if keep:
         range_sink, image_sink = array_sink(bins), array_sink(k)
     else:  # metrics only
         range_sink = blocks.null_sink(gr.sizeof_gr_complex * bins)
         image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
-    reference_sink = (array_sink(k) if keep_reference
-                      else blocks.null_sink(gr.sizeof_gr_complex * k))
+    reference_sink = None
+    if reference:
+        reference_sink = (array_sink(k) if keep_reference
+                          else blocks.null_sink(gr.sizeof_gr_complex * k))
+        tb.connect(ref_out, (chain, 2))
+        tb.connect((chain, 2), reference_sink)
     tb.connect(echo_out, (chain, 0))
     tb.connect(head, (chain, 1))
-    tb.connect(ref_out, (chain, 2))
     tb.connect((chain, 0), image_sink)
     tb.connect((chain, 1), range_sink)
-    tb.connect((chain, 2), reference_sink)
     return {"tx": tx, "head": head, "echo": echo, "chain": chain, "filter": chain.filter,
             "range_ifft": chain.range_ifft, "presum": chain.presum, "focuser": chain.focuser,
             "focuser_ref": chain.focuser_ref, "probe": chain.probe, "range_sink": range_sink,

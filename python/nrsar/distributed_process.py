@@ -180,10 +180,12 @@ def _grid_from(tx, n, first):
     return hier
 
 
-def focus_slice(opts, meta_path, sl):
+def focus_slice(opts, meta_path, sl, reference=False):
     """One task: the image lines of apertures [sl.index, sl.index + sl.apertures) as the
     whole flight's focuser makes them (dict: index, image, compute_s). Raises SliceError
-    for non-finite samples in the slice."""
+    for non-finite samples in the slice. The strip has no metrics, so the reference branch
+    (the noise-free echo's image, NMSE's calibration) is left out; reference=True builds it
+    (nrsar-bench measures what it cost)."""
     start = time.perf_counter()
     rec = recording.read(meta_path)
     sim_opts, sc = _scenario(opts, rec, sl.lines, sl.index, sl.apertures)
@@ -191,7 +193,8 @@ def focus_slice(opts, meta_path, sl):
     part = part_of(rec, sl.first, sl.symbols)  # file_source's offset, its overflows
     tb = gr.top_block("nrsar-strip")
     tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
-    graph = chain.build(tb, sim_opts, sc, tx=tx, echo_front=process.recording_front(part))
+    graph = chain.build(tb, sim_opts, sc, tx=tx, reference=reference,
+                        echo_front=process.recording_front(part, reference))
     pre = graph["presum"]  # its first output is the focuser's first line
     first = pre.first_pulse() if pre else graph["focuser"].stream_first_line()
     if first * sc.pulse_symbols != sl.first:
