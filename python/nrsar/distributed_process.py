@@ -35,6 +35,7 @@ refused). `write_certificates(folder)` writes a self-signed set for a scheduler 
 started by hand (docs/scale.md).
 """
 
+import collections
 import contextlib
 import dataclasses
 import logging
@@ -72,6 +73,7 @@ class Layout:
     after: int        # and its look-ahead past it
     shift: int        # the output window's offset from the aperture's own pulses [lines]
     slices: list      # one Slice per aperture
+    bins: int         # the image's range bins
 
     def read_factor(self):
         """Lines a task reads per line it keeps (the overlap's cost, docs/scale.md)."""
@@ -142,7 +144,7 @@ def layout(opts, rec):
         first = max(0, lo * d - history)  # pulses
         end = min(total * d, (hi - 1) * d + lookahead + 1) if hi > lo else first
         slices.append(Slice(a, 1, m, first * sc.pulse_symbols, (end - first) * sc.pulse_symbols))
-    return Layout(m, step, total, before, after, shift, slices)
+    return Layout(m, step, total, before, after, shift, slices, foc.num_output_bins())
 
 
 def whole(opts, rec, lay):
@@ -260,38 +262,65 @@ def local_cluster(workers, security):
         yield cluster
 
 
-def run_slices(opts, meta_path, slices, client=None):
-    """{index: task result or SliceError text} of every slice, in one process or on the
-    client's cluster (retries: a task whose worker died runs again)."""
-    out = {}
+def in_order(opts, meta_path, slices, client=None, window=0):
+    """Yields (slice, task result or SliceError text, held) in aperture order: each task
+    runs in this process, or on the client's cluster with at most `window` tasks (0: twice
+    the workers) submitted and not yet yielded (held counts them, the one yielded included),
+    so the strip's memory stays bounded whatever its length. A task whose worker died runs
+    again (retries)."""
     if client is None:
         for sl in slices:
             try:
-                out[sl.index] = focus_slice(opts, meta_path, sl)
+                yield sl, focus_slice(opts, meta_path, sl), 1
             except SliceError as err:
-                out[sl.index] = str(err)
-        return out
-    futures = client.map(focus_slice, [opts] * len(slices), [meta_path] * len(slices),
-                         slices, pure=False, retries=1)
-    for sl, fut in zip(slices, futures):
+                yield sl, str(err), 1
+        return
+    window = window or 2 * len(client.scheduler_info()["workers"])
+    waiting, queue = collections.deque(), iter(slices)
+    while True:
+        while len(waiting) < window:
+            sl = next(queue, None)
+            if sl is None:
+                break
+            waiting.append((sl, client.submit(focus_slice, opts, meta_path, sl, pure=False,
+                                              retries=1)))
+        if not waiting:
+            return
+        held = len(waiting)
+        sl, future = waiting.popleft()
         try:
-            out[sl.index] = fut.result()
+            result = future.result()
         except SliceError as err:
-            out[sl.index] = str(err)
-    return out
+            result = str(err)
+        future.release()  # its image leaves the worker's memory
+        yield sl, result, held
 
 
-def stitch(slices, done, bins):
-    """The strip image (apertures in order; a failed one's lines zero) and the failures."""
-    parts, failed = [], []
-    for sl in slices:
-        r = done[sl.index]
-        if isinstance(r, str):
-            failed.append({"aperture": sl.index, "error": r})
-            parts.append(np.zeros((sl.apertures * sl.lines, bins), np.complex64))
-        else:
-            parts.append(r["image"])
-    return np.concatenate(parts), failed
+def run_slices(opts, meta_path, slices, client=None):
+    """{index: task result or SliceError text} of every slice (in memory: for a few)."""
+    return {sl.index: r for sl, r, _ in in_order(opts, meta_path, slices, client)}
+
+
+def write_strip(path, lay, done):
+    """Streams the image lines of done ((slice, result, held) in aperture order, as
+    in_order yields them) into the .npy file at path, written under a temporary name and
+    renamed at the end; a failed slice's lines are zero. Nothing but the aperture in hand is
+    kept. Returns (failures [{aperture, error}], task times, the most tasks held at once)."""
+    failed, times, peak = [], [], 0
+    rows = len(lay.slices) * lay.lines
+    with results.atomic(path) as tmp, open(tmp, "wb") as f:
+        np.lib.format.write_array_header_1_0(f, {"descr": np.lib.format.dtype_to_descr(
+            np.dtype(np.complex64)), "fortran_order": False, "shape": (rows, lay.bins)})
+        for sl, r, held in done:
+            peak = max(peak, held)
+            if isinstance(r, str):
+                failed.append({"aperture": sl.index, "error": r})
+                image = np.zeros((sl.apertures * sl.lines, lay.bins), np.complex64)
+            else:
+                image = r["image"]
+                times.append(r["compute_s"])
+            f.write(np.ascontiguousarray(image, np.complex64).tobytes())
+    return failed, times, peak
 
 
 def run(opts, client=None):
@@ -301,23 +330,21 @@ def run(opts, client=None):
     lay = layout(opts, rec)
     slices = lay.slices
     os.makedirs(opts.out, exist_ok=True)
+    path = os.path.abspath(os.path.join(opts.out, "strip_image.npy"))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
         if client is None and opts.dask:
             client = stack.enter_context(connect(opts))
-        done = run_slices(opts, rec.meta_path, slices, client)
+        failed, times, peak = write_strip(path, lay, in_order(
+            opts, rec.meta_path, slices, client, opts.strip_window))
         workers = len(client.scheduler_info()["workers"]) if client else 1
-    ok = [r for r in done.values() if not isinstance(r, str)]
-    bins = ok[0]["image"].shape[1] if ok else 0
-    image, failed = stitch(slices, done, bins)
-    path = results.write_npy(os.path.abspath(os.path.join(opts.out, "strip_image.npy")), image)
     return {"recording_meta": rec.meta_path, "strip_apertures": len(slices),
             "strip_aperture_lines": lay.lines, "strip_slices":
             [[s.first, s.symbols] for s in slices], "strip_overlap_lines": [lay.before, lay.after],
             "strip_line_shift": lay.shift,
             "strip_read_factor": lay.read_factor(), "strip_image_npy": path,
-            "strip_lines": int(image.shape[0]), "strip_failed": failed,
-            "strip_task_s": [r["compute_s"] for r in ok], "overflows": len(rec.gaps),
+            "strip_lines": len(slices) * lay.lines, "strip_failed": failed,
+            "strip_task_s": times, "strip_held_peak": peak, "overflows": len(rec.gaps),
             "lost_samples": sum(count for _, count in rec.gaps), "dask": opts.dask,
             "dask_workers": workers, "wall_s": time.perf_counter() - start}
 

@@ -82,9 +82,14 @@ class qa_distributed_process(gr_unittest.TestCase):
                               dp.whole(opts, rec, dp.layout(opts, rec)))["image"]
 
     def test_001_dask_equals_one_process(self):
-        res = dp.run(self.opts("dask", dask="local:2"), self.client)
+        # two tasks submitted and not yet written at once, a strip of four: the client
+        # streams each aperture into the file in order, holding at most two
+        res = dp.run(self.opts("dask", dask="local:2", strip_window=2), self.client)
         self.assertEqual((res["strip_apertures"], res["dask_workers"]), (4, 2))
+        self.assertEqual(res["strip_held_peak"], 2)
         self.assertEqual(res["strip_failed"], [])
+        self.assertEqual(os.listdir(os.path.dirname(res["strip_image_npy"])),
+                         ["strip_image.npy"])  # the temporary renamed
         image = np.load(res["strip_image_npy"])
         self.assertEqual(image.shape[0], 4 * M)
         np.testing.assert_array_equal(image, self.whole_image)
@@ -143,10 +148,11 @@ class qa_distributed_process(gr_unittest.TestCase):
     def test_003_worker_killed_costs_a_retry(self):
         opts, client = self.opts("killed"), self.client
         pids = client.run(os.getpid)
-        slices = dp.layout(opts, recording.read(self.meta)).slices
-        out = {}
-        runner = threading.Thread(
-            target=lambda: out.update(dp.run_slices(opts, self.meta, slices, client)))
+        lay = dp.layout(opts, recording.read(self.meta))
+        path = os.path.join(self.dir, "killed.npy")
+        out = []
+        runner = threading.Thread(target=lambda: out.append(dp.write_strip(
+            path, lay, dp.in_order(opts, self.meta, lay.slices, client))))
         runner.start()
         deadline = time.monotonic() + 120
         while not any(client.processing().values()) and time.monotonic() < deadline:
@@ -156,9 +162,9 @@ class qa_distributed_process(gr_unittest.TestCase):
         os.kill(pids[busy[0]], signal.SIGKILL)  # its task runs again elsewhere
         runner.join(600)
         self.assertFalse(runner.is_alive())
-        image, failed = dp.stitch(slices, out, self.whole_image.shape[1])
-        self.assertEqual(failed, [])
-        np.testing.assert_array_equal(image, self.whole_image)
+        failed, _, held = out[0]
+        self.assertEqual((failed, held), ([], 4))  # the default window: twice the workers
+        np.testing.assert_array_equal(np.load(path), self.whole_image)
 
     def test_003b_back_projection_strip(self):
         # bp_focuser images each aperture from its own pulses: a task reads its aperture
