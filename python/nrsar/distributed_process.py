@@ -104,13 +104,6 @@ def layout(opts, rec):
         raise OptionError("--presum = 'lms' with --strip-aperture-s: its filter adapts from "
                           "the flight's first pulse, so a task starting mid-flight cannot "
                           "reproduce it (use cheby, boxcar, drop or filter_drop)")
-    flown = rec.navigation is not None or rec.trajectory is not None or opts.nav is not None
-    if sim_opts.presum == "cheby" and flown:
-        raise OptionError(f"--presum = 'cheby' with --strip-aperture-s: {rec.meta_path} "
-                          f"names a flown path (nrsar:trajectory / nrsar:navigation, or --nav), "
-                          f"along which the presummer's phase segments chain from the "
-                          f"flight's first pulse, so a task starting mid-flight cannot "
-                          f"reproduce them (use --presum boxcar, or no presummer)")
     if sim_opts.estimate_snr:
         raise OptionError(f"--estimate-snr = {sim_opts.estimate_snr} with --strip-aperture-s: "
                           f"the Wiener filter's SNR estimate slides over the 2^24 REs before "

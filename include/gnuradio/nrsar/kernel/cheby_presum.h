@@ -56,7 +56,7 @@ struct NRSAR_API presum_config {
     double lms_step = 0.2;          //!< LMS: normalised step mu in (0, 2), misadjustment mu / (2 - mu)
     //! A strip's task (docs/scale.md): the flight's index of the first output pulse to emit;
     //! the input stream then starts at the flight's pulse first_pulse() (0: the whole flight).
-    //! Not for LMS (it adapts from the first pulse) nor CHEBY along a navigation path.
+    //! Not for LMS (it adapts from the first pulse).
     std::uint64_t first_output = 0;
 };
 
@@ -90,7 +90,8 @@ class NRSAR_API cheby_presum
 public:
     //! Pulses between exact evaluations of the demodulation phases (1..64, chosen so
     //! that the linear phase interpolation errs by at most 1e-4 rad; with a navigation
-    //! path: of the last segment, halved from 64 until its midpoint errs at most that).
+    //! path: of the last segment, halved from 64 until its midpoint errs at most that,
+    //! within blocks of 64 pulses from the flight's pulse 0).
     unsigned phase_segment() const { return d_seg; }
 
     cheby_presum(const numerology& num,
@@ -175,7 +176,8 @@ private:
     void phase_row(double t, bool conj, gr_complex* row) const;
     double slow_time(std::uint64_t pulse) const;
     void start_segment(std::uint64_t pulse);
-    void start_path_segment(double t);
+    unsigned path_segment(std::uint64_t pulse);
+    void start_path_segment(std::uint64_t pulse);
     void path_ranges(double t, double* r) const; // reference ranges of every element
     void design();
 
@@ -203,6 +205,7 @@ private:
     unsigned d_seg_left = 0;
     unsigned d_seg = 1;
     std::uint64_t d_seg_origin = 0; // the pulse the segments are counted from
+    std::uint64_t d_seg_next = 0;   // where the next path segment starts
     void update_segment();
     std::vector<double> d_r0sq;      // per element squared closest slant range (RANGE)
     los_reference d_los;             // the navigation path's line of sight
