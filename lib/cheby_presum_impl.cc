@@ -79,7 +79,7 @@ int cheby_presum_impl::general_work(int noutput_items,
     while (consumed < nin) {
         if (d_kernel.next_push_completes() && produced >= noutput_items)
             break;
-        const std::uint64_t p = base + consumed;
+        const std::uint64_t p = d_kernel.first_pulse() + base + consumed; // the flight's pulse
         const std::uint64_t group = p / d;
         for (; ti < tags.size() && tags[ti].offset == p; ++ti) {
             const auto& tag = tags[ti];

@@ -36,6 +36,8 @@ public:
     unsigned num_bins() const override { return d_kernel.num_bins(); }
     unsigned num_taps() const override { return d_kernel.num_taps(); }
     unsigned lookahead() const override { return d_kernel.lookahead(); }
+    unsigned history() const override { return d_kernel.history(); }
+    std::uint64_t first_pulse() const override { return d_kernel.first_pulse(); }
     double centre_offset() const override { return d_kernel.centre_offset(); }
     std::vector<gr_complex> taps() const override { return d_kernel.taps(); }
     std::vector<double> prototype() const override { return d_kernel.prototype(); }

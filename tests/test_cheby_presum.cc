@@ -198,3 +198,111 @@ TEST(cheby_presum, invalid_parameters)
     c.domain = presum_domain::TF;
     EXPECT_THROW(kernel::cheby_presum(num, geo, scn, K, first_m, bin_m, c), std::invalid_argument);
 }
+
+TEST(cheby_presum, first_output_equals_the_whole_stream)
+{
+    // A strip's task (first_output g0) starts at the flight's pulse max(0, g0 D - a), a =
+    // (L - 1) / 2 of the window centred on g D (D - 1 / 0 for BOXCAR / DROP: a = 0), and
+    // emits outputs g0, g0 + 1, ...: each equals the whole stream's output g bit for bit
+    // (the same slow times, ring slots and phase segments). A pulse interval set before the
+    // first pulse (the adapter's tag) is the flight's from pulse 0 in both.
+    const unsigned d = 6, pulses = 900;
+    const auto x = nrsar_test::gaussian_samples(std::size_t(pulses) * num.num_subcarriers, 7);
+    for (const auto method : { presum_method::CHEBY, presum_method::BOXCAR,
+                               presum_method::DROP, presum_method::FILTER_DROP }) {
+        for (const auto domain : { presum_domain::RANGE, presum_domain::TF }) {
+            auto c = config(method, d);
+            c.domain = domain;
+            const unsigned bins = domain == presum_domain::TF ? num.num_subcarriers : K;
+            kernel::cheby_presum whole(num, geo, scn, bins, first_m, bin_m, c);
+            whole.set_pulse_interval(1.5 * num.symbol_s());
+            const auto all = run(whole, x, pulses);
+            const unsigned l = whole.num_taps();
+            const unsigned a = method == presum_method::CHEBY ||
+                                       method == presum_method::FILTER_DROP
+                                   ? (l - 1) / 2
+                                   : 0;
+            EXPECT_EQ(whole.history(), a);
+            // g0 = 1: its window reaches before the flight (first pulse 0); the others start
+            // mid-flight, inside a phase segment for CHEBY
+            for (const std::uint64_t g0 : { 1u, 17u, 61u }) {
+                c.first_output = g0;
+                kernel::cheby_presum task(num, geo, scn, bins, first_m, bin_m, c);
+                task.set_pulse_interval(1.5 * num.symbol_s());
+                const std::uint64_t p0 = g0 * d > a ? g0 * d - a : 0;
+                ASSERT_EQ(task.first_pulse(), p0);
+                std::vector<gr_complex> o(bins);
+                std::uint64_t g = g0;
+                for (std::uint64_t p = p0; p < pulses; ++p)
+                    if (task.push(x.data() + p * bins, o.data())) {
+                        ASSERT_LT(g, all.size());
+                        for (unsigned n = 0; n < bins; ++n)
+                            ASSERT_EQ(o[n], all[g][n])
+                                << int(method) << " domain " << int(domain) << " g0 " << g0
+                                << " output " << g << " bin " << n;
+                        ++g;
+                    }
+                EXPECT_EQ(g, all.size()) << int(method) << " g0 " << g0;
+                EXPECT_EQ(task.pulses_out(), all.size());
+            }
+            if (method == presum_method::CHEBY) {
+                EXPECT_GT(whole.phase_segment(), 1u); // the mid-segment start is exercised
+            }
+        }
+    }
+    // LMS adapts from its first pulse: refused
+    auto c = config(presum_method::LMS, d);
+    c.first_output = 3;
+    EXPECT_THROW(kernel::cheby_presum(num, geo, scn, K, first_m, bin_m, c), std::invalid_argument);
+}
+
+TEST(cheby_presum, first_output_along_a_path_equals_the_whole_stream)
+{
+    // CHEBY along a swaying navigation path: the phase segments adapt their length to the
+    // path (halved from 64 pulses) within blocks of 64 from pulse 0; a task starting inside
+    // one finds it from its block's start, so its outputs equal the whole stream's bit for bit
+    const unsigned d = 4, pulses = 1500;
+    std::vector<double> t;
+    std::vector<vec3> p;
+    for (double s = 0.0; s <= 0.1; s += 0.001) { // 5 mm of sway, 0.1 s period (20 m/s^2)
+        const double w = 0.005 * std::sin(2.0 * M_PI * s / 0.1);
+        t.push_back(s);
+        p.push_back({ w, geo.track_start_m + geo.velocity_mps * s, geo.height_m + 0.5 * w });
+    }
+    const trajectory nav = trajectory::from_samples(t, p, {}, { 0.0, 0.0, 0.0 }, "sway");
+    const auto x = nrsar_test::gaussian_samples(std::size_t(pulses) * num.num_subcarriers, 9);
+    for (const auto domain : { presum_domain::RANGE, presum_domain::TF }) {
+        auto c = config(presum_method::CHEBY, d);
+        c.domain = domain;
+        const unsigned bins = domain == presum_domain::TF ? num.num_subcarriers : K;
+        kernel::cheby_presum whole(num, geo, scn, bins, first_m, bin_m, c, nav);
+        ASSERT_TRUE(whole.follows_path());
+        ASSERT_LT(pulses * whole.pulse_interval_s(), 0.1); // the path covers the stream
+        std::vector<std::vector<gr_complex>> all;
+        std::vector<gr_complex> out(bins);
+        unsigned shortest = 64, longest = 1;
+        for (unsigned q = 0; q < pulses; ++q) {
+            if (whole.push(x.data() + std::size_t(q) * bins, out.data()))
+                all.push_back(out);
+            shortest = std::min(shortest, whole.phase_segment());
+            longest = std::max(longest, whole.phase_segment());
+        }
+        EXPECT_LT(shortest, longest); // segments of several lengths: the replay is exercised
+        EXPECT_GT(longest, 2u);
+        for (const std::uint64_t g0 : { 20u, 97u, 250u }) {
+            c.first_output = g0;
+            kernel::cheby_presum task(num, geo, scn, bins, first_m, bin_m, c, nav);
+            std::vector<gr_complex> o(bins);
+            std::uint64_t g = g0;
+            for (std::uint64_t q = task.first_pulse(); q < pulses; ++q)
+                if (task.push(x.data() + q * bins, o.data())) {
+                    ASSERT_LT(g, all.size());
+                    for (unsigned n = 0; n < bins; ++n)
+                        ASSERT_EQ(o[n], all[g][n]) << "domain " << int(domain) << " g0 " << g0
+                                                   << " output " << g << " bin " << n;
+                    ++g;
+                }
+            EXPECT_EQ(g, all.size());
+        }
+    }
+}

@@ -207,6 +207,14 @@ cheby_presum::cheby_presum(const numerology& num,
     }
     }
     d_centre = 0.5 * (d_a + d_b) - d_a;
+    if (cfg.first_output != 0 && d_lms)
+        throw_param("first_output", cfg.first_output,
+                    "must be 0 for LMS: its filter adapts from the stream's first pulse");
+    // a strip's task: the window of output g0 from its first pulse (class doc)
+    const std::uint64_t g0 = cfg.first_output * cfg.decim;
+    d_first_pulse = g0 > d_a ? g0 - d_a : 0;
+    d_pushed = d_first_pulse;
+    d_out = cfg.first_output;
     d_ring.assign(d_lms ? 0 : static_cast<std::size_t>(d_l) * d_k, gr_complex(0.0f, 0.0f));
     d_ring_t.assign(d_l, 0.0);
     for (unsigned s = 0; s < d_l; ++s) // slots of the pulses before the stream start
@@ -382,6 +390,10 @@ void cheby_presum::set_range_axis(double first_range_m, double range_bin_m)
 void cheby_presum::set_pulse_interval(double seconds)
 {
     check_finite_positive("pulse_interval", seconds);
+    if (d_pushed != d_first_pulse) { // the new interval from this pulse on
+        d_t0 = slow_time(d_pushed);
+        d_p0 = d_pushed;
+    } // before the first pulse: the flight's time base from its pulse 0
     d_t_in = seconds;
     update_segment();
 }
@@ -400,6 +412,8 @@ void cheby_presum::update_segment()
     const double p = std::sqrt(8.0 * 1e-4 / std::max(curv, 1e-300));
     d_seg = static_cast<unsigned>(std::clamp(std::floor(p), 1.0, 64.0));
     d_seg_left = 0;
+    d_seg_origin = d_pushed == d_first_pulse ? 0 : d_pushed; // before the stream: pulse 0
+    d_seg_next = d_seg_origin;
 }
 
 void cheby_presum::path_ranges(double t, double* r) const
@@ -410,24 +424,25 @@ void cheby_presum::path_ranges(double t, double* r) const
         r[0] = d_los.range(t, d_rc0);
 }
 
-void cheby_presum::start_path_segment(double t)
+unsigned cheby_presum::path_segment(std::uint64_t pulse)
 {
     // The flown range is no hyperbola: its curvature includes the platform's acceleration
     // along the line of sight. The segment P is halved from 64 until the linear phase
     // interpolation errs at most 1e-4 rad at its midpoint (the largest error of a locally
-    // quadratic phase) in every element, and ends within the path's span.
+    // quadratic phase) in every element, and ends within the path's span and within its
+    // block of 64 pulses from the segment origin (so segments from a block's start are the
+    // same whoever starts there). Fills d_ra and d_rb (the ranges at its ends); 0: the
+    // path's last pulse interval.
     const unsigned n = d_cfg.domain == presum_domain::RANGE ? d_k : 1;
     const double fmax = phase_frequency_hz(d_cfg.domain == presum_domain::TF ? d_k - 1 : 0);
     const double kmax = 2.0 * two_pi * fmax / speed_of_light;
+    const double t = slow_time(pulse);
     path_ranges(t, d_ra.data());
-    phase_row(t, false, d_z.data());
     const double room = std::floor((d_los.path().end_s() - t) / d_t_in);
-    unsigned p = static_cast<unsigned>(std::clamp(room, 0.0, double(max_segment)));
-    if (p == 0) { // the path's last pulse interval: exact row, no recurrence
-        std::fill(d_w.begin(), d_w.end(), gr_complex(1.0f, 0.0f));
-        d_seg = d_seg_left = 1;
-        return;
-    }
+    const double block = max_segment - (pulse - d_seg_origin) % max_segment;
+    unsigned p = static_cast<unsigned>(std::clamp(std::min(room, block), 0.0, double(max_segment)));
+    if (p == 0)
+        return 0;
     for (;; p /= 2) {
         path_ranges(t + p * d_t_in, d_rb.data());
         path_ranges(t + 0.5 * p * d_t_in, d_rm.data());
@@ -435,7 +450,27 @@ void cheby_presum::start_path_segment(double t)
         for (unsigned i = 0; i < n; ++i)
             err = std::max(err, std::abs(d_rm[i] - 0.5 * (d_ra[i] + d_rb[i])));
         if (kmax * err <= max_path_phase_error_rad || p == 1)
-            break;
+            return p;
+    }
+}
+
+void cheby_presum::start_path_segment(std::uint64_t pulse)
+{
+    // A stream starting inside a segment (a strip's task) finds it from its block's start
+    // and steps its rows there by the same recurrence as the whole stream.
+    std::uint64_t start = pulse;
+    if (pulse != d_seg_next) {
+        start = pulse - (pulse - d_seg_origin) % max_segment;
+        for (std::uint64_t p; (p = std::max(1u, path_segment(start))) <= pulse - start;)
+            start += p;
+    }
+    const unsigned p = path_segment(start);
+    phase_row(slow_time(start), false, d_z.data());
+    if (p == 0) { // the path's last pulse interval: exact row, no recurrence
+        std::fill(d_w.begin(), d_w.end(), gr_complex(1.0f, 0.0f));
+        d_seg = d_seg_left = 1;
+        d_seg_next = start + 1;
+        return;
     }
     const double k = 2.0 * two_pi / speed_of_light / p;
     for (unsigned i = 0; i < d_k; ++i) {
@@ -445,14 +480,27 @@ void cheby_presum::start_path_segment(double t)
         d_w[i] = gr_complex(std::cos(dph), std::sin(dph));
     }
     d_seg = d_seg_left = p;
+    d_seg_next = start + p;
+    for (; start < pulse; ++start, --d_seg_left)
+        volk_32fc_x2_multiply_32fc(d_z.data(), d_z.data(), d_w.data(), d_k);
 }
 
-void cheby_presum::start_segment(double t)
+double cheby_presum::slow_time(std::uint64_t pulse) const
+{
+    // a product, not a running sum: a task starting mid-flight gets the same times
+    return d_t0 + static_cast<double>(pulse - d_p0) * d_t_in;
+}
+
+void cheby_presum::start_segment(std::uint64_t pulse)
 {
     if (!d_los.ideal()) {
-        start_path_segment(t);
+        start_path_segment(pulse);
         return;
     }
+    // Segments start every d_seg pulses from d_seg_origin; a stream that starts inside one
+    // (a strip's task) steps its rows there by the same recurrence as the whole stream.
+    const std::uint64_t start = pulse - (pulse - d_seg_origin) % d_seg;
+    const double t = slow_time(start);
     // Exact rows at t; per-pulse rotation w = exp(+j dphi / P) with dphi the exact
     // (double) phase change over the segment: the phase is interpolated linearly, error
     // at most curvature P^2 / 8 (paper preset: 6e-7 rad per pulse^2 -> 3e-4 rad).
@@ -473,11 +521,13 @@ void cheby_presum::start_segment(double t)
         }
     }
     d_seg_left = d_seg;
+    for (std::uint64_t p = start; p < pulse; ++p, --d_seg_left)
+        volk_32fc_x2_multiply_32fc(d_z.data(), d_z.data(), d_w.data(), d_k);
 }
 
 bool cheby_presum::next_push_completes() const
 {
-    return d_pushed >= d_b && (d_pushed - d_b) % d_cfg.decim == 0;
+    return d_pushed >= d_b + d_out * d_cfg.decim && (d_pushed - d_b) % d_cfg.decim == 0;
 }
 
 std::uint64_t cheby_presum::pulses_needed(std::uint64_t n) const
@@ -493,19 +543,17 @@ bool cheby_presum::push(const gr_complex* in, gr_complex* out)
     if (d_lms) {
         const bool done = d_lms->push(in, out);
         ++d_pushed;
-        d_t_next += d_t_in;
         d_out += done;
         return done;
     }
     const bool completes = next_push_completes();
     const std::size_t slot = d_pushed % d_l;
     gr_complex* dst = d_ring.data() + slot * d_k;
-    const double t = d_t_next;
-    d_ring_t[slot] = t;
+    d_ring_t[slot] = slow_time(d_pushed);
     if (d_cfg.method == presum_method::CHEBY) {
         // u = s exp(+j phi_ref): after this, s_j C(j) of eq. (P-28) is u_j exp(-j phi(t_c)).
         if (d_seg_left == 0)
-            start_segment(t);
+            start_segment(d_pushed);
         volk_32fc_x2_multiply_32fc(dst, in, d_z.data(), d_k);
         volk_32fc_x2_multiply_32fc(d_z.data(), d_z.data(), d_w.data(), d_k);
         --d_seg_left;
@@ -513,7 +561,6 @@ bool cheby_presum::push(const gr_complex* in, gr_complex* out)
         std::memcpy(dst, in, sizeof(gr_complex) * d_k);
     }
     ++d_pushed;
-    d_t_next = t + d_t_in;
     if (!completes)
         return false;
 

@@ -187,15 +187,17 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=
     if decim == 1:
         return rif, rif, foc, None, [(rif,) + tail]
     method = params.PRESUM_METHODS[opts.presum]
+    # a strip's task: the presummer's first output is the focuser's first line
+    first = foc.stream_first_line() if focuser else 0
     if opts.presum_domain == "tf":  # presum the TF pulses, range-compress D x fewer
         pre = cheby_presum(num, geo, scn, n, cfg=presum_config(
             method=method, decim=decim, domain=presum_domain.TF,
-            symbols_per_pulse=sc.pulse_symbols), nav=nav)
+            symbols_per_pulse=sc.pulse_symbols, first_output=first), nav=nav)
         return pre, rif, foc, pre, [(pre, rif) + tail]
     pre = cheby_presum(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                        rif.range_bin_m(), presum_config(
                            method=method, decim=decim, domain=presum_domain.RANGE,
-                           symbols_per_pulse=sc.pulse_symbols), nav)
+                           symbols_per_pulse=sc.pulse_symbols, first_output=first), nav)
     return rif, rif, foc, pre, [(rif, pre) + tail]
 
 
@@ -446,10 +448,13 @@ class array_sink(gr.hier_block2):
         return self._sink.nitems_read(port)
 
 
-def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=False):
+def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=False,
+          reference=True):
     """Wires transmitter -> head (one aperture) -> echo front -> imaging_chain -> sinks into
     tb. The sinks hold the range-compressed data, the focused image (vector sinks, or null
-    sinks with --images none) and, with keep_reference, the reference image. Returns the
+    sinks with --images none) and, with keep_reference, the reference image; reference=False
+    leaves the reference branch out (the echo front's reference endpoint is None; the
+    probe measures against its PSF model, reference_sink None). Returns the
     blocks by name (tx, head, echo, chain, filter, range_ifft, presum, focuser, focuser_ref,
     probe, range_sink, image_sink, reference_sink, autofocus (None without))."""
     n = sc.num.num_subcarriers
@@ -459,21 +464,23 @@ def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=Fal
     head = blocks.head(gr.sizeof_gr_complex * n, sc.symbols)
     tb.connect(tx, head)
     echo, echo_out, ref_out = echo_front(tb, opts, sc, head)
-    chain = imaging_chain(opts, sc, keep)
+    chain = imaging_chain(opts, sc, keep, reference)
     k, bins = chain.focuser.num_output_bins(), chain.range_ifft.num_bins()
     if keep:
         range_sink, image_sink = array_sink(bins), array_sink(k)
     else:  # metrics only
         range_sink = blocks.null_sink(gr.sizeof_gr_complex * bins)
         image_sink = blocks.null_sink(gr.sizeof_gr_complex * k)
-    reference_sink = (array_sink(k) if keep_reference
-                      else blocks.null_sink(gr.sizeof_gr_complex * k))
+    reference_sink = None
+    if reference:
+        reference_sink = (array_sink(k) if keep_reference
+                          else blocks.null_sink(gr.sizeof_gr_complex * k))
+        tb.connect(ref_out, (chain, 2))
+        tb.connect((chain, 2), reference_sink)
     tb.connect(echo_out, (chain, 0))
     tb.connect(head, (chain, 1))
-    tb.connect(ref_out, (chain, 2))
     tb.connect((chain, 0), image_sink)
     tb.connect((chain, 1), range_sink)
-    tb.connect((chain, 2), reference_sink)
     return {"tx": tx, "head": head, "echo": echo, "chain": chain, "filter": chain.filter,
             "range_ifft": chain.range_ifft, "presum": chain.presum, "focuser": chain.focuser,
             "focuser_ref": chain.focuser_ref, "probe": chain.probe, "range_sink": range_sink,

@@ -35,6 +35,7 @@ refused). `write_certificates(folder)` writes a self-signed set for a scheduler 
 started by hand (docs/scale.md).
 """
 
+import collections
 import contextlib
 import dataclasses
 import logging
@@ -72,6 +73,7 @@ class Layout:
     after: int        # and its look-ahead past it
     shift: int        # the output window's offset from the aperture's own pulses [lines]
     slices: list      # one Slice per aperture
+    bins: int         # the image's range bins
 
     def read_factor(self):
         """Lines a task reads per line it keeps (the overlap's cost, docs/scale.md)."""
@@ -98,15 +100,15 @@ def layout(opts, rec):
     (overlap-save history and look-ahead for rd_focuser, the aperture's own pulses for
     bp_focuser), from the first line of that block (stream_first_line())."""
     sim_opts, sc = _scenario(opts, rec)
-    if sim_opts.presum != "none" or sim_opts.estimate_snr:
-        raise OptionError(f"--presum = {sim_opts.presum!r} / --estimate-snr = "
-                          f"{sim_opts.estimate_snr} with --strip-aperture-s: the presummer's "
-                          f"compensation and the SNR estimate run on the task's own stream "
-                          f"(strip tasks are built for --presum none, no --estimate-snr)")
-    if rec.gaps:
-        raise OptionError(f"--strip-aperture-s with {rec.meta_path}: its {len(rec.gaps)} "
-                          f"overflow gaps would shift a task's samples (strips of recordings "
-                          f"with gaps are not built; process it whole, without the flag)")
+    if sim_opts.presum == "lms":
+        raise OptionError("--presum = 'lms' with --strip-aperture-s: its filter adapts from "
+                          "the flight's first pulse, so a task starting mid-flight cannot "
+                          "reproduce it (use cheby, boxcar, drop or filter_drop)")
+    if sim_opts.estimate_snr:
+        raise OptionError(f"--estimate-snr = {sim_opts.estimate_snr} with --strip-aperture-s: "
+                          f"the Wiener filter's SNR estimate slides over the 2^24 REs before "
+                          f"each symbol from the stream's start, which a task starting "
+                          f"mid-flight does not see (give --snr-db instead)")
     step = sc.pulse_symbols * sim_opts.presum_factor()  # symbols per image line
     total = rec.symbols // step
     m = int(round(opts.strip_aperture_s / (rec.num.symbol_s() * step)))
@@ -117,11 +119,14 @@ def layout(opts, rec):
     # the focuser the tasks build, asked for its layout (no FFT plans are made for this)
     sim_opts, sc = _scenario(opts, rec, m)
     crop, guard = chain.range_crop(sim_opts, sc, fft_size_of(sim_opts, rec.num.num_subcarriers))
-    foc = chain.receive_path(sim_opts, sc, crop, chain.focuser_config_of(sim_opts, sc, guard),
-                             sc.navigation)[2]
+    _, _, foc, pre, _ = chain.receive_path(
+        sim_opts, sc, crop, chain.focuser_config_of(sim_opts, sc, guard), sc.navigation)
     shift = foc.line_shift()
     before = foc.overlap_before() if sim_opts.focuser == "rd" else 0
     after = foc.overlap_after() if sim_opts.focuser == "rd" else 0
+    # a presummer's output line g needs the pulses [g D - history, g D + lookahead]
+    d = sim_opts.presum_factor()
+    history, lookahead = (pre.history(), pre.lookahead()) if pre else (0, 0)
     slices = []
     for a in range(total // m):
         lo, hi = a * m, a * m + m
@@ -129,14 +134,37 @@ def layout(opts, rec):
             lo, hi = lo + shift - before, hi + shift + after
         lo = 0 if a == 0 else max(0, lo)
         hi = min(total, hi)  # a block past the end (overlap below the shift) reads nothing
-        slices.append(Slice(a, 1, m, lo * step, max(0, hi - lo) * step))
-    return Layout(m, step, total, before, after, shift, slices)
+        first = max(0, lo * d - history)  # pulses
+        end = min(total * d, (hi - 1) * d + lookahead + 1) if hi > lo else first
+        slices.append(Slice(a, 1, m, first * sc.pulse_symbols, (end - first) * sc.pulse_symbols))
+    return Layout(m, step, total, before, after, shift, slices, foc.num_output_bins())
 
 
 def whole(opts, rec, lay):
     """The Slice of one graph over the whole strip: what one process focusing the whole
     recording makes (the tasks' stitched strip equals it, qa_distributed_process)."""
     return Slice(0, len(lay.slices), lay.lines, 0, lay.total_lines * lay.step)
+
+
+def part_of(rec, first, symbols):
+    """The recording's symbols [first, first + symbols) as a Recording of their own: the
+    data file from the first sample at or after the part's start, its overflows [(file
+    index, lost)] within it (a gap past its end clipped), and one at its first sample where
+    it starts inside a gap, so that rx_time_stamper's stamps put the lost symbols back as
+    zeros where one graph over the whole recording puts them (docs/recording.md, "Gaps")."""
+    f0, f1 = first * rec.symbol_samples, (first + symbols) * rec.symbol_samples
+    head, gaps, lost = rec.hardware_delay_samples + f0, [], 0  # lost: before the gap
+    for index, count in rec.gaps:
+        g0 = index - rec.hardware_delay_samples + lost  # the flight's samples [g0, g0 + count)
+        lost += count
+        if g0 + count <= f0:  # before the part: the file is that much shorter
+            head -= count
+        elif g0 <= f0:  # the part starts inside it: its first sample is the gap's end
+            head = index
+            gaps.append((index, min(g0 + count, f1) - f0))
+        elif g0 < f1:
+            gaps.append((index, min(g0 + count, f1) - g0))
+    return dataclasses.replace(rec, symbols=symbols, hardware_delay_samples=head, gaps=gaps)
 
 
 def _grid_from(tx, n, first):
@@ -147,25 +175,26 @@ def _grid_from(tx, n, first):
     return hier
 
 
-def focus_slice(opts, meta_path, sl):
+def focus_slice(opts, meta_path, sl, reference=False):
     """One task: the image lines of apertures [sl.index, sl.index + sl.apertures) as the
     whole flight's focuser makes them (dict: index, image, compute_s). Raises SliceError
-    for non-finite samples in the slice."""
+    for non-finite samples in the slice. The strip has no metrics, so the reference branch
+    (the noise-free echo's image, NMSE's calibration) is left out; reference=True builds it
+    (nrsar-bench measures what it cost)."""
     start = time.perf_counter()
     rec = recording.read(meta_path)
     sim_opts, sc = _scenario(opts, rec, sl.lines, sl.index, sl.apertures)
     sc = dataclasses.replace(sc, symbols=sl.symbols)
-    # the samples from the slice's first symbol on (file_source's offset)
-    part = dataclasses.replace(rec, symbols=sl.symbols, hardware_delay_samples=(
-        rec.hardware_delay_samples + sl.first * rec.symbol_samples))
+    part = part_of(rec, sl.first, sl.symbols)  # file_source's offset, its overflows
     tb = gr.top_block("nrsar-strip")
     tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
-    graph = chain.build(tb, sim_opts, sc, tx=tx, echo_front=process.recording_front(part))
-    step = sc.pulse_symbols * sim_opts.presum_factor()
-    if graph["focuser"].stream_first_line() * step != sl.first:
-        raise RuntimeError(f"aperture {sl.index}: the focuser expects its stream from line "
-                           f"{graph['focuser'].stream_first_line()}, the slice starts at "
-                           f"symbol {sl.first}")
+    graph = chain.build(tb, sim_opts, sc, tx=tx, reference=reference,
+                        echo_front=process.recording_front(part, reference))
+    pre = graph["presum"]  # its first output is the focuser's first line
+    first = pre.first_pulse() if pre else graph["focuser"].stream_first_line()
+    if first * sc.pulse_symbols != sl.first:
+        raise RuntimeError(f"aperture {sl.index}: the chain expects its stream from pulse "
+                           f"{first}, the slice starts at symbol {sl.first}")
     k = graph["focuser"].num_output_bins()
     if sl.symbols == 0:  # its block lies past the recording's end: zeros, as one graph's
         return {"index": sl.index, "image": np.zeros((sl.apertures * sl.lines, k), np.complex64),
@@ -226,38 +255,65 @@ def local_cluster(workers, security):
         yield cluster
 
 
-def run_slices(opts, meta_path, slices, client=None):
-    """{index: task result or SliceError text} of every slice, in one process or on the
-    client's cluster (retries: a task whose worker died runs again)."""
-    out = {}
+def in_order(opts, meta_path, slices, client=None, window=0):
+    """Yields (slice, task result or SliceError text, held) in aperture order: each task
+    runs in this process, or on the client's cluster with at most `window` tasks (0: twice
+    the workers) submitted and not yet yielded (held counts them, the one yielded included),
+    so the strip's memory stays bounded whatever its length. A task whose worker died runs
+    again (retries)."""
     if client is None:
         for sl in slices:
             try:
-                out[sl.index] = focus_slice(opts, meta_path, sl)
+                yield sl, focus_slice(opts, meta_path, sl), 1
             except SliceError as err:
-                out[sl.index] = str(err)
-        return out
-    futures = client.map(focus_slice, [opts] * len(slices), [meta_path] * len(slices),
-                         slices, pure=False, retries=1)
-    for sl, fut in zip(slices, futures):
+                yield sl, str(err), 1
+        return
+    window = window or 2 * len(client.scheduler_info()["workers"])
+    waiting, queue = collections.deque(), iter(slices)
+    while True:
+        while len(waiting) < window:
+            sl = next(queue, None)
+            if sl is None:
+                break
+            waiting.append((sl, client.submit(focus_slice, opts, meta_path, sl, pure=False,
+                                              retries=1)))
+        if not waiting:
+            return
+        held = len(waiting)
+        sl, future = waiting.popleft()
         try:
-            out[sl.index] = fut.result()
+            result = future.result()
         except SliceError as err:
-            out[sl.index] = str(err)
-    return out
+            result = str(err)
+        future.release()  # its image leaves the worker's memory
+        yield sl, result, held
 
 
-def stitch(slices, done, bins):
-    """The strip image (apertures in order; a failed one's lines zero) and the failures."""
-    parts, failed = [], []
-    for sl in slices:
-        r = done[sl.index]
-        if isinstance(r, str):
-            failed.append({"aperture": sl.index, "error": r})
-            parts.append(np.zeros((sl.apertures * sl.lines, bins), np.complex64))
-        else:
-            parts.append(r["image"])
-    return np.concatenate(parts), failed
+def run_slices(opts, meta_path, slices, client=None):
+    """{index: task result or SliceError text} of every slice (in memory: for a few)."""
+    return {sl.index: r for sl, r, _ in in_order(opts, meta_path, slices, client)}
+
+
+def write_strip(path, lay, done):
+    """Streams the image lines of done ((slice, result, held) in aperture order, as
+    in_order yields them) into the .npy file at path, written under a temporary name and
+    renamed at the end; a failed slice's lines are zero. Nothing but the aperture in hand is
+    kept. Returns (failures [{aperture, error}], task times, the most tasks held at once)."""
+    failed, times, peak = [], [], 0
+    rows = len(lay.slices) * lay.lines
+    with results.atomic(path) as tmp, open(tmp, "wb") as f:
+        np.lib.format.write_array_header_1_0(f, {"descr": np.lib.format.dtype_to_descr(
+            np.dtype(np.complex64)), "fortran_order": False, "shape": (rows, lay.bins)})
+        for sl, r, held in done:
+            peak = max(peak, held)
+            if isinstance(r, str):
+                failed.append({"aperture": sl.index, "error": r})
+                image = np.zeros((sl.apertures * sl.lines, lay.bins), np.complex64)
+            else:
+                image = r["image"]
+                times.append(r["compute_s"])
+            f.write(np.ascontiguousarray(image, np.complex64).tobytes())
+    return failed, times, peak
 
 
 def run(opts, client=None):
@@ -267,23 +323,22 @@ def run(opts, client=None):
     lay = layout(opts, rec)
     slices = lay.slices
     os.makedirs(opts.out, exist_ok=True)
+    path = os.path.abspath(os.path.join(opts.out, "strip_image.npy"))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
         if client is None and opts.dask:
             client = stack.enter_context(connect(opts))
-        done = run_slices(opts, rec.meta_path, slices, client)
+        failed, times, peak = write_strip(path, lay, in_order(
+            opts, rec.meta_path, slices, client, opts.strip_window))
         workers = len(client.scheduler_info()["workers"]) if client else 1
-    ok = [r for r in done.values() if not isinstance(r, str)]
-    bins = ok[0]["image"].shape[1] if ok else 0
-    image, failed = stitch(slices, done, bins)
-    path = results.write_npy(os.path.abspath(os.path.join(opts.out, "strip_image.npy")), image)
     return {"recording_meta": rec.meta_path, "strip_apertures": len(slices),
             "strip_aperture_lines": lay.lines, "strip_slices":
             [[s.first, s.symbols] for s in slices], "strip_overlap_lines": [lay.before, lay.after],
             "strip_line_shift": lay.shift,
             "strip_read_factor": lay.read_factor(), "strip_image_npy": path,
-            "strip_lines": int(image.shape[0]), "strip_failed": failed,
-            "strip_task_s": [r["compute_s"] for r in ok], "dask": opts.dask,
+            "strip_lines": len(slices) * lay.lines, "strip_failed": failed,
+            "strip_task_s": times, "strip_held_peak": peak, "overflows": len(rec.gaps),
+            "lost_samples": sum(count for _, count in rec.gaps), "dask": opts.dask,
             "dask_workers": workers, "wall_s": time.perf_counter() - start}
 
 

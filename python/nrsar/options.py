@@ -754,6 +754,10 @@ def _process_fields():
             "(default: its overlap-save extent of the scene band, every pulse that focuses "
             "into the aperture); a task reads its aperture plus this on each side "
             "(docs/scale.md)", at_least=0.0, at_most=3600.0)),
+        ("strip_window", int, option(
+            0, "strip apertures submitted and not yet written at once (0: twice the "
+            "workers): what the strip holds in memory, whatever its length (docs/scale.md)",
+            at_least=0, at_most=4096)),
         ("dask", typing.Optional[str], option(
             None, "run the strip's apertures as Dask tasks: local:N (N worker processes on "
             "127.0.0.1) or tcp://HOST:PORT (a scheduler); always TLS with certificates "

@@ -66,10 +66,11 @@ def scenario_of(sim_opts, rec):
                     warnings=warnings, trajectory=truth, navigation=nav)
 
 
-def recording_front(rec):
+def recording_front(rec, reference=True):
     """echo_front for chain.build: the recorded samples (after the hardware delay) ->
     ofdm_demod; the reference echo is scene_echo's S = 1 output on the regenerated grid,
-    flying the recorded truth, as in nrsar-sim."""
+    flying the recorded truth, as in nrsar-sim (reference=False: none, for build's
+    reference=False)."""
     def front(tb, opts, sc, grid):
         num = sc.num
         lost = sum(count for _, count in rec.gaps)
@@ -87,6 +88,8 @@ def recording_front(rec):
         else:
             demod = ofdm_demod(num)
             tb.connect(source, demod)
+        if not reference:
+            return demod, demod, None
         ref = scene_echo(num, sc.geo, sc.scene, math.inf, opts.seed + 1, sc.trajectory)
         tb.connect(grid, ref)
         tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))

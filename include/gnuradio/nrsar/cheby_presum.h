@@ -76,6 +76,10 @@ public:
     virtual unsigned num_taps() const = 0;
     //! Pulses after g D the output g needs.
     virtual unsigned lookahead() const = 0;
+    //! Pulses before g D the output g needs.
+    virtual unsigned history() const = 0;
+    //! The flight's pulse the input starts at (cfg.first_output: a strip's task).
+    virtual std::uint64_t first_pulse() const = 0;
     //! Output g is centred on input pulse g D + centre_offset().
     virtual double centre_offset() const = 0;
     //! Applied taps, oldest pulse first (complex for FILTER_DROP; empty for LMS, adaptive).

@@ -51,7 +51,8 @@ void bind_cheby_presum(py::module& m)
                          double stopband_weight,
                          unsigned symbols_per_pulse,
                          bool enforce_qpe_bound,
-                         double lms_step) {
+                         double lms_step,
+                         std::uint64_t first_output) {
                  presum_config c;
                  c.method = method;
                  c.domain = domain;
@@ -63,6 +64,7 @@ void bind_cheby_presum(py::module& m)
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.enforce_qpe_bound = enforce_qpe_bound;
                  c.lms_step = lms_step;
+                 c.first_output = first_output;
                  return c;
              }),
              py::arg("method") = presum_method::CHEBY,
@@ -75,6 +77,7 @@ void bind_cheby_presum(py::module& m)
              py::arg("symbols_per_pulse") = 1u,
              py::arg("enforce_qpe_bound") = true,
              py::arg("lms_step") = 0.2,
+             py::arg("first_output") = 0u,
              "presum_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("method", &presum_config::method)
         .def_readwrite("domain", &presum_config::domain)
@@ -85,7 +88,8 @@ void bind_cheby_presum(py::module& m)
         .def_readwrite("stopband_weight", &presum_config::stopband_weight)
         .def_readwrite("symbols_per_pulse", &presum_config::symbols_per_pulse)
         .def_readwrite("enforce_qpe_bound", &presum_config::enforce_qpe_bound)
-        .def_readwrite("lms_step", &presum_config::lms_step);
+        .def_readwrite("lms_step", &presum_config::lms_step)
+        .def_readwrite("first_output", &presum_config::first_output);
 
     py::class_<cheby_presum, gr::block, gr::basic_block, std::shared_ptr<cheby_presum>>(
         m, "cheby_presum", D(cheby_presum))
@@ -113,6 +117,10 @@ void bind_cheby_presum(py::module& m)
         .def("num_bins", &cheby_presum::num_bins)
         .def("num_taps", &cheby_presum::num_taps)
         .def("lookahead", &cheby_presum::lookahead, "Pulses after g D that output g needs.")
+        .def("history", &cheby_presum::history, "Pulses before g D that output g needs.")
+        .def("first_pulse",
+             &cheby_presum::first_pulse,
+             "The flight's pulse the input starts at (cfg.first_output: a strip's task).")
         .def("centre_offset",
              &cheby_presum::centre_offset,
              "Output g is centred on input pulse g D + centre_offset().")

@@ -82,9 +82,14 @@ class qa_distributed_process(gr_unittest.TestCase):
                               dp.whole(opts, rec, dp.layout(opts, rec)))["image"]
 
     def test_001_dask_equals_one_process(self):
-        res = dp.run(self.opts("dask", dask="local:2"), self.client)
+        # two tasks submitted and not yet written at once, a strip of four: the client
+        # streams each aperture into the file in order, holding at most two
+        res = dp.run(self.opts("dask", dask="local:2", strip_window=2), self.client)
         self.assertEqual((res["strip_apertures"], res["dask_workers"]), (4, 2))
+        self.assertEqual(res["strip_held_peak"], 2)
         self.assertEqual(res["strip_failed"], [])
+        self.assertEqual(os.listdir(os.path.dirname(res["strip_image_npy"])),
+                         ["strip_image.npy"])  # the temporary renamed
         image = np.load(res["strip_image_npy"])
         self.assertEqual(image.shape[0], 4 * M)
         np.testing.assert_array_equal(image, self.whole_image)
@@ -143,10 +148,11 @@ class qa_distributed_process(gr_unittest.TestCase):
     def test_003_worker_killed_costs_a_retry(self):
         opts, client = self.opts("killed"), self.client
         pids = client.run(os.getpid)
-        slices = dp.layout(opts, recording.read(self.meta)).slices
-        out = {}
-        runner = threading.Thread(
-            target=lambda: out.update(dp.run_slices(opts, self.meta, slices, client)))
+        lay = dp.layout(opts, recording.read(self.meta))
+        path = os.path.join(self.dir, "killed.npy")
+        out = []
+        runner = threading.Thread(target=lambda: out.append(dp.write_strip(
+            path, lay, dp.in_order(opts, self.meta, lay.slices, client))))
         runner.start()
         deadline = time.monotonic() + 120
         while not any(client.processing().values()) and time.monotonic() < deadline:
@@ -156,9 +162,9 @@ class qa_distributed_process(gr_unittest.TestCase):
         os.kill(pids[busy[0]], signal.SIGKILL)  # its task runs again elsewhere
         runner.join(600)
         self.assertFalse(runner.is_alive())
-        image, failed = dp.stitch(slices, out, self.whole_image.shape[1])
-        self.assertEqual(failed, [])
-        np.testing.assert_array_equal(image, self.whole_image)
+        failed, _, held = out[0]
+        self.assertEqual((failed, held), ([], 4))  # the default window: twice the workers
+        np.testing.assert_array_equal(np.load(path), self.whole_image)
 
     def test_003b_back_projection_strip(self):
         # bp_focuser images each aperture from its own pulses: a task reads its aperture
@@ -169,6 +175,82 @@ class qa_distributed_process(gr_unittest.TestCase):
         self.assertEqual([s for s in res["strip_slices"]],
                          [[a * M * STEP, M * STEP] for a in range(4)])
         np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
+
+    def test_003c_presummed_strip(self):
+        # behind a presummer (D = 2: 54 lines of 56 symbols per aperture) with 25 lines of
+        # overlap: task 2 starts mid-flight, at the presummer's window of its first line
+        # (line g needs pulses from g D - a, a = (L - 1) / 2 = 3 for cheby's L = 4 D taps, 0
+        # for boxcar's sum of g D .. g D + D - 1), task 1's window reaches back to pulse 0;
+        # the strip is one graph's
+        overlap = 25 * 2 * STEP * recording.read(self.meta).num.symbol_s()
+        for presum, a in (("cheby", 3), ("boxcar", 0)):
+            opts = self.opts("presum_" + presum, presum=presum, decim=2, strip_overlap_s=overlap)
+            res = dp.run(opts)
+            m, shift = res["strip_aperture_lines"], res["strip_line_shift"]
+            self.assertEqual((m, res["strip_overlap_lines"]), (54, [25, 25]))
+            self.assertEqual([first for first, _ in res["strip_slices"]],
+                             [0] + [STEP * max(0, 2 * (i * m + shift - 25) - a)
+                                    for i in (1, 2)])
+            self.assertEqual(res["strip_failed"], [])
+            image = np.load(res["strip_image_npy"])
+            self.assertEqual(image.shape[0], 3 * m)
+            np.testing.assert_array_equal(image, self.whole(opts))
+            self.assertGreater(np.abs(image).max(), 0)
+
+    def _recording(self, name, extra):
+        rec = os.path.join(self.dir, name)
+        sim = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-sim")] + FLIGHT + extra +
+                             ["--record", rec, "--images", "none", "--quiet",
+                              "--out", os.path.join(self.dir, name + "_sim")],
+                             capture_output=True, text=True, timeout=900)
+        self.assertEqual(sim.returncode, 0, sim.stderr)
+        return os.path.join(rec, "flight.sigmf-meta")
+
+    def test_003d_recording_with_gaps(self):
+        # two overflows: 3000 samples from 500 before task 2's first symbol (3024, with 50
+        # lines of overlap), so task 2 starts inside the gap, and 20000 samples 200 symbols
+        # later, inside tasks 2 and 3: each task zero-fills the symbols a gap touched where
+        # one graph over the whole recording does (ofdm_demod's rx_time alignment)
+        sym = 1280  # samples per symbol at sdr20
+        start = STEP * (2 * M - 56 - 50)
+        meta = self._recording("gaps", ["--record-gap", f"{start * sym - 500}:3000",
+                                        "--record-gap", f"{(start + 200) * sym}:20000"])
+        opts = self.opts("gaps_out", meta=meta, strip_overlap_s=50 * STEP * 1280 / 30.72e6)
+        res = dp.run(opts)
+        self.assertEqual(res["strip_slices"][2][0], start)
+        self.assertEqual((res["overflows"], res["lost_samples"]), (2, 23000))
+        self.assertEqual(res["strip_failed"], [])
+        image = np.load(res["strip_image_npy"])
+        np.testing.assert_array_equal(image, self.whole(opts))
+        # a part from task 2's first symbol: its data from the first gap's end, the 2500
+        # samples it lost in the part stamped at its first sample; the second gap clipped at
+        # the part's end (10 of its symbols lost inside a part of 210)
+        rec = recording.read(meta)
+        gap_end = rec.hardware_delay_samples + start * sym - 500  # the first overflow's index
+        second = gap_end + 200 * sym + 500 - 3000  # the second's: less the 3000 lost before
+        self.assertEqual(rec.gaps, [(gap_end, 3000), (second, 20000)])
+        for symbols, gaps in ((100, [(gap_end, 2500)]),
+                              (210, [(gap_end, 2500), (second, 10 * sym)]),
+                              (1000, [(gap_end, 2500), (second, 20000)])):
+            part = dp.part_of(rec, start, symbols)
+            self.assertEqual((part.hardware_delay_samples, part.gaps), (gap_end, gaps))
+        # a part after both: the file that much shorter before it
+        self.assertEqual(dp.part_of(rec, start + 300, 10).hardware_delay_samples,
+                         rec.hardware_delay_samples + (start + 300) * sym - 23000)
+
+    def test_003e_flown_path(self):
+        # a gusty flight imaged along an RTK navigation (nrsar:trajectory, nrsar:navigation):
+        # rd_focuser's motion compensation and bp_focuser's positions take the flight's slow
+        # time from the task's first aperture, cheby's compensation along the navigation its
+        # phase segments from the flight's blocks of 64 pulses: the strip is one graph's
+        meta = self._recording("flown", ["--motion", "gusty", "--nav-error", "rtk"])
+        for focuser, presum in (("rd", {}), ("bp", {}), ("rd", dict(presum="cheby", decim=2))):
+            opts = self.opts("flown_" + focuser, meta=meta, focuser=focuser,
+                             strip_overlap_s=25 * 2 * STEP * 1280 / 30.72e6, **presum)
+            res = dp.run(opts)
+            self.assertEqual(res["strip_failed"], [])
+            self.assertGreater(res["strip_slices"][2][0], 0)
+            np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
 
     def test_004_tls_refuses_a_client_without_certificate(self):
         import distributed
@@ -193,9 +275,12 @@ class qa_distributed_process(gr_unittest.TestCase):
             ProcessOptions(recording=self.meta, dask="local:2",
                            out=os.path.join(self.dir, "o")).validate()
         rec = recording.read(self.meta)
-        for kw in (dict(presum="cheby", decim=4), dict(estimate_snr=True)):
-            with self.assertRaisesRegex(OptionError, "strip tasks are built for --presum none"):
-                dp.layout(self.opts("o", **kw), rec)
+        with self.assertRaisesRegex(OptionError, "--presum = 'lms' with --strip-aperture-s: "
+                                    "its filter adapts from the flight's first pulse"):
+            dp.layout(self.opts("o", presum="lms", decim=2), rec)
+        with self.assertRaisesRegex(OptionError, "--estimate-snr = True with "
+                                    "--strip-aperture-s: the Wiener filter's SNR estimate"):
+            dp.layout(self.opts("o", estimate_snr=True), rec)
         for aperture_s in (0.001, 0.6):
             with self.assertRaisesRegex(OptionError, "--strip-aperture-s = .* at most the "
                                         "recording's 428 lines"):

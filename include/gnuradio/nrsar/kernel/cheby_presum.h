@@ -54,6 +54,10 @@ struct NRSAR_API presum_config {
     unsigned symbols_per_pulse = 1; //!< input pulse interval in OFDM symbols
     bool enforce_qpe_bound = true;  //!< refuse D above the eq. (P-36) bound
     double lms_step = 0.2;          //!< LMS: normalised step mu in (0, 2), misadjustment mu / (2 - mu)
+    //! A strip's task (docs/scale.md): the flight's index of the first output pulse to emit;
+    //! the input stream then starts at the flight's pulse first_pulse() (0: the whole flight).
+    //! Not for LMS (it adapts from the first pulse).
+    std::uint64_t first_output = 0;
 };
 
 /*!
@@ -62,7 +66,11 @@ struct NRSAR_API presum_config {
  * Streaming: push() one pulse at a time; when it completes an output group it writes
  * the output pulse. Output g is centred on input pulse g D + centre_offset() (0 or 0.5
  * pulse); it needs the input pulses up to g D + lookahead(); pulses before the stream
- * start count as zero.
+ * start count as zero. With first_output g0 the stream starts at the flight's pulse
+ * first_pulse() = max(0, g0 D - history()) and the first output is g0: the slow time,
+ * the ring's slots and the phase segments are the flight's (segments every
+ * phase_segment() pulses from pulse 0, the first row reached by the same recurrence), so
+ * its outputs equal the whole stream's bit for bit.
  *
  * CHEBY: every input pulse is demodulated by the phase history of a reference scatterer
  * per element (range domain: closest-approach slant range of the bin at the scene's
@@ -82,7 +90,8 @@ class NRSAR_API cheby_presum
 public:
     //! Pulses between exact evaluations of the demodulation phases (1..64, chosen so
     //! that the linear phase interpolation errs by at most 1e-4 rad; with a navigation
-    //! path: of the last segment, halved from 64 until its midpoint errs at most that).
+    //! path: of the last segment, halved from 64 until its midpoint errs at most that,
+    //! within blocks of 64 pulses from the flight's pulse 0).
     unsigned phase_segment() const { return d_seg; }
 
     cheby_presum(const numerology& num,
@@ -125,6 +134,10 @@ public:
     presum_domain domain() const { return d_cfg.domain; }
     unsigned num_taps() const { return d_l; }
     unsigned lookahead() const { return d_b; }
+    //! Pulses before g D the output g needs.
+    unsigned history() const { return d_a; }
+    //! The flight's pulse the input stream starts at (cfg.first_output, class doc).
+    std::uint64_t first_pulse() const { return d_first_pulse; }
     double centre_offset() const { return d_centre; }
     //! Taps applied to the window's pulses, first = oldest (DC gain D; 1 for DROP).
     const std::vector<gr_complex>& taps() const { return d_taps; }
@@ -144,7 +157,9 @@ public:
     double pulse_interval_s() const { return d_t_in; }
     double output_pulse_interval_s() const { return d_t_in * d_cfg.decim; }
     const std::vector<std::string>& warnings() const { return d_warnings; }
+    //! The flight's index of the next input pulse (first_pulse() + pulses pushed).
     std::uint64_t pulses_in() const { return d_pushed; }
+    //! The flight's index of the next output pulse (first_output + outputs written).
     std::uint64_t pulses_out() const { return d_out; }
 
     /*!
@@ -159,8 +174,10 @@ public:
 private:
     double ref_range(unsigned element, double t) const; // eq. (P-25)
     void phase_row(double t, bool conj, gr_complex* row) const;
-    void start_segment(double t);
-    void start_path_segment(double t);
+    double slow_time(std::uint64_t pulse) const;
+    void start_segment(std::uint64_t pulse);
+    unsigned path_segment(std::uint64_t pulse);
+    void start_path_segment(std::uint64_t pulse);
     void path_ranges(double t, double* r) const; // reference ranges of every element
     void design();
 
@@ -187,13 +204,17 @@ private:
     volk::vector<gr_complex> d_z, d_w;
     unsigned d_seg_left = 0;
     unsigned d_seg = 1;
+    std::uint64_t d_seg_origin = 0; // the pulse the segments are counted from
+    std::uint64_t d_seg_next = 0;   // where the next path segment starts
     void update_segment();
     std::vector<double> d_r0sq;      // per element squared closest slant range (RANGE)
     los_reference d_los;             // the navigation path's line of sight
     std::vector<double> d_ra, d_rb, d_rm; // path ranges at a segment's start, end, middle
     mutable std::vector<double> d_rrow;   // path ranges of a phase row
-    std::uint64_t d_pushed = 0, d_out = 0;
-    double d_t_next = 0.0;
+    std::uint64_t d_first_pulse = 0;
+    std::uint64_t d_pushed = 0, d_out = 0; // the flight's pulse indices (in, out)
+    double d_t0 = 0.0;        // slow time of pulse d_p0: t(p) = d_t0 + (p - d_p0) T
+    std::uint64_t d_p0 = 0;
     std::unique_ptr<lms_presum> d_lms; // LMS: the adaptive line enhancer
 };
 
