@@ -67,7 +67,7 @@ def _base_type(annotation):
     return annotation, False
 
 
-class _Options:
+class Options:
     """Parser generation and validation shared by every options dataclass."""
 
     @classmethod
@@ -336,7 +336,7 @@ DEFAULT_DECIM = 10
 
 
 @dataclasses.dataclass
-class SimOptions(_Options):
+class SimOptions(Options):
     """Options of one run of the imaging chain (nrsar-sim, and the base of the others)."""
     preset: str = option("paper", "OFDM numerology preset: paper = 3333 x 30 kHz, 24 kHz PRF; "
                          "small = 512 subcarriers; tiny = 64 (tests); nr273; sdr20",
@@ -678,7 +678,7 @@ RECORDED_FIELDS = ("preset", "geometry", "aperture_s", "scene", "target", "snr_d
                    "motion_seed", "nav", "nav_error", "record_gap")
 
 
-class _ProcessRules(_Options):
+class _ProcessRules(Options):
     """Rules of ProcessOptions: SimOptions' own between its receive-side fields."""
 
     def check(self):

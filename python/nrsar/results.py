@@ -11,6 +11,8 @@ a full disk) leaves complete files or none, never a truncated one.
 """
 
 import contextlib
+import csv
+import io
 import json
 import math
 import os
@@ -72,6 +74,15 @@ def write_text(path, text):
 
 def write_json(path, obj):
     return write_text(path, json.dumps(obj, indent=1) + "\n")
+
+
+def write_csv(path, rows):
+    """rows (dicts with the same keys, in the first row's order) as a CSV with a header."""
+    text = io.StringIO()
+    w = csv.DictWriter(text, fieldnames=list(rows[0].keys()))
+    w.writeheader()
+    w.writerows(rows)
+    return write_text(path, text.getvalue())
 
 
 def save_figure(fig, path, **kwargs):

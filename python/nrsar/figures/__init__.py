@@ -44,7 +44,7 @@ import time
 import numpy as np
 
 from .. import chain, cli, params, progress, results, scenario, theory
-from ..options import SimOptions, _Options, check_names, option
+from ..options import SimOptions, Options, check_names, option
 
 LIGHT_SPEED = 299792458.0
 TARGET1 = "300,100"
@@ -871,7 +871,7 @@ def fig8(out, quick, workdir):
 
 
 @dataclasses.dataclass
-class FiguresOptions(_Options):
+class FiguresOptions(Options):
     out: str = option("nrsar-figures", "output folder")
     quick: bool = option(False, "small sizes (small preset N = 512, 0.2 s aperture, few "
                          "SNRs): the smoke test")

@@ -21,7 +21,7 @@ import tempfile
 import numpy as np
 
 from .. import cli, results
-from ..options import _Options, option
+from ..options import Options, option
 from .. import figures
 
 MODULATIONS = ("qam256", "qam16", "qpsk")
@@ -69,7 +69,7 @@ def run(out, quick=False, seeds=2):
 
 
 @dataclasses.dataclass
-class AccuracyOptions(_Options):
+class AccuracyOptions(Options):
     out: str = option("nrsar-accuracy", "output folder")
     quick: bool = option(False, "small sizes (the smoke test)")
     seeds: int = option(2, "seeds per cell", at_least=1, at_most=100)

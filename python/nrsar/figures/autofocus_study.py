@@ -34,16 +34,17 @@ the data corrected by that true error per pulse, the best one phase per pulse ca
 Writes autofocus_gnss.png and autofocus_gnss.csv into --out and prints one JSON object.
 """
 
-import argparse
-import csv
+import dataclasses
 import json
 import math
 import os
+import sys
 
 import numpy as np
 from gnuradio import blocks, gr
 
-from .. import params
+from .. import cli, params, results
+from ..options import Options, option
 from ..focus_scenario import (C, H, K, LAM, N_SUB, NUM, R_FIRST, RHO, SPP, T, V, echo_along,
                               geometry)
 from ..nrsar_python import (autofocus, autofocus_config, autofocus_method, bp_config,
@@ -231,18 +232,19 @@ def run(seed, make_plot=None):
     return row
 
 
+@dataclasses.dataclass
+class AutofocusStudyOptions(Options):
+    out: str = option("docs/figures", "output folder")
+    seeds: int = option(4, "navigation seeds 1..N", at_least=1, at_most=100)
+
+
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default="docs/figures")
-    ap.add_argument("--seeds", type=int, default=4, help="navigation seeds 1..N")
-    args = ap.parse_args(argv)
+    args = cli.parse("autofocus_study", AutofocusStudyOptions, __doc__, argv)
+    if args is None:
+        return cli.EXIT_USAGE
     curves = []
     rows = [run(s, curves if s == 1 else None) for s in range(1, args.seeds + 1)]
-    os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "autofocus_gnss.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+    results.write_csv(os.path.join(args.out, "autofocus_gnss.csv"), rows)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -266,9 +268,10 @@ def main(argv=None):
     ax2.legend(fontsize=8)
     ax2.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "autofocus_gnss.png"), dpi=110)
+    results.save_figure(fig, os.path.join(args.out, "autofocus_gnss.png"), dpi=110)
     print(json.dumps(rows, indent=1))
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

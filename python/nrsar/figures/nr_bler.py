@@ -18,11 +18,14 @@ Run: /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler [--blocks 100] [--max-it
 --published: the decoder against AFF3CT's published 5G NR LDPC curves (PUBLISHED).
 """
 
-import argparse
+import dataclasses
+import sys
 
 import numpy as np
 
 from gnuradio import nrsar
+from gnuradio.nrsar import cli
+from gnuradio.nrsar.options import OptionError, Options, option
 
 # (table, MCS, n_prb) of the curves; 14 symbols with one DMRS symbol: 156 data REs per PRB
 CASES = [("qam64", 4, 20), ("qam64", 13, 20), ("qam64", 22, 20), ("qam256", 24, 20)]
@@ -162,19 +165,28 @@ def snr_at(curve, target=0.1):
     return None
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--blocks", type=int, default=100, help="transport blocks per SNR")
-    parser.add_argument("--max-iter", type=int, default=20, help="LDPC iterations at most")
-    parser.add_argument("--only", default="",
-                        help="table:mcs,... of CASES to run (default: all)")
-    parser.add_argument("--published", action="store_true",
-                        help="instead: BPSK FER against AFF3CT's published curves "
+@dataclasses.dataclass
+class NrBlerOptions(Options):
+    blocks: int = option(100, "transport blocks per SNR", at_least=1, at_most=10 ** 7)
+    max_iter: int = option(20, "LDPC iterations at most", at_least=1, at_most=100)
+    only: str = option("", "table:mcs,... of CASES to run (default: all)")
+    published: bool = option(False, "instead: BPSK FER against AFF3CT's published curves "
                              "(PUBLISHED), --blocks frames per point, 10 iterations")
-    parser.add_argument("--harq", action="store_true",
-                        help="HARQ gain instead: qam64 MCS 13 sent once (rv 0) and twice "
-                             "(rv 0 + rv 2, combined)")
-    args = parser.parse_args(argv)
+    harq: bool = option(False, "HARQ gain instead: qam64 MCS 13 sent once (rv 0) and twice "
+                        "(rv 0 + rv 2, combined)")
+
+    def check(self):
+        cases = [f"{t}:{m}" for t, m, _ in CASES]
+        for w in (w for w in self.only.split(",") if w):
+            if w not in cases:
+                raise OptionError(f"--only = {self.only!r}: {w!r} is not one of "
+                                  f"{', '.join(cases)}")
+
+
+def main(argv=None):
+    args = cli.parse("nr_bler", NrBlerOptions, __doc__, argv)
+    if args is None:
+        return cli.EXIT_USAGE
     if args.published:
         print("| code | Eb/N0 (dB): FER, ours | ours 10 % / 1 % | SPA 10 % / 1 % | "
               "OMS 0.5 10 % / 1 % | ours - SPA at 10 % / 1 % |")
@@ -193,7 +205,7 @@ def main(argv=None):
             print(f"| BG{bg} Zc {zc} K' {kp} E {e} | "
                   + ", ".join(f"{p:g}: {f:.3f}" for p, f in zip(pts, fer))
                   + f" | {fmt(mine)} | {fmt(at['SPA'])} | {fmt(at['OMS 0.5'])} | {fmt(gap)} |")
-        return
+        return 0
     if args.harq:
         print("| transmissions | SNR (dB): BLER | BLER 10 % at |")
         print("|---|---|---|")
@@ -204,7 +216,7 @@ def main(argv=None):
             at = snr_at(c)
             print(f"| rv {' + '.join(map(str, rvs))} | {pts} | "
                   f"{'n/a' if at is None else f'{at:.2f} dB'} |")
-        return
+        return 0
     print("| MCS | Qm | R | TBS | G | SNR (dB): BLER | BLER 10 % at | Shannon limit | gap | "
           "normal approximation (BICM) | gap |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
@@ -226,7 +238,8 @@ def main(argv=None):
         na_gap = "" if at is None else f"{at - na:.2f} dB"
         print(f"| {table} {mcs} | {qm} | {rate:.3f} | {c['tbs']} | {c['g']} | {pts} | "
               f"{at_s} | {limit:.2f} dB | {gap_s} | {na:.2f} dB | {na_gap} |")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -41,9 +41,9 @@ import numpy as np
 
 from gnuradio import nrsar
 from gnuradio.nrsar import chain, cli, params, results, scenes
-from .presum_study import (azimuth_cut, image_run, plot_azimuth_cuts, plt_module, single_pulse,
-                           write_csv)
-from gnuradio.nrsar.options import OptionError, SimOptions, _Options, check_names, option
+from .presum_study import azimuth_cut, image_run, plot_azimuth_cuts, plt_module, single_pulse
+from gnuradio.nrsar.results import write_csv
+from gnuradio.nrsar.options import OptionError, SimOptions, Options, check_names, option
 
 D_PAPER = 12
 D_TABLE6 = 96  # PRF / D near the scene's Doppler band, as in the paper (module doc)
@@ -195,7 +195,7 @@ PARTS = ("fig6", "table5", "table6", "table7")
 
 
 @dataclasses.dataclass
-class PresumCompareOptions(_Options):
+class PresumCompareOptions(Options):
     out: str = option("docs/figures", "output folder")
     preset: str = option("small", "OFDM numerology preset",
                          choices=list(nrsar.numerology.preset_names()))

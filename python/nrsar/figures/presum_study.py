@@ -22,10 +22,8 @@
    (uncompensated) and CHEBY, D up to 2 D_max -> presum_qpe.csv / .png.
 """
 
-import csv
 import dataclasses
 import json
-import io
 import math
 import os
 import sys
@@ -36,19 +34,12 @@ from gnuradio import blocks, fft, gr
 
 from gnuradio import nrsar
 from gnuradio.nrsar import chain, cli, params, results, runtime, scenario
-from gnuradio.nrsar.options import SimOptions, _Options, option
+from gnuradio.nrsar.results import write_csv
+from gnuradio.nrsar.options import SimOptions, Options, option
 
 # the methods in the order of the figures' legends
 METHODS = {name: params.PRESUM_METHODS[name] for name in ("drop", "boxcar", "filter_drop", "cheby")}
 C = 299792458.0
-
-
-def write_csv(path, rows):
-    text = io.StringIO()
-    w = csv.DictWriter(text, fieldnames=list(rows[0].keys()))
-    w.writeheader()
-    w.writerows(rows)
-    results.write_text(path, text.getvalue())
 
 
 def plt_module():
@@ -210,7 +201,7 @@ def qpe_check(preset, d_list):
 
 
 @dataclasses.dataclass
-class PresumStudyOptions(_Options):
+class PresumStudyOptions(Options):
     out: str = option("docs/figures", "output folder")
     preset: str = option("small", "OFDM numerology preset",
                          choices=list(nrsar.numerology.preset_names()))

@@ -31,7 +31,7 @@ import numpy as np
 
 from gnuradio import nrsar
 from gnuradio.nrsar import backhaul, cli
-from gnuradio.nrsar.options import _Options, option
+from gnuradio.nrsar.options import Options, option
 
 
 def grid_of(preset, slots, coding, scrambling, payload):
@@ -62,7 +62,7 @@ def ghost_level(num, grid):
 
 
 @dataclasses.dataclass
-class ScramblerGhostsOptions(_Options):
+class ScramblerGhostsOptions(Options):
     preset: str = option("sdr20", "OFDM numerology preset",
                          choices=list(nrsar.numerology.preset_names()))
     slots: int = option(160, "slots of the slow-time record (the ghosts' spectrum needs a "

@@ -104,6 +104,9 @@ BAD_FIGURE_INPUTS = [
     ("gnuradio.nrsar.figures.presum_study", ["--decim", "5000"], "--decim = 5000 must be at most"),
     ("gnuradio.nrsar.figures.scrambler_ghosts", ["--slots", "2"], "--slots = 2 must be at least 4"),
     ("gnuradio.nrsar.figures.accuracy", ["--seeds", "-1"], "--seeds = -1 must be at least 1"),
+    ("gnuradio.nrsar.figures.autofocus_study", ["--seeds", "0"], "--seeds = 0 must be at least 1"),
+    ("gnuradio.nrsar.figures.nr_bler", ["--max-iter", "0"], "--max-iter = 0 must be at least 1"),
+    ("gnuradio.nrsar.figures.nr_bler", ["--only", "qam64:99"], "'qam64:99' is not one of"),
 ]
 
 # The small valid scenario each row breaks one rule of.
@@ -142,8 +145,8 @@ class qa_apps(gr_unittest.TestCase):
                 where = f"{program} {' '.join(flags)}"
                 command = ([os.path.join(APPS, program)] if program.startswith("nrsar-")
                            else ["-m", program])
-                out = [] if program.endswith("scrambler_ghosts") else \
-                    ["--out", os.path.join(self.dir, "figures")]  # it prints its table
+                out = [] if program.endswith(("scrambler_ghosts", "nr_bler")) else \
+                    ["--out", os.path.join(self.dir, "figures")]  # they print their tables
                 proc = subprocess.run([sys.executable] + command + flags + out,
                                       capture_output=True, text=True, timeout=300)
                 self.assertEqual(proc.returncode, 2, f"{where}: exit {proc.returncode}\n"
