@@ -250,6 +250,11 @@ def image_results(opts, chain, sc, runtime_s):
     # rms of the azimuth phase error autofocus estimated (energy-weighted, rad)
     af = chain["autofocus"]
     af_rms = af.phase_rms_rad() if af is not None else math.nan
+    if opts.autofocus == "trajectory":
+        # the focuser's own estimate: rms line-of-sight displacement, and its two-way phase
+        los = chain["focuser"].trajectory_los_rms_m()
+        result["autofocus_los_rms_m"] = los if math.isfinite(los) else None
+        af_rms = 4.0 * math.pi * los / sc.geo.wavelength_m()
     result["autofocus_phase_rms_rad"] = af_rms if math.isfinite(af_rms) else None
     # symbols a radio's overflow lost, zeroed by ofdm_demod (docs/recording.md, "Gaps")
     demod = chain.get("radar_demod", chain["echo"])  # nrsar-isac's echo is td_echo
