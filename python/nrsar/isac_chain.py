@@ -270,9 +270,13 @@ def run(opts):
                 for name in ("sync", "demod", "receiver")}
     # CPU time in work() of every block we hold
     named = {"pusch_encoder": enc, "nr_isac_tx": tx, "ofdm_mod": mod, "bs_channel": bs["channel"],
-             "radar_echo": graph["echo"], **{f"radar_{k}": graph[k] for k in
-                                               ("filter", "range_ifft", "focuser", "probe")},
-             **{f"bs_{k}": bs[k] for k in ("sync", "demod", "receiver")}}
+             "radar_echo": graph["echo"]}
+    for k in ("filter", "range_ifft", "focuser", "probe"):
+        blk = graph[k]  # --rx-fuse: one range_compress is the filter and the range IFFT
+        if not any(blk is b for b in named.values()):
+            named["radar_range_compress" if blk.name() == "range_compress"
+                  else f"radar_{k}"] = blk
+    named.update({f"bs_{k}": bs[k] for k in ("sync", "demod", "receiver")})
     if opts.radar_domain == "time":
         named["radar_ofdm_demod"] = graph["radar_demod"]
     result.update({

@@ -214,6 +214,24 @@ class qa_range_compress(gr_unittest.TestCase):
         self.assertEqual(set(b["rx_block_s"]), {"range_compress", "presum", "focuser",
                                                 "probe"})
 
+    def test_008_isac_rx_fuse_names_the_block_once(self):
+        # nrsar-isac with --rx-fuse on: the same radar image metrics, and block_cpu_s names
+        # the fused block once (not under the filter's and the range IFFT's keys both)
+        from gnuradio.nrsar import isac_chain
+        from gnuradio.nrsar.options import IsacOptions
+        runs = {}
+        for fuse in ("off", "on"):
+            out = tempfile.mkdtemp(prefix="qa_range_compress_isac_")
+            runs[fuse] = isac_chain.run(IsacOptions.parse(
+                ["--preset", "tiny", "--aperture-s", "0.05", "--rx-fuse", fuse,
+                 "--images", "none", "--out", out]))
+        a, b = runs["off"], runs["on"]
+        self.assertAlmostEqual(a["nmse_db"], b["nmse_db"], 3)
+        radar = {f: {k for k in r["block_cpu_s"] if k.startswith("radar_")}
+                 for f, r in runs.items()}
+        self.assertEqual(radar["off"] - radar["on"], {"radar_filter", "radar_range_ifft"})
+        self.assertEqual(radar["on"] - radar["off"], {"radar_range_compress"})
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_range_compress)
