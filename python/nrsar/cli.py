@@ -59,6 +59,16 @@ def parse(prog, options_cls, doc, argv=None):
     return opts
 
 
+def main_json(prog, options_cls, run, doc, argv=None):
+    """parse(), then run(opts) with its result printed as indented JSON (the figure
+    studies); returns the exit code."""
+    opts = parse(prog, options_cls, doc, argv)
+    if opts is None:
+        return EXIT_USAGE
+    print(json.dumps(run(opts), indent=1, default=float))
+    return 0
+
+
 def main(prog, options_cls, run, doc, argv=None, verdict=lambda result: 0):
     """Parses argv into options_cls (parse()), runs run(opts) and prints its result dict
     (JSON with --json); returns the exit code."""

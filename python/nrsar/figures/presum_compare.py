@@ -31,7 +31,6 @@ lms (the paper's LMS baseline, kernel/lms_presum.h) and cheby (the proposed meth
 """
 
 import dataclasses
-import json
 import math
 import os
 import sys
@@ -41,9 +40,10 @@ import numpy as np
 
 from gnuradio import nrsar
 from gnuradio.nrsar import chain, cli, params, results, scenes
-from .presum_study import azimuth_cut, image_run, plot_azimuth_cuts, plt_module, single_pulse
+from .presum_study import (PresumStudyOptions, azimuth_cut, image_run, plot_azimuth_cuts,
+                           plt_module, single_pulse)
 from gnuradio.nrsar.results import write_csv
-from gnuradio.nrsar.options import OptionError, SimOptions, Options, check_names, option
+from gnuradio.nrsar.options import OptionError, SimOptions, check_names, option
 
 D_PAPER = 12
 D_TABLE6 = 96  # PRF / D near the scene's Doppler band, as in the paper (module doc)
@@ -195,11 +195,8 @@ PARTS = ("fig6", "table5", "table6", "table7")
 
 
 @dataclasses.dataclass
-class PresumCompareOptions(Options):
-    out: str = option("docs/figures", "output folder")
-    preset: str = option("small", "OFDM numerology preset",
-                         choices=list(nrsar.numerology.preset_names()))
-    decim: int = option(D_PAPER, "presumming factor D", at_least=2, at_most=4096)
+class PresumCompareOptions(PresumStudyOptions):
+    """The study's --out, --preset and --decim (the paper's D = 12), and table 6's own."""
     table6_decim: int = option(D_TABLE6, "D of table 6 (--quick: --decim)", at_least=2,
                                at_most=4096)
     snr_db: float = option(-40.0, "SNR_in of table 6 [dB]", at_least=-100.0, at_most=100.0)
@@ -227,11 +224,7 @@ class PresumCompareOptions(Options):
 
 
 def main(argv=None):
-    opts = cli.parse("presum_compare", PresumCompareOptions, __doc__, argv)
-    if opts is None:
-        return cli.EXIT_USAGE
-    print(json.dumps(run(opts), indent=1, default=float))
-    return 0
+    return cli.main_json("presum_compare", PresumCompareOptions, run, __doc__, argv)
 
 
 def run(a):

@@ -23,7 +23,6 @@
 """
 
 import dataclasses
-import json
 import math
 import os
 import sys
@@ -210,11 +209,7 @@ class PresumStudyOptions(Options):
 
 
 def main(argv=None):
-    opts = cli.parse("presum_study", PresumStudyOptions, __doc__, argv)
-    if opts is None:
-        return cli.EXIT_USAGE
-    print(json.dumps(run(opts), indent=1, default=float))
-    return 0
+    return cli.main_json("presum_study", PresumStudyOptions, run, __doc__, argv)
 
 
 def run(a):
