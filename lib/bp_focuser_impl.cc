@@ -266,7 +266,11 @@ int bp_focuser_impl::drain(gr_complex* out, int noutput, int produced)
                                          pmt::from_double(g.ground ? g.x_spacing_m : g.range_bin_m),
                                          pmt::from_uint64(d_K)));
             if (d_nonfinite_pending) {
-                add_item_tag(0, item, tags::nonfinite_key(), pmt::from_uint64(d_nonfinite_pending));
+                add_item_tag(0,
+                             item,
+                             tags::nonfinite_key(),
+                             pmt::from_uint64(d_nonfinite_pending),
+                             alias_pmt());
                 d_nonfinite_pending = 0;
             }
             ++d_apertures;

@@ -8,7 +8,6 @@
 #include "extended_scene_echo_impl.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/nrsar/tags.h>
 #include <cmath>
 
 namespace gr {
@@ -95,10 +94,8 @@ int extended_scene_echo_impl::work(int noutput_items,
         const std::size_t bad = d_gen.echo(
             m0 + i, in + i * n, out + i * n, ref ? ref + i * n : nullptr, d_noise.generator(), d_noise.sigma());
         if (bad)
-            add_item_tag(0,
-                         nitems_written(0) + i,
-                         tags::nonfinite_key(),
-                         d_nonfinite.note(d_logger, bad, m0 + i));
+            add_item_tag(
+                0, d_nonfinite.tag(d_logger, bad, nitems_written(0) + i, m0 + i, alias_pmt()));
     }
     return noutput_items;
 }

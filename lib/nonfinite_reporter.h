@@ -7,12 +7,14 @@
 
 // The blocks' common reaction to non-finite input samples, after their kernel zeroed them:
 // count them, log the first occurrence (again after every rearm(), which blocks that work
-// aperture by aperture call per aperture), and give the value of the nonfinite tag.
+// aperture by aperture call per aperture), and give the nonfinite tag that marks them.
 
 #ifndef INCLUDED_NRSAR_NONFINITE_REPORTER_H
 #define INCLUDED_NRSAR_NONFINITE_REPORTER_H
 
 #include <gnuradio/logger.h>
+#include <gnuradio/nrsar/tags.h>
+#include <gnuradio/tags.h>
 #include <pmt/pmt.h>
 #include <cstdint>
 
@@ -35,6 +37,21 @@ public:
             d_logged = true;
         }
         return pmt::from_uint64(bad);
+    }
+
+    //! note() and the nonfinite tag on output item `item` (value: the count), from srcid.
+    gr::tag_t tag(const gr::logger_ptr& logger,
+                  std::uint64_t bad,
+                  std::uint64_t item,
+                  std::uint64_t where,
+                  const pmt::pmt_t& srcid)
+    {
+        gr::tag_t t;
+        t.offset = item;
+        t.key = nrsar::tags::nonfinite_key();
+        t.value = note(logger, bad, where);
+        t.srcid = srcid;
+        return t;
     }
 
     std::uint64_t count() const { return d_count; }

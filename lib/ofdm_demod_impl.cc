@@ -113,8 +113,7 @@ void ofdm_demod_impl::demod_one(const gr_complex* in, gr_complex* out, std::uint
     const gr_complex* x = d_guard.guard(in, d_kernel.symbol_length(), bad);
     d_kernel.execute(x, out);
     if (bad > 0)
-        add_item_tag(
-            0, item, tags::nonfinite_key(), d_nonfinite.note(d_logger, bad, item), alias_pmt());
+        add_item_tag(0, d_nonfinite.tag(d_logger, bad, item, item, alias_pmt()));
 }
 
 int ofdm_demod_impl::work_plain(int noutput_items,

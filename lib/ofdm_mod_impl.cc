@@ -7,7 +7,6 @@
 
 #include "ofdm_mod_impl.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/nrsar/tags.h>
 
 namespace gr {
 namespace nrsar {
@@ -52,12 +51,8 @@ int ofdm_mod_impl::work(int noutput_items,
         const gr_complex* x = d_guard.guard(in + i * n, n, bad);
         d_kernel.execute(x, out + i * len);
         if (bad > 0) {
-            const std::uint64_t sample = (nitems_read(0) + i) * len;
-            add_item_tag(0,
-                         sample,
-                         tags::nonfinite_key(),
-                         d_nonfinite.note(d_logger, bad, nitems_read(0) + i),
-                         alias_pmt());
+            const std::uint64_t symbol = nitems_read(0) + i;
+            add_item_tag(0, d_nonfinite.tag(d_logger, bad, symbol * len, symbol, alias_pmt()));
         }
     }
     return nsym * int(len);

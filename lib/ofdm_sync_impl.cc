@@ -206,10 +206,7 @@ int ofdm_sync_impl::general_work(int noutput_items,
             d_rot.rotate(x, out + produced, std::size_t(n));
             if (bad > 0) {
                 const std::uint64_t item = nitems_written(0) + produced;
-                add_item_tag(0,
-                             item,
-                             tags::nonfinite_key(),
-                             d_nonfinite.note(d_logger, bad, item));
+                add_item_tag(0, d_nonfinite.tag(d_logger, bad, item, item, alias_pmt()));
             }
             consumed += n;
             produced += n;

@@ -106,11 +106,7 @@ int range_compress_impl::work(int noutput_items,
         const std::size_t bad = d_kernel.process(y + i * n, s + i * n, out + i * k);
         if (bad > 0) {
             const std::uint64_t item = nitems_written(0) + i;
-            add_item_tag(0,
-                         item,
-                         tags::nonfinite_key(),
-                         d_nonfinite.note(d_logger, bad, item),
-                         alias_pmt());
+            add_item_tag(0, d_nonfinite.tag(d_logger, bad, item, item, alias_pmt()));
         }
     }
     return noutput_items;

@@ -159,11 +159,7 @@ int range_ifft_impl::work(int noutput_items,
     for (int i = 0; i < noutput_items; i++) {
         if (d_bad[i] > 0) {
             const std::uint64_t item = nitems_written(0) + i;
-            add_item_tag(0,
-                         item,
-                         tags::nonfinite_key(),
-                         d_nonfinite.note(d_logger, d_bad[i], item),
-                         alias_pmt());
+            add_item_tag(0, d_nonfinite.tag(d_logger, d_bad[i], item, item, alias_pmt()));
         }
     }
     return noutput_items;

@@ -185,7 +185,11 @@ int rd_focuser_impl::drain(gr_complex* out, int noutput, int produced)
                               d_focuser.image_line_spacing_m(),
                               d_out_len);
             if (d_nonfinite_pending) {
-                add_item_tag(0, item, tags::nonfinite_key(), pmt::from_uint64(d_nonfinite_pending));
+                add_item_tag(0,
+                             item,
+                             tags::nonfinite_key(),
+                             pmt::from_uint64(d_nonfinite_pending),
+                             alias_pmt());
                 d_nonfinite_pending = 0;
             }
             ++d_apertures;

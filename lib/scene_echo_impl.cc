@@ -8,7 +8,6 @@
 #include "scene_echo_impl.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/nrsar/tags.h>
 #include <cmath>
 
 namespace gr {
@@ -143,10 +142,7 @@ int scene_echo_impl::work(int noutput_items,
         const std::size_t bad = d_bad[i];
         if (!bad)
             continue;
-        add_item_tag(0,
-                     nitems_written(0) + i,
-                     tags::nonfinite_key(),
-                     d_nonfinite.note(d_logger, bad, m0 + i));
+        add_item_tag(0, d_nonfinite.tag(d_logger, bad, nitems_written(0) + i, m0 + i, alias_pmt()));
     }
     return noutput_items;
 }

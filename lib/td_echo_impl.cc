@@ -8,7 +8,6 @@
 #include "td_echo_impl.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/nrsar/tags.h>
 #include <algorithm>
 #include <cmath>
 
@@ -108,10 +107,8 @@ int td_echo_impl::work(int noutput_items,
                 last = i + 1;
             }
         }
-        add_item_tag(0,
-                     nitems_written(0) + first,
-                     tags::nonfinite_key(),
-                     d_nonfinite.note(d_logger, zeroed, k0 + first));
+        const std::uint64_t item = nitems_written(0) + first;
+        add_item_tag(0, d_nonfinite.tag(d_logger, zeroed, item, k0 + first, alias_pmt()));
         d_bad_end = k0 + last; // the history holds non-finite samples until d_bad_end + hist
     }
     const gr_complex* x = in + hist;

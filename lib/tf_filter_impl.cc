@@ -9,7 +9,6 @@
 #include "nonfinite_reporter.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
-#include <gnuradio/nrsar/tags.h>
 
 namespace gr {
 namespace nrsar {
@@ -126,11 +125,7 @@ int tf_filter_impl::work(int noutput_items,
         const std::size_t bad = d_bad[i];
         if (bad > 0) {
             const std::uint64_t item = nitems_written(0) + i;
-            add_item_tag(0,
-                         item,
-                         tags::nonfinite_key(),
-                         d_nonfinite.note(d_logger, bad, item),
-                         alias_pmt());
+            add_item_tag(0, d_nonfinite.tag(d_logger, bad, item, item, alias_pmt()));
         }
     }
     return noutput_items;

@@ -179,9 +179,9 @@ class qa_scene_echo(gr_unittest.TestCase):
         self.assertLess(rel_error_db(y, echo_reference(self.num, self.geo, PAPER3, clean)), -80.0)
         self.assertEqual(y[3, 5], 0)
         self.assertEqual(blk.nonfinite_count(), 3)
-        found = [(t.offset, pmt.to_uint64(t.value)) for t in tags
+        found = [(t.offset, pmt.to_uint64(t.value), pmt.symbol_to_string(t.srcid)) for t in tags
                  if pmt.eq(t.key, pmt.intern("nonfinite"))]
-        self.assertEqual(found, [(3, 2), (7, 1)])
+        self.assertEqual(found, [(3, 2, blk.alias()), (7, 1, blk.alias())])
 
     def test_009_tags_propagate(self):
         s = np.ones((5, self.N), dtype=np.complex64)
