@@ -34,17 +34,6 @@ bp_focuser::sptr bp_focuser::make(const numerology& num,
         num, geo, scn, num_range_bins, first_range_m, range_bin_m, cfg, nav);
 }
 
-namespace {
-double default_range_bin(const numerology& num, double range_bin_m)
-{
-    num.validate();
-    if (range_bin_m == 0.0)
-        return num.range_bin_m(num.fft_size);
-    check_finite_positive("range_bin_m", range_bin_m);
-    return range_bin_m;
-}
-} // namespace
-
 bp_focuser_impl::bp_focuser_impl(const numerology& num,
                                  const geometry& geo,
                                  const scene& scn,

@@ -7,15 +7,18 @@
 
 // What rd_focuser and bp_focuser share of the stream: the end of the input (they hold
 // their last item back until the upstream is done, so that the scheduler calls them once
-// more to flush), the axis tags they follow and the input loop of their general_work.
+// more to flush), the range axis they start from, the axis tags they follow and the input
+// loop of their general_work.
 
 #ifndef INCLUDED_NRSAR_FOCUSER_STREAM_H
 #define INCLUDED_NRSAR_FOCUSER_STREAM_H
 
+#include "param_check.h"
 #include <gnuradio/block_detail.h>
 #include <gnuradio/buffer_reader.h>
 #include <gnuradio/logger.h>
 #include <gnuradio/nrsar/kernel/aperture_focuser.h>
+#include <gnuradio/nrsar/params.h>
 #include <gnuradio/nrsar/tags.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/tags.h>
@@ -50,6 +53,16 @@ inline bool input_ended(const gr::block_detail_sptr& detail, int navail)
 inline int items_until_flush(const gr::block_detail_sptr& detail)
 {
     return detail && detail->input(0)->done() ? 1 : 2;
+}
+
+//! The range bin before the first range_axis tag: range_bin_m, or the numerology's bin for 0.
+inline double default_range_bin(const numerology& num, double range_bin_m)
+{
+    num.validate();
+    if (range_bin_m == 0.0)
+        return num.range_bin_m(num.fft_size);
+    check_finite_positive("range_bin_m", range_bin_m);
+    return range_bin_m;
 }
 
 //! The value of a pulse_interval tag: false unless a finite number > 0.

@@ -35,15 +35,6 @@ rd_focuser::sptr rd_focuser::make(const numerology& num,
 }
 
 namespace {
-double default_range_bin(const numerology& num, double range_bin_m)
-{
-    num.validate();
-    if (range_bin_m == 0.0)
-        return num.range_bin_m(num.fft_size);
-    check_finite_positive("range_bin_m", range_bin_m);
-    return range_bin_m;
-}
-
 // guard: K - 2 guard_bins output bins, at least one.
 unsigned output_vlen(unsigned k, const focuser_config& cfg)
 {
