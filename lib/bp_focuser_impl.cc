@@ -220,6 +220,10 @@ void bp_focuser_impl::process_aperture()
         // Phase histories smoothed over 40 ms (16 pulses at 400 Hz): the GNSS error's sway
         // reaches 2 Hz, which a 40 ms moving sum keeps to 0.989 (docs/blocks/bp_focuser.md).
         kernel::trajectory_autofocus_config tc;
+        tc.max_iterations = d_cfg.autofocus_iterations;
+        tc.points = d_cfg.autofocus_points;
+        tc.tolerance_m = d_cfg.autofocus_tolerance_m;
+        tc.significance = d_cfg.autofocus_significance;
         tc.smooth_pulses = static_cast<unsigned>(
             std::clamp(std::round(0.04 / d_T), 1.0, static_cast<double>(d_fill)));
         const auto r = kernel::trajectory_autofocus(
