@@ -232,6 +232,7 @@ void bp_focuser_impl::process_aperture()
         for (double v : r.los_m)
             ss += v * v;
         d_los_rms = std::sqrt(ss / r.los_m.size());
+        d_los_se = r.standard_error_m;
     } else {
         d_kernel->reset(d_next_y);
         d_kernel->add(d_pulses.data(), d_fill, d_antenna.data());

@@ -149,5 +149,6 @@ void bind_bp_focuser(py::module& m)
         .def("apertures", &bp_focuser::apertures)
         .def("nonfinite_count", &bp_focuser::nonfinite_count)
         .def("stream_first_line", &bp_focuser::stream_first_line)
-        .def("trajectory_los_rms_m", &bp_focuser::trajectory_los_rms_m);
+        .def("trajectory_los_rms_m", &bp_focuser::trajectory_los_rms_m)
+        .def("trajectory_se_m", &bp_focuser::trajectory_se_m);
 }

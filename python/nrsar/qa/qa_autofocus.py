@@ -409,7 +409,8 @@ class qa_autofocus(gr_unittest.TestCase):
         self.assertGreater(before, c["floor"] + 5.0)
         self.assertLess(got, c["floor"] + 0.5)
         self.assertAlmostEqual(foc.trajectory_los_rms_m(), los_true_rms, delta=1.5e-3)
-        # 100 standard errors: the 14 mm correction (se about 0.3 mm) is not kept
+        self.assertLess(foc.trajectory_se_m(), 1.5e-3)
+        # 100 standard errors: the 14 mm correction (se 0.3 mm) is not kept
         never, foc = run(trajectory_autofocus=True, autofocus_significance=100.0)
         np.testing.assert_array_equal(never, plain)
         self.assertEqual(foc.trajectory_los_rms_m(), 0.0)
@@ -445,14 +446,18 @@ class qa_autofocus(gr_unittest.TestCase):
         self.assertLess(abs(runs["pga"]["nmse_db"] - runs["none"]["nmse_db"]), 0.5)
         for key in ("image_entropy", "nesz_db", "epi"):
             self.assertIsNotNone(runs["none"][key], key)
-        # trajectory autofocus on the perfectly navigated flight: the line-of-sight correction
-        # it estimates is near 0 (measured 4.6 um; 0.1 mm is 0.015 rad of two-way phase), and
-        # autofocus_phase_rms_rad is that displacement's two-way phase 4 pi d / lambda
+        # trajectory autofocus on the perfectly navigated flight: the correction it estimates
+        # is noise, not above 2 of its standard errors, so it is not kept (line-of-sight
+        # correction 0) and the image is the one without autofocus; autofocus_phase_rms_rad
+        # is that displacement's two-way phase 4 pi d / lambda
         los = runs["trajectory"]["autofocus_los_rms_m"]
-        self.assertLess(los, 1e-4)
+        self.assertEqual(los, 0.0)
+        self.assertGreater(runs["trajectory"]["autofocus_los_se_m"], 0.0)
+        self.assertEqual(runs["trajectory"]["nmse_db"], runs["none"]["nmse_db"])
         self.assertAlmostEqual(runs["trajectory"]["autofocus_phase_rms_rad"],
                                4 * math.pi * los / (299792458.0 / 3.5e9), delta=1e-12)
         self.assertNotIn("autofocus_los_rms_m", runs["pga"])
+        self.assertNotIn("autofocus_los_se_m", runs["pga"])
         self.assertIn("autofocus", runs["pga"]["rx_block_s"])
         self.assertNotIn("autofocus", runs["none"]["rx_block_s"])
         with self.assertRaisesRegex(OptionError, "--autofocus"):
