@@ -265,12 +265,21 @@ TEST(bp_autofocus, standard_error_is_the_scatter_of_the_estimate)
     // On the true path the whole estimate is noise: its rms over the pulses against the
     // standard error the kernel derives from the phase histories (sigma^2 / (2 L A^2)
     // per point, propagated through the least squares), at 10 dB and 0 dB per
-    // range-compressed sample of the strongest target, three noise draws each.
+    // range-compressed sample of the strongest target, three noise draws each; and at 10 dB
+    // with both components solved (look_spread_rad below the targets' 0.009 rad spread: the
+    // covariance G^-1 H G^-1, the component across the line of sight about 1 / spread
+    // times the noise).
     const auto tru = true_path();
-    trajectory_autofocus_config cfg;
-    cfg.significance = 0.0; // keep it, to measure it
     std::vector<gr_complex> img(std::size_t(M) * K);
-    for (double snr_db : { 10.0, 0.0 }) {
+    const struct {
+        double snr_db;
+        bool two_d;
+    } cases[] = { { 10.0, false }, { 0.0, false }, { 10.0, true } };
+    for (const auto& [snr_db, two_d] : cases) {
+        trajectory_autofocus_config cfg;
+        cfg.significance = 0.0; // keep it, to measure it
+        if (two_d)
+            cfg.look_spread_rad = 0.001;
         double r2 = 0.0;
         for (unsigned seed : { 21u, 22u, 23u }) {
             const auto pulses = echo(N * std::pow(10.0, -snr_db / 10.0), seed);
@@ -283,12 +292,13 @@ TEST(bp_autofocus, standard_error_is_the_scatter_of_the_estimate)
             std::printf("SNR %+.0f dB seed %u: estimate %.3f mm rms, standard error %.3f mm\n",
                         snr_db, seed, 1e3 * rms, 1e3 * r.standard_error_m);
             EXPECT_TRUE(r.accepted);
+            EXPECT_EQ(r.two_dimensional, two_d);
             r2 += rms * rms / (r.standard_error_m * r.standard_error_m) / 3.0;
         }
         // About n / L = 400 / 17 = 24 independent values per draw, 71 over three: the
         // ratio's rms scatters by 1 / sqrt(2 * 71) = 0.08; +-0.25 is 3 of them.
-        std::printf("SNR %+.0f dB: rms(estimate) / standard error = %.3f\n", snr_db,
-                    std::sqrt(r2));
+        std::printf("SNR %+.0f dB%s: rms(estimate) / standard error = %.3f\n", snr_db,
+                    two_d ? " (x and z)" : "", std::sqrt(r2));
         EXPECT_NEAR(std::sqrt(r2), 1.0, 0.25);
     }
 }
