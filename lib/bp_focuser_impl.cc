@@ -209,6 +209,10 @@ void bp_focuser_impl::process_aperture()
         // Phase histories smoothed over 40 ms (16 pulses at 400 Hz): the GNSS error's sway
         // reaches 2 Hz, which a 40 ms moving sum keeps to 0.989 (docs/blocks/bp_focuser.md).
         kernel::trajectory_autofocus_config tc;
+        tc.max_iterations = d_cfg.autofocus_iterations;
+        tc.points = d_cfg.autofocus_points;
+        tc.tolerance_m = d_cfg.autofocus_tolerance_m;
+        tc.significance = d_cfg.autofocus_significance;
         tc.smooth_pulses = static_cast<unsigned>(
             std::clamp(std::round(0.04 / d_T), 1.0, static_cast<double>(d_fill)));
         const auto r = kernel::trajectory_autofocus(
@@ -217,6 +221,7 @@ void bp_focuser_impl::process_aperture()
         for (double v : r.los_m)
             ss += v * v;
         d_los_rms = std::sqrt(ss / r.los_m.size());
+        d_los_se = r.standard_error_m;
     } else {
         d_kernel->reset(d_next_y);
         d_kernel->add(d_pulses.data(), d_fill, d_antenna.data());

@@ -40,6 +40,7 @@ private:
     double d_band_lo_hz = 0.0;
     double d_band_hi_hz = 0.0;
     double d_los_rms = std::numeric_limits<double>::quiet_NaN();
+    double d_los_se = std::numeric_limits<double>::quiet_NaN();
     std::unique_ptr<kernel::bp_focuser> d_kernel;
 
     bool d_pending = false; // axis change from a tag, applied at the next aperture
@@ -110,6 +111,7 @@ public:
     std::uint64_t stream_first_line() const override { return d_cfg.first_aperture * d_M; }
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
     double trajectory_los_rms_m() const override { return d_los_rms; }
+    double trajectory_se_m() const override { return d_los_se; }
 };
 
 } // namespace nrsar

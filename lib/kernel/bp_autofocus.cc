@@ -31,6 +31,8 @@ void trajectory_autofocus_config::validate() const
         throw_param("look_spread_rad", look_spread_rad, "must be in [0, 1]");
     if (!(std::isfinite(tolerance_m) && tolerance_m > 0.0 && tolerance_m < 1.0))
         throw_param("tolerance_m", tolerance_m, "must be in (0, 1)");
+    if (!(std::isfinite(significance) && significance >= 0.0 && significance <= 100.0))
+        throw_param("significance", significance, "must be in [0, 100]");
 }
 
 namespace {
@@ -39,7 +41,8 @@ struct point {
     unsigned line, bin;
     vec3 p;   // the scatterer the pixel stands for
     vec3 q;   // the point itself: p moved to the peak interpolated between the pixels
-    double w; // coherent power per pulse of its smoothed phase history
+    double w; // weight: coherent SNR per pulse A^2 / sigma^2 (inverse phase variance)
+    double v; // variance of the smoothed history's lambda psi / (4 pi) times its length [m^2]
 };
 
 // The scatterer of pixel (line j, bin k), as bp_focuser images it; false where the slant
@@ -116,7 +119,7 @@ std::vector<point> prominent(const std::vector<gr_complex>& img,
             if (r0 > h)
                 q[0] = std::sqrt(r0 * r0 - h * h);
         }
-        pts.push_back({ j, k, p, q, 0.0 });
+        pts.push_back({ j, k, p, q, 0.0, 0.0 });
     }
     return pts;
 }
@@ -168,12 +171,17 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     const double cs = 2.0 / grid.wavelength_m + grid.range_centre_cycles / grid.range_bin_m;
     const unsigned h = cfg.smooth_pulses / 2;
     std::vector<std::complex<double>> c(n);
+    std::vector<unsigned> len(n); // pulses in the moving sum at each pulse (fewer at the ends)
+    for (unsigned p = 0; p < n; ++p)
+        len[p] = std::min(n, p + h + 1) - (p > h ? p - h : 0);
+    bool img_is_nav = false; // img holds the image along the navigation
     for (unsigned it = 0; it < cfg.max_iterations; ++it) {
         image_along(res.antenna);
+        img_is_nav = it == 0;
         std::vector<point> pts = prominent(img, grid, cfg, ex_j, ex_k);
         if (pts.empty()) // an empty image: nothing to estimate from
             break;
-        // b[i][n]: lambda psi_i(n) / (4 pi), the line-of-sight path change point i sees.
+        // b[i][n]: lambda psi_i(n) / (4 pi), the navigation's line-of-sight error point i sees.
         std::vector<std::vector<double>> b(pts.size(), std::vector<double>(n));
         for (std::size_t i = 0; i < pts.size(); ++i) {
             point& q = pts[i];
@@ -184,19 +192,27 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
                 // less the pixel's offset from the point, in the phase BP gave it:
                 // 2 pi (2 / lambda + fc_r / rho) (|a - p| - |a - q|)
                 const vec3& a = res.antenna[p];
+                const double r = std::sqrt((a[0] - q.q[0]) * (a[0] - q.q[0]) +
+                                           (a[1] - q.q[1]) * (a[1] - q.q[1]) +
+                                           (a[2] - q.q[2]) * (a[2] - q.q[2]));
                 const double dr = std::sqrt((a[0] - q.p[0]) * (a[0] - q.p[0]) +
                                             (a[1] - q.p[1]) * (a[1] - q.p[1]) +
                                             (a[2] - q.p[2]) * (a[2] - q.p[2])) -
-                                  std::sqrt((a[0] - q.q[0]) * (a[0] - q.q[0]) +
-                                            (a[1] - q.q[1]) * (a[1] - q.q[1]) +
-                                            (a[2] - q.q[2]) * (a[2] - q.q[2]));
+                                  r;
+                // plus the phase the path's correction so far took out, u . D / to_m: the
+                // smoothing then sees the whole error each iteration (smoothing only the
+                // residual would add its high-pass part back each time, and the estimate
+                // would tend to the unsmoothed noise, sqrt(L) times larger)
+                const vec3& e = res.displacement_m[p];
+                const double ud = ((a[0] - q.q[0]) * e[0] + (a[2] - q.q[2]) * e[2]) / r;
                 c[p] = std::complex<double>(line[q.bin]) *
-                       std::polar(1.0, -2.0 * M_PI * cs * dr);
+                       std::polar(1.0, ud / to_m - 2.0 * M_PI * cs * dr);
             }
-            // Weight: the coherent power of the smoothed history, mean |s / L|^2 (noise of
-            // variance sigma^2 adds only sigma^2 / L to it), the inverse of the phase
-            // noise's variance up to a common factor.
-            double w = 0.0;
+            // The noise: sigma^2 from each summand's deviation from its moving mean (the
+            // path error is slow over the sum; white noise gives sigma^2 (1 - 1 / L));
+            // the coherent power A^2: mean |s / L|^2 less the sigma^2 / L noise adds.
+            // The smoothed phase's variance is then sigma^2 / (2 L A^2).
+            double pw = 0.0, dev = 0.0, dof = 0.0, inv_len = 0.0;
             std::complex<double> s(0.0, 0.0);
             unsigned lo = 0, hi = 0; // s = sum of c[lo, hi)
             double prev = 0.0, mean = 0.0;
@@ -206,7 +222,11 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
                     s += c[hi];
                 for (; lo < want_lo; ++lo)
                     s -= c[lo];
-                w += std::norm(s) / (double(hi - lo) * (hi - lo));
+                const double L = len[p];
+                pw += std::norm(s) / (L * L);
+                dev += std::norm(c[p] - s / L);
+                dof += 1.0 - 1.0 / L;
+                inv_len += 1.0 / L;
                 const double a = std::arg(s);
                 prev = p == 0 ? a : prev + std::remainder(a - prev, 2.0 * M_PI);
                 b[i][p] = prev * to_m;
@@ -214,11 +234,20 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
             }
             for (double& v : b[i])
                 v -= mean / n;
-            q.w = w / n;
+            pw /= n;
+            const double sigma2 = std::max(dof > 0.0 ? dev / dof : 0.0, 1e-12 * pw);
+            const double a2 = std::max(pw - sigma2 * inv_len / n, 1e-12 * pw);
+            // A history whose smoothed SNR L A^2 / sigma^2 is below 2 (phase noise above
+            // 0.5 rad) unwraps into a random walk (a noise peak taken for a point): unused.
+            q.w = pw > 0.0 && (2 * h + 1) * a2 >= 2.0 * sigma2 ? a2 / sigma2 : 0.0;
+            q.v = pw > 0.0 ? to_m * to_m * sigma2 / (2.0 * a2) : 0.0;
         }
+        if (std::none_of(pts.begin(), pts.end(), [](const point& q) { return q.w > 0.0; }))
+            break;
         res.points.clear();
         for (const point& q : pts)
-            res.points.push_back({ q.line, q.bin });
+            if (q.w > 0.0)
+                res.points.push_back({ q.line, q.bin });
 
         // Look-angle spread at the middle pulse decides how many components are solved.
         auto los = [&](const point& q, unsigned p) {
@@ -240,20 +269,31 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
                               cfg.look_spread_rad > 0.0;
 
         std::vector<vec3> d(n, vec3{ 0.0, 0.0, 0.0 });
+        double var = 0.0; // mean over the pulses of the solution's variance (x + z) [m^2]
         for (unsigned p = 0; p < n; ++p) {
             if (res.two_dimensional) { // normal equations of (d_x, d_z)
+                // and the covariance G^-1 H G^-1 of the solution, H = sum w^2 var u u^T
                 double axx = 0.0, axz = 0.0, azz = 0.0, bx = 0.0, bz = 0.0;
+                double hxx = 0.0, hxz = 0.0, hzz = 0.0;
                 for (std::size_t i = 0; i < pts.size(); ++i) {
                     const auto u = los(pts[i], p);
-                    const double w = pts[i].w;
+                    const double w = pts[i].w, wwv = w * w * pts[i].v / len[p];
                     axx += w * u[0] * u[0];
                     axz += w * u[0] * u[1];
                     azz += w * u[1] * u[1];
                     bx += w * u[0] * b[i][p];
                     bz += w * u[1] * b[i][p];
+                    hxx += wwv * u[0] * u[0];
+                    hxz += wwv * u[0] * u[1];
+                    hzz += wwv * u[1] * u[1];
                 }
                 const double det = axx * azz - axz * axz;
                 d[p] = { (azz * bx - axz * bz) / det, 0.0, (axx * bz - axz * bx) / det };
+                // G^-1 = [azz -axz; -axz axx] / det; trace(G^-1 H G^-1)
+                const double gxx = azz / det, gxz = -axz / det, gzz = axx / det;
+                const double cxx = gxx * (gxx * hxx + gxz * hxz) + gxz * (gxx * hxz + gxz * hzz);
+                const double czz = gxz * (gxz * hxx + gzz * hxz) + gzz * (gxz * hxz + gzz * hzz);
+                var += (cxx + czz) / n;
             } else { // along the mean line of sight m: d = alpha m
                 double mx = 0.0, mz = 0.0;
                 for (const point& q : pts) {
@@ -264,14 +304,16 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
                 const double mn = std::hypot(mx, mz);
                 mx /= mn;
                 mz /= mn;
-                double num = 0.0, den = 0.0;
+                double num = 0.0, den = 0.0, vn = 0.0;
                 for (std::size_t i = 0; i < pts.size(); ++i) {
                     const auto u = los(pts[i], p);
                     const double um = u[0] * mx + u[1] * mz;
                     num += pts[i].w * um * b[i][p];
                     den += pts[i].w * um * um;
+                    vn += pts[i].w * pts[i].w * um * um * pts[i].v / len[p];
                 }
                 d[p] = { num / den * mx, 0.0, num / den * mz };
+                var += vn / (den * den) / n;
             }
         }
         // A constant and a linear displacement only move the image (a phase and a Doppler
@@ -290,16 +332,32 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         for (unsigned p = 0; p < n; ++p)
             for (int c3 = 0; c3 < 3; c3 += 2) {
                 const double v = d[p][c3] - c0[c3] - c1[c3] * (p - tm);
-                res.antenna[p][c3] -= v;
-                res.displacement_m[p][c3] += v;
-                ss += v * v;
+                const double step = v - res.displacement_m[p][c3];
+                res.antenna[p][c3] = antenna[p][c3] - v;
+                res.displacement_m[p][c3] = v;
+                ss += step * step;
             }
         res.last_update_rms_m = std::sqrt(ss / n);
+        res.standard_error_m = std::sqrt(var);
         res.iterations = it + 1;
-        if (res.last_update_rms_m < cfg.tolerance_m)
+        // A first correction within its noise: iterating on it would only fit the noise.
+        if (res.last_update_rms_m < cfg.tolerance_m ||
+            (it == 0 && !(res.last_update_rms_m > cfg.significance * res.standard_error_m)))
             break;
     }
-    image_along(res.antenna);
+    double total = 0.0;
+    for (const vec3& v : res.displacement_m)
+        total += (v[0] * v[0] + v[2] * v[2]) / n;
+    // Noise corrections sharpen the points they were fitted to (their phases follow the
+    // noise), so no focus measure can refuse them; their size against their standard
+    // error can.
+    res.accepted = res.iterations > 0 && std::sqrt(total) > cfg.significance * res.standard_error_m;
+    if (!res.accepted) {
+        res.antenna.assign(antenna, antenna + n);
+        res.displacement_m.assign(n, vec3{ 0.0, 0.0, 0.0 });
+    }
+    if (!(img_is_nav && !res.accepted))
+        image_along(res.antenna);
     std::copy(img.begin(), img.end(), image_out);
 
     // The estimate on the points' mean line of sight at the middle pulse.

@@ -50,6 +50,12 @@ void bp_config::validate() const
         throw_param("ground_spacing_m", ground_spacing_m, "must be finite and >= 0 (0: automatic)");
     check_range("ffbp_beam_oversample", ffbp_beam_oversample, 1.0, 64.0);
     check_sinc_taps(sinc_taps, ffbp_subaperture, "ffbp_subaperture");
+    check_range("autofocus_iterations", autofocus_iterations, 1u, 50u);
+    check_range("autofocus_points", autofocus_points, 1u, 64u);
+    if (!(std::isfinite(autofocus_tolerance_m) && autofocus_tolerance_m > 0.0 &&
+          autofocus_tolerance_m < 1.0))
+        throw_param("autofocus_tolerance_m", autofocus_tolerance_m, "must be in (0, 1)");
+    check_range("autofocus_significance", autofocus_significance, 0.0, 100.0);
 }
 
 namespace kernel {

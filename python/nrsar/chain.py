@@ -94,7 +94,11 @@ def bp_config_of(opts, cfg, autofocus=False):
                      ffbp_subaperture=opts.ffbp_subaperture if opts.focuser == "ffbp" else 0,
                      ffbp_beam_oversample=opts.ffbp_beams,
                      first_aperture=cfg.first_aperture, apertures=cfg.apertures,
-                     trajectory_autofocus=autofocus and opts.autofocus == "trajectory")
+                     trajectory_autofocus=autofocus and opts.autofocus == "trajectory",
+                     autofocus_iterations=opts.autofocus_iterations,
+                     autofocus_points=opts.autofocus_points,
+                     autofocus_tolerance_m=opts.autofocus_tolerance_m,
+                     autofocus_significance=opts.autofocus_significance)
 
 
 def focuser_config_of(opts, sc, guard_bins):

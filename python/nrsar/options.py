@@ -387,6 +387,17 @@ class SimOptions(Options):
                             "bp/ffbp: the navigation corrected from the prominent points' "
                             "phase histories and the aperture back-projected again",
                             choices=list(params.AUTOFOCUS_METHODS) + ["trajectory"])
+    autofocus_iterations: int = option(4, "--autofocus trajectory: back-projections that "
+                                       "estimate, at most", at_least=1, at_most=50)
+    autofocus_points: int = option(8, "--autofocus trajectory: prominent points whose phase "
+                                   "histories it reads", at_least=1, at_most=64)
+    autofocus_tolerance_m: float = option(1e-4, "--autofocus trajectory: stop when an "
+                                          "iteration's correction is below this rms [m]",
+                                          above=0.0, below=1.0)
+    autofocus_significance: float = option(2.0, "--autofocus trajectory: keep the path's "
+                                           "correction only when its rms exceeds this many "
+                                           "standard errors of the phase histories' noise "
+                                           "(0: always)", at_least=0.0, at_most=100.0)
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "

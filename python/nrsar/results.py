@@ -254,6 +254,10 @@ def image_results(opts, chain, sc, runtime_s):
         # the focuser's own estimate: rms line-of-sight displacement, and its two-way phase
         los = chain["focuser"].trajectory_los_rms_m()
         result["autofocus_los_rms_m"] = los if math.isfinite(los) else None
+        # its standard error: a correction not above autofocus_significance of them is
+        # not kept (autofocus_los_rms_m 0)
+        se = chain["focuser"].trajectory_se_m()
+        result["autofocus_los_se_m"] = se if math.isfinite(se) else None
         af_rms = 4.0 * math.pi * los / sc.geo.wavelength_m()
     result["autofocus_phase_rms_rad"] = af_rms if math.isfinite(af_rms) else None
     # symbols a radio's overflow lost, zeroed by ofdm_demod (docs/recording.md, "Gaps")

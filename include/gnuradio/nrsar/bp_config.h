@@ -68,10 +68,18 @@ struct NRSAR_API bp_config {
     std::uint64_t first_aperture = 0;
     //! Apertures to emit, then the block is done (0: until the stream ends).
     std::uint64_t apertures = 0;
-    //! Autofocus by trajectory estimation per aperture (kernel::trajectory_autofocus, its
-    //! default options): the navigation corrected along the prominent points' lines of
-    //! sight, the aperture back-projected again (docs/blocks/bp_focuser.md).
+    //! Autofocus by trajectory estimation per aperture (kernel::trajectory_autofocus with
+    //! the four options below): the navigation corrected along the prominent points' lines
+    //! of sight, the aperture back-projected again (docs/blocks/bp_focuser.md).
     bool trajectory_autofocus = false;
+    //! Its back-projections that estimate (1..50; kernel max_iterations).
+    unsigned autofocus_iterations = 4;
+    //! Its prominent points (1..64; kernel points).
+    unsigned autofocus_points = 8;
+    //! It stops when an iteration's correction is below this rms [m] (0..1, exclusive).
+    double autofocus_tolerance_m = 1e-4;
+    //! It keeps a correction only above this many standard errors ([0, 100]; 0: always).
+    double autofocus_significance = 2.0;
 
     void validate() const;
 };

@@ -93,8 +93,12 @@ public:
     //! The flight's line of the first input line this block expects (cfg.first_aperture M).
     virtual std::uint64_t stream_first_line() const = 0;
     //! cfg.trajectory_autofocus: rms over the pulses of the latest aperture's estimated
-    //! navigation error along the points' mean line of sight [m] (NaN before, or without).
+    //! navigation error along the points' mean line of sight [m] (NaN before, or without);
+    //! 0 where the correction was not kept (not above significance standard errors).
     virtual double trajectory_los_rms_m() const = 0;
+    //! cfg.trajectory_autofocus: the standard error of the latest aperture's correction,
+    //! rms over the pulses, from its phase histories' noise [m] (NaN before, or without).
+    virtual double trajectory_se_m() const = 0;
 };
 
 } // namespace nrsar

@@ -178,6 +178,7 @@ void bind_autofocus(py::module& m)
         .def_readwrite("smooth_pulses", &trajectory_autofocus_config::smooth_pulses)
         .def_readwrite("look_spread_rad", &trajectory_autofocus_config::look_spread_rad)
         .def_readwrite("tolerance_m", &trajectory_autofocus_config::tolerance_m)
+        .def_readwrite("significance", &trajectory_autofocus_config::significance)
         .def("validate", &trajectory_autofocus_config::validate);
 
     m.def(
@@ -212,6 +213,8 @@ void bind_autofocus(py::module& m)
             d["two_dimensional"] = r.two_dimensional;
             d["last_update_rms_m"] = r.last_update_rms_m;
             d["iterations"] = r.iterations;
+            d["standard_error_m"] = r.standard_error_m;
+            d["accepted"] = r.accepted;
             return py::make_tuple(img, d);
         },
         py::arg("pulses"),
@@ -220,7 +223,8 @@ void bind_autofocus(py::module& m)
         py::arg("cfg") = trajectory_autofocus_config(),
         py::arg("num_threads") = 1u,
         "(image along the corrected path, dict of antenna, displacement_m, los_m, points, "
-        "look_spread_rad, two_dimensional, last_update_rms_m, iterations): autofocus by "
+        "look_spread_rad, two_dimensional, last_update_rms_m, iterations, standard_error_m, "
+        "accepted): autofocus by "
         "trajectory estimation (kernel::trajectory_autofocus) of range-compressed pulses "
         "(pulses x K) back-projected from antenna positions (one (x, y, z) per pulse)");
 }

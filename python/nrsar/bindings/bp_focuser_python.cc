@@ -51,7 +51,11 @@ void bind_bp_focuser(py::module& m)
                          double ffbp_beam_oversample,
                          std::uint64_t first_aperture,
                          std::uint64_t apertures,
-                         bool trajectory_autofocus) {
+                         bool trajectory_autofocus,
+                         unsigned autofocus_iterations,
+                         unsigned autofocus_points,
+                         double autofocus_tolerance_m,
+                         double autofocus_significance) {
                  bp_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -69,6 +73,10 @@ void bind_bp_focuser(py::module& m)
                  c.first_aperture = first_aperture;
                  c.apertures = apertures;
                  c.trajectory_autofocus = trajectory_autofocus;
+                 c.autofocus_iterations = autofocus_iterations;
+                 c.autofocus_points = autofocus_points;
+                 c.autofocus_tolerance_m = autofocus_tolerance_m;
+                 c.autofocus_significance = autofocus_significance;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -87,6 +95,10 @@ void bind_bp_focuser(py::module& m)
              py::arg("first_aperture") = 0u,
              py::arg("apertures") = 0u,
              py::arg("trajectory_autofocus") = false,
+             py::arg("autofocus_iterations") = 4u,
+             py::arg("autofocus_points") = 8u,
+             py::arg("autofocus_tolerance_m") = 1e-4,
+             py::arg("autofocus_significance") = 2.0,
              "bp_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &bp_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &bp_config::lines_per_aperture)
@@ -104,6 +116,10 @@ void bind_bp_focuser(py::module& m)
         .def_readwrite("first_aperture", &bp_config::first_aperture)
         .def_readwrite("apertures", &bp_config::apertures)
         .def_readwrite("trajectory_autofocus", &bp_config::trajectory_autofocus)
+        .def_readwrite("autofocus_iterations", &bp_config::autofocus_iterations)
+        .def_readwrite("autofocus_points", &bp_config::autofocus_points)
+        .def_readwrite("autofocus_tolerance_m", &bp_config::autofocus_tolerance_m)
+        .def_readwrite("autofocus_significance", &bp_config::autofocus_significance)
         .def("validate", &bp_config::validate);
 
     py::class_<bp_focuser, gr::block, gr::basic_block, std::shared_ptr<bp_focuser>>(
@@ -133,5 +149,6 @@ void bind_bp_focuser(py::module& m)
         .def("apertures", &bp_focuser::apertures)
         .def("nonfinite_count", &bp_focuser::nonfinite_count)
         .def("stream_first_line", &bp_focuser::stream_first_line)
-        .def("trajectory_los_rms_m", &bp_focuser::trajectory_los_rms_m);
+        .def("trajectory_los_rms_m", &bp_focuser::trajectory_los_rms_m)
+        .def("trajectory_se_m", &bp_focuser::trajectory_se_m);
 }

@@ -11,6 +11,7 @@ corrected image's peak and width against the focused image's, and the entropy.""
 
 import math
 import os
+import re
 import tempfile
 
 import numpy as np
@@ -317,49 +318,113 @@ class qa_autofocus(gr_unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "img must be 2-D"):
             nrsar.autofocus_image(np.zeros(8, np.complex64))
 
-    def test_trajectory_autofocus_recovers_a_gnss_navigation_error(self):
-        """BP from a `gnss` navigation (seed 1), then autofocus by trajectory estimation:
-        its displacement along the target's line of sight against the true navigation error
-        (numpy float64, trend removed), and the image against BP along the truth moved by
-        the error's trend (what focus can see; docs/blocks/bp_focuser.md)."""
+    def gnss_case(self, seed=1):
+        """The GNSS study's aperture (autofocus_study, 10 dB per range-compressed sample of
+        the strongest target): truth and navigation antennas, the clean and noisy echo, and
+        the noise-free image along the truth moved by the navigation error's constant and
+        linear trend (what focus can see; docs/blocks/bp_focuser.md)."""
         from gnuradio.nrsar import params
         from gnuradio.nrsar.figures import autofocus_study as st
         from gnuradio.nrsar.focus_scenario import N_SUB, T, echo_along
         m = st.M
         geo = st.geometry(m * T)
         truth = params.make_trajectory("ideal", geo, duration_s=m * T + 1.0)
-        nav = params.make_navigation(truth, "gnss", 1, m * T + 1.0)
+        nav = params.make_navigation(truth, "gnss", seed, m * T + 1.0)
         times = list(np.arange(m) * T)
         ta, na = np.array(truth.positions(times)), np.array(nav.positions(times))
         clean = echo_along(ta, st.TARGETS)
-        rng = np.random.default_rng(1)
-        sigma2 = N_SUB / 10.0  # 10 dB per range-compressed sample of the strongest
+        rng = np.random.default_rng(seed)
+        sigma2 = N_SUB / 10.0
         noisy = clean + np.sqrt(sigma2 / 2) * (rng.standard_normal(clean.shape) +
                                                1j * rng.standard_normal(clean.shape))
-        _, _, foc = st.image(clean, truth)
-        img, est = nrsar.trajectory_autofocus(noisy.astype(np.complex64),
-                                              [tuple(a) for a in na], st.grid_of(foc))
         x, y, _ = st.TARGETS[0]
         u = ta - [x, y, 0.0]
         u /= np.linalg.norm(u, axis=1)[:, None]
-        los_true = st.detrend_pulses(np.sum(u * (na - ta), axis=1))
-        los_err = st.detrend_pulses(np.asarray(est["los_m"])) - los_true
+        err = na - ta
+        trend = err - np.stack([st.detrend_pulses(err[:, i]) for i in range(3)], axis=1)
+        ref, _, foc = st.image(clean, st.path(ta + trend))
+        floor = st.nmse_db(st.register(st.image(noisy, st.path(ta + trend))[0], ref)[0], ref)
+        return dict(st=st, nav=nav, ta=ta, na=na, clean=clean, noisy=noisy, ref=ref, foc=foc,
+                    floor=floor, los_true=st.detrend_pulses(np.sum(u * err, axis=1)))
+
+    def test_trajectory_autofocus_recovers_a_gnss_navigation_error(self):
+        """BP from a `gnss` navigation (seed 1), then autofocus by trajectory estimation:
+        its displacement along the target's line of sight against the true navigation error
+        (numpy float64, trend removed), and the image against the floor of gnss_case."""
+        c = self.gnss_case()
+        st, ref = c["st"], c["ref"]
+        img, est = nrsar.trajectory_autofocus(c["noisy"].astype(np.complex64),
+                                              [tuple(a) for a in c["na"]], st.grid_of(c["foc"]))
+        los_err = st.detrend_pulses(np.asarray(est["los_m"])) - c["los_true"]
         # 0.37 mm of noise for the strongest target at 10 dB over 17 pulses
         # (tests/test_bp_autofocus.cc), the weaker ones and the unsolved cross-LOS part:
         # 1.5 mm; the error itself is 14 mm rms.
-        self.assertGreater(np.sqrt(np.mean(los_true ** 2)), 0.005)
+        self.assertGreater(np.sqrt(np.mean(c["los_true"] ** 2)), 0.005)
         self.assertLess(np.sqrt(np.mean(los_err ** 2)), 1.5e-3)
-        err = na - ta
-        trend = err - np.stack([st.detrend_pulses(err[:, i]) for i in range(3)], axis=1)
-        ref, _, _ = st.image(clean, st.path(ta + trend))
-        floor = st.nmse_db(st.register(st.image(noisy, st.path(ta + trend))[0], ref)[0], ref)
+        # kept: far above its standard error (the noise of the histories)
+        self.assertTrue(est["accepted"])
+        self.assertLess(est["standard_error_m"], 1.5e-3)
         got = st.nmse_db(st.register(img, ref)[0], ref)
-        before = st.nmse_db(st.register(st.image(noisy, nav)[0], ref)[0], ref)
-        self.assertGreater(before, floor + 5.0)
-        self.assertLess(got, floor + 0.5)
+        before = st.nmse_db(st.register(st.image(c["noisy"], c["nav"])[0], ref)[0], ref)
+        self.assertGreater(before, c["floor"] + 5.0)
+        self.assertLess(got, c["floor"] + 0.5)
         with self.assertRaisesRegex(ValueError, "one per pulse"):
-            nrsar.trajectory_autofocus(noisy.astype(np.complex64), [tuple(a) for a in na[:-1]],
-                                       st.grid_of(foc))
+            nrsar.trajectory_autofocus(c["noisy"].astype(np.complex64),
+                                       [tuple(a) for a in c["na"][:-1]], st.grid_of(c["foc"]))
+
+    def test_bp_focuser_block_autofocuses_with_its_options(self):
+        """The bp_focuser block built from Python with bp_config(trajectory_autofocus=True,
+        ...) (the GRC block's make) on the GNSS case: its image against the floor of what
+        focus can see, its line-of-sight estimate against the true error (numpy float64,
+        trend removed); a significance it cannot reach gives the navigation's image bit for
+        bit; each new option refused out of range, by name."""
+        from gnuradio.nrsar.focus_scenario import K, NUM, R_FIRST, RHO, SPP, T
+        c = self.gnss_case()
+        st, ref = c["st"], c["ref"]
+        scn = nrsar.make_scene([(x, y) for x, y, _ in st.TARGETS])
+
+        def run(**af):
+            foc = nrsar.bp_focuser(NUM, st.geometry(st.M * T), scn, K, R_FIRST, RHO,
+                                   nrsar.bp_config(symbols_per_pulse=SPP,
+                                                   lines_per_aperture=st.M, **af), c["nav"])
+            tb = gr.top_block()
+            src = blocks.vector_source_c(c["noisy"].astype(np.complex64).ravel().tolist(),
+                                         False, K)
+            snk = blocks.vector_sink_c(K)
+            tb.connect(src, foc, snk)
+            tb.run()
+            return np.array(snk.data()).reshape(-1, K), foc
+
+        plain, _ = run()
+        img, foc = run(trajectory_autofocus=True, autofocus_iterations=3, autofocus_points=3,
+                       autofocus_tolerance_m=1e-4, autofocus_significance=2.0)
+        got = st.nmse_db(st.register(img, ref)[0], ref)
+        before = st.nmse_db(st.register(plain, ref)[0], ref)
+        # the block's estimate is rms along the points' mean line of sight: the true
+        # line-of-sight error's rms (14 mm) within the 1.5 mm bound above
+        los_true_rms = float(np.sqrt(np.mean(c["los_true"] ** 2)))
+        print(f"block: NMSE navigation {before:.2f} dB, autofocus {got:.2f} dB, floor "
+              f"{c['floor']:.2f} dB; LOS {1e3 * foc.trajectory_los_rms_m():.2f} mm rms "
+              f"against {1e3 * los_true_rms:.2f} mm true")
+        self.assertGreater(before, c["floor"] + 5.0)
+        self.assertLess(got, c["floor"] + 0.5)
+        self.assertAlmostEqual(foc.trajectory_los_rms_m(), los_true_rms, delta=1.5e-3)
+        self.assertLess(foc.trajectory_se_m(), 1.5e-3)
+        # 100 standard errors: the 14 mm correction (se 0.3 mm) is not kept
+        never, foc = run(trajectory_autofocus=True, autofocus_significance=100.0)
+        np.testing.assert_array_equal(never, plain)
+        self.assertEqual(foc.trajectory_los_rms_m(), 0.0)
+        for name, value, limit in (("autofocus_iterations", 0, "1, 50"),
+                                   ("autofocus_iterations", 51, "1, 50"),
+                                   ("autofocus_points", 0, "1, 64"),
+                                   ("autofocus_points", 65, "1, 64"),
+                                   ("autofocus_tolerance_m", 0.0, "(0, 1)"),
+                                   ("autofocus_tolerance_m", float("nan"), "(0, 1)"),
+                                   ("autofocus_significance", -0.5, "0, 100"),
+                                   ("autofocus_significance", 101.0, "0, 100")):
+            with self.assertRaisesRegex(ValueError, re.escape(f"{name} = ") + ".*" +
+                                        re.escape(limit)):
+                nrsar.bp_config(**{name: value}).validate()
 
     def test_sim_option_and_json_keys(self):
         # --autofocus puts the block after the data branch's focuser; the JSON names the
@@ -381,14 +446,18 @@ class qa_autofocus(gr_unittest.TestCase):
         self.assertLess(abs(runs["pga"]["nmse_db"] - runs["none"]["nmse_db"]), 0.5)
         for key in ("image_entropy", "nesz_db", "epi"):
             self.assertIsNotNone(runs["none"][key], key)
-        # trajectory autofocus on the perfectly navigated flight: the line-of-sight correction
-        # it estimates is near 0 (measured 4.6 um; 0.1 mm is 0.015 rad of two-way phase), and
-        # autofocus_phase_rms_rad is that displacement's two-way phase 4 pi d / lambda
+        # trajectory autofocus on the perfectly navigated flight: the correction it estimates
+        # is noise, not above 2 of its standard errors, so it is not kept (line-of-sight
+        # correction 0) and the image is the one without autofocus; autofocus_phase_rms_rad
+        # is that displacement's two-way phase 4 pi d / lambda
         los = runs["trajectory"]["autofocus_los_rms_m"]
-        self.assertLess(los, 1e-4)
+        self.assertEqual(los, 0.0)
+        self.assertGreater(runs["trajectory"]["autofocus_los_se_m"], 0.0)
+        self.assertEqual(runs["trajectory"]["nmse_db"], runs["none"]["nmse_db"])
         self.assertAlmostEqual(runs["trajectory"]["autofocus_phase_rms_rad"],
                                4 * math.pi * los / (299792458.0 / 3.5e9), delta=1e-12)
         self.assertNotIn("autofocus_los_rms_m", runs["pga"])
+        self.assertNotIn("autofocus_los_se_m", runs["pga"])
         self.assertIn("autofocus", runs["pga"]["rx_block_s"])
         self.assertNotIn("autofocus", runs["none"]["rx_block_s"])
         with self.assertRaisesRegex(OptionError, "--autofocus"):

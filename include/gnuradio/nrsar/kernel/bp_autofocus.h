@@ -33,6 +33,10 @@ struct NRSAR_API trajectory_autofocus_config {
     double look_spread_rad = 0.05;
     //! Stop when the rms of one iteration's correction falls below this [m].
     double tolerance_m = 1e-4;
+    //! Keep the path's correction only when its rms exceeds this many times its standard
+    //! error (from the phase histories' noise); else return the navigation and its image
+    //! (0: always keep). Under noise alone the ratio is about 1.
+    double significance = 2.0;
 
     void validate() const;
 };
@@ -51,6 +55,12 @@ struct NRSAR_API trajectory_autofocus_result {
     bool two_dimensional = false;                //!< both components solved (last iteration)
     double last_update_rms_m = 0.0;
     unsigned iterations = 0;
+    //! Standard error of the correction, rms over the pulses of (x, z) [m]: what the
+    //! phase histories' noise alone makes it (last iteration's points).
+    double standard_error_m = 0.0;
+    //! The correction was kept (its rms above significance x standard_error_m); false:
+    //! antenna, image and displacement are the navigation's (displacement 0).
+    bool accepted = false;
 };
 
 /*!
@@ -64,11 +74,16 @@ struct NRSAR_API trajectory_autofocus_result {
  * from p to the antenna. The phase of the smoothed c (complex moving sum of smooth_pulses,
  * unwrapped over the pulses, its mean removed) gives per pulse and point one equation
  * lambda psi_i(n) / (4 pi) = u_i(n) . d(n) in d = (d_x, d_z); least squares over the
- * points (weights: the coherent power of their smoothed histories), both components when
+ * points (weights: the inverse variance of their smoothed phase, sigma_i^2 / (2 L A_i^2)
+ * with sigma_i^2 from each history's deviation from its moving mean), both components when
  * the look angles spread (config look_spread_rad), else along their mean line of sight.
  * The solution's constant and linear trend over the pulses are removed (they only move
- * the image). Correcting the path (not a phase) fixes every pixel's phase and range: the
- * error a position error makes is space-variant.
+ * the image). Each iteration smooths the histories with the correction so far added back
+ * (the whole error, not the residual), so the estimate stays smoothed. Points whose
+ * smoothed SNR is below 2 are not used. Correcting the path (not a phase) fixes every
+ * pixel's phase and range: the error a position error makes is space-variant. A
+ * correction no larger than cfg.significance times its standard error is noise: the
+ * navigation is kept.
  * pulses: n x K line-major; image_out: M x K, the image along the corrected path.
  */
 NRSAR_API trajectory_autofocus_result
