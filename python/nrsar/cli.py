@@ -76,16 +76,20 @@ def main(prog, options_cls, run, doc, argv=None, verdict=lambda result: 0):
     if opts is None:
         return EXIT_USAGE
     try:
-        result = run(opts)
+        try:
+            result, failure = run(opts), None
+        except (ValueError, RuntimeError, OSError) as err:
+            result, failure = None, err
+        # A Ctrl-C inside a C++ system call (FFTW's wisdom lock, a socket) surfaces first as
+        # its EINTR error with the KeyboardInterrupt still pending: it is raised here.
+        progress.finish()
     except (runtime.Interrupted, KeyboardInterrupt):
         progress.finish()
         print(f"{prog}: interrupted: stopped before the end, no result written",
               file=sys.stderr)
         return EXIT_INTERRUPTED
-    except (ValueError, RuntimeError, OSError) as err:
-        progress.finish()
-        print(f"{prog}: error: {err}", file=sys.stderr)
+    if failure is not None:
+        print(f"{prog}: error: {failure}", file=sys.stderr)
         return EXIT_USAGE
-    progress.finish()
     print_result(result, opts.json)
     return verdict(result)
