@@ -316,6 +316,14 @@ class qa_distributed_process(gr_unittest.TestCase):
         rows = slice(5 * lay.lines, 6 * lay.lines)
         self.assertGreater(np.abs(cold["image"] - whole[rows]).max(), 0.05 * np.abs(whole).max())
         self.assertLess(cold["snr_db"], snr[-1] - 1.0)
+        # the warm-up's skiphead before a presummer in the TF domain (cheby, D = 2), and
+        # bp_focuser's tasks (each its own aperture): one graph's strip too
+        for kw in (dict(presum="cheby", decim=2, presum_domain="tf"), dict(focuser="bp")):
+            o = opts.replace(out=os.path.join(self.dir, "snr_" + kw.get("presum", "bp")), **kw)
+            res = dp.run(o)
+            self.assertEqual(res["strip_failed"], [])
+            self.assertGreater(res["strip_warmup_symbols"][-1], 5000)
+            np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(o))
 
     def test_003g_estimated_snr_fused(self):
         # the same with --rx-fuse on (range_compress filters and range-compresses in one
