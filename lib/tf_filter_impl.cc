@@ -21,6 +21,12 @@ tf_filter::make(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool 
     return gnuradio::make_block_sptr<tf_filter_impl>(vlen, type, snr_db, estimate_snr);
 }
 
+std::uint64_t tf_filter::snr_window_start(unsigned vlen, std::uint64_t item)
+{
+    check_at_least("vlen", vlen, 1u);
+    return kernel::snr_estimator().window_start(item, vlen);
+}
+
 tf_filter_impl::tf_filter_impl(unsigned vlen,
                                gr::nrsar::filter_type type,
                                double snr_db,

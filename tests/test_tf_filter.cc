@@ -283,6 +283,71 @@ TEST(SnrEstimator, WindowForgetsOldData)
     }
 }
 
+TEST(SnrEstimator, WarmUpFromWindowStartEqualsTheWholeStream)
+{
+    // A strip's task starts its stream at window_start(t0) instead of 0 (docs/scale.md):
+    // from vector t0 on its estimate must equal the whole stream's bit for bit, while the
+    // SNR falls from 10 to -5 dB along the stream (so the window's position matters).
+    // Window 1280 REs of 7-RE vectors: buckets of 20 REs -> 3 vectors (21 REs).
+    const std::size_t n = 7, vectors = 700, window = 1280, per_bucket = 3;
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> pick(0, 255);
+    std::uniform_real_distribution<double> ph(0, 2 * M_PI);
+    std::normal_distribution<double> g(0.0, 1.0);
+    const auto pts = qam256_points();
+    std::vector<gr_complex> y(n * vectors);
+    std::vector<float> m(n * vectors);
+    for (std::size_t v = 0; v < vectors; v++) {
+        const double sigma = std::sqrt(std::pow(10.0, -(10.0 - 15.0 * v / vectors) / 10) / 2);
+        for (std::size_t i = v * n; i < v * n + n; i++) {
+            const gr_complex s = pts[pick(rng)];
+            m[i] = std::norm(s);
+            y[i] = gr_complex(std::polar(1.0, ph(rng)) * cd(s) +
+                              sigma * cd(g(rng), g(rng)));
+        }
+    }
+    kernel::snr_estimator whole(window);
+    std::vector<double> est(vectors), p(vectors), s2(vectors);
+    for (std::size_t v = 0; v < vectors; v++) {
+        whole.update(&y[v * n], &m[v * n], n);
+        est[v] = whole.snr_db();
+        p[v] = whole.signal_power();
+        s2[v] = whole.noise_power();
+    }
+    // the window (1280 REs = 183 vectors) in whole buckets: 61 buckets of 21 REs cover it
+    // with no partial bucket, so t0 = 299 (300 vectors = 100 buckets) starts at bucket 39
+    EXPECT_EQ(whole.window_start(299, n), 39u * per_bucket);
+    EXPECT_EQ(whole.window_start(0, n), 0u);
+    EXPECT_EQ(whole.window_start(150, n), 0u); // the window not yet full
+    for (std::uint64_t t0 : { 0, 1, 100, 182, 183, 299, 300, 301, 512, 699 }) {
+        const std::uint64_t start = whole.window_start(t0, n);
+        ASSERT_EQ(start % per_bucket, 0u) << t0;
+        ASSERT_LE(start, t0);
+        // once the window is full, [start, t0] covers it and one bucket less would not
+        if (start > 0) {
+            EXPECT_GE((t0 - start + 1) * n, window) << t0;
+            EXPECT_LT((t0 - start + 1 - per_bucket) * n, window) << t0;
+        }
+        kernel::snr_estimator task(window), late(window);
+        for (std::uint64_t v = start; v < vectors; v++) {
+            task.update(&y[v * n], &m[v * n], n);
+            if (v >= start + per_bucket)  // one bucket less of warm-up
+                late.update(&y[v * n], &m[v * n], n);
+            if (v < t0)
+                continue;
+            ASSERT_EQ(task.snr_db(), est[v]) << t0 << " " << v;
+            ASSERT_EQ(task.signal_power(), p[v]) << t0 << " " << v;
+            ASSERT_EQ(task.noise_power(), s2[v]) << t0 << " " << v;
+            if (v == t0 && start > 0) // the warm-up is the least that reproduces t0
+                EXPECT_NE(late.snr_db(), est[v]) << t0;
+        }
+    }
+    // the default window at paper (3333 REs, buckets of 79 vectors): 5102 vectors of
+    // warm-up before vector 10000 (62 buckets from the start)
+    kernel::snr_estimator paper;
+    EXPECT_EQ(paper.window_start(10000, 3333), 62u * 79u);
+}
+
 // ------------------------------------------------ constant-modulus shortcut
 
 namespace {

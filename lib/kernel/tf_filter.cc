@@ -159,6 +159,23 @@ void snr_estimator::reset()
     d_valid = false;
 }
 
+std::uint64_t snr_estimator::window_start(std::uint64_t t, std::size_t n) const
+{
+    // update()'s bookkeeping replayed: full buckets of `per_bucket` vectors from the
+    // stream's start, the vectors since the last one, and the fewest newest buckets that
+    // cover the window together with them (update() drops the oldest while the rest does).
+    n = std::max<std::size_t>(n, 1);
+    const std::uint64_t per_bucket = (d_bucket_res + n - 1) / n;
+    const std::uint64_t bucket = per_bucket * n; // REs
+    const std::uint64_t full = (t + 1) / per_bucket;
+    const std::uint64_t partial = (t + 1 - full * per_bucket) * n;
+    const std::uint64_t kept =
+        partial >= d_window ? 0
+                            : std::min<std::uint64_t>(
+                                  full, (d_window - partial + bucket - 1) / bucket);
+    return (full - kept) * per_bucket;
+}
+
 bool snr_estimator::update(const gr_complex* y, const float* s_mag2, std::size_t n)
 {
     if (n == 0)

@@ -18,7 +18,9 @@ as a strip of apertures, each focused by its own graph, on one process or a Dask
 The focuser's block for aperture a (rd_focuser: overlap-save, its history `before` and
 look-ahead `after` of the scene band's azimuth extent, or --strip-overlap-s; bp_focuser: the
 aperture's own pulses) is what the task reads, so the stitched strip equals one graph
-focusing the whole recording (whole(); qa_distributed_process asserts identical arrays). A
+focusing the whole recording (whole(); qa_distributed_process asserts identical arrays).
+With the Wiener filter's --estimate-snr a task also reads the estimator's window before its
+block (Slice.warmup: through the filter only), so its SNR estimate is one graph's too. A
 task receives the options, the meta's path and its Slice, and reads its samples from the
 SigMF data file by offset: no samples go through the scheduler (each worker needs the
 recording's folder: a shared file system).
@@ -47,6 +49,7 @@ import numpy as np
 from gnuradio import blocks, gr
 
 from . import chain, process, recording, results
+from .nrsar_python import tf_filter
 from .options import CERTIFICATES, OptionError, check_certificate_folder
 from .scenario import fft_size_of
 
@@ -60,8 +63,9 @@ class Slice:
     index: int      # the first aperture along the strip
     apertures: int  # apertures the task images (1; the whole strip in whole())
     lines: int      # image lines per aperture M
-    first: int      # first symbol read
-    symbols: int    # symbols read
+    first: int      # the first symbol the chain after the filter takes
+    symbols: int    # symbols it takes
+    warmup: int = 0  # symbols read before `first` only to warm the SNR estimate up
 
 
 @dataclasses.dataclass(frozen=True)
@@ -76,8 +80,10 @@ class Layout:
     bins: int         # the image's range bins
 
     def read_factor(self):
-        """Lines a task reads per line it keeps (the overlap's cost, docs/scale.md)."""
-        return sum(s.symbols for s in self.slices) / (len(self.slices) * self.lines * self.step)
+        """Lines a task reads per line it keeps (the overlap's and the SNR estimate's
+        warm-up's cost, docs/scale.md)."""
+        return (sum(s.symbols + s.warmup for s in self.slices) /
+                (len(self.slices) * self.lines * self.step))
 
 
 def _scenario(opts, rec, lines=0, first=0, apertures=0):
@@ -98,17 +104,14 @@ def layout(opts, rec):
     after the last whole aperture are only look-ahead). Task a reads the lines its
     aperture's processing block needs, as the whole flight's focuser would hold them
     (overlap-save history and look-ahead for rd_focuser, the aperture's own pulses for
-    bp_focuser), from the first line of that block (stream_first_line())."""
+    bp_focuser), from the first line of that block (stream_first_line()). With the Wiener
+    filter's --estimate-snr it also reads the estimator's window before that line
+    (warmup_of)."""
     sim_opts, sc = _scenario(opts, rec)
     if sim_opts.presum == "lms":
         raise OptionError("--presum = 'lms' with --strip-aperture-s: its filter adapts from "
                           "the flight's first pulse, so a task starting mid-flight cannot "
                           "reproduce it (use cheby, boxcar, drop or filter_drop)")
-    if sim_opts.estimate_snr:
-        raise OptionError(f"--estimate-snr = {sim_opts.estimate_snr} with --strip-aperture-s: "
-                          f"the Wiener filter's SNR estimate slides over the 2^24 REs before "
-                          f"each symbol from the stream's start, which a task starting "
-                          f"mid-flight does not see (give --snr-db instead)")
     step = sc.pulse_symbols * sim_opts.presum_factor()  # symbols per image line
     total = rec.symbols // step
     m = int(round(opts.strip_aperture_s / (rec.num.symbol_s() * step)))
@@ -136,8 +139,21 @@ def layout(opts, rec):
         hi = min(total, hi)  # a block past the end (overlap below the shift) reads nothing
         first = max(0, lo * d - history)  # pulses
         end = min(total * d, (hi - 1) * d + lookahead + 1) if hi > lo else first
-        slices.append(Slice(a, 1, m, first * sc.pulse_symbols, (end - first) * sc.pulse_symbols))
+        first, symbols = first * sc.pulse_symbols, (end - first) * sc.pulse_symbols
+        slices.append(Slice(a, 1, m, first, symbols,
+                            warmup_of(sim_opts, rec, first) if symbols else 0))
     return Layout(m, step, total, before, after, shift, slices, foc.num_output_bins())
+
+
+def warmup_of(sim_opts, rec, first):
+    """Symbols a task starting at symbol `first` reads before it so that the Wiener
+    filter's SNR estimate (--estimate-snr) from `first` on equals one graph's bit for bit:
+    the estimator's window behind `first` (2^24 REs in buckets of 2^18 from the stream's
+    start: about 5100 symbols at paper; tf_filter.snr_window_start). 0 without the estimate
+    (RF and MF do not use it)."""
+    if not (sim_opts.estimate_snr and sim_opts.filter == "wf"):
+        return 0
+    return first - tf_filter.snr_window_start(rec.num.num_subcarriers, first)
 
 
 def whole(opts, rec, lay):
@@ -184,10 +200,11 @@ def focus_slice(opts, meta_path, sl, reference=False):
     start = time.perf_counter()
     rec = recording.read(meta_path)
     sim_opts, sc = _scenario(opts, rec, sl.lines, sl.index, sl.apertures)
-    sc = dataclasses.replace(sc, symbols=sl.symbols)
-    part = part_of(rec, sl.first, sl.symbols)  # file_source's offset, its overflows
+    sc = dataclasses.replace(sc, symbols=sl.symbols, warmup=sl.warmup)
+    read = sl.first - sl.warmup  # the filter's first symbol
+    part = part_of(rec, read, sl.warmup + sl.symbols)  # file_source's offset, its overflows
     tb = gr.top_block("nrsar-strip")
-    tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
+    tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, read)
     graph = chain.build(tb, sim_opts, sc, tx=tx, reference=reference,
                         echo_front=process.recording_front(part, reference))
     pre = graph["presum"]  # its first output is the focuser's first line
@@ -198,17 +215,19 @@ def focus_slice(opts, meta_path, sl, reference=False):
     k = graph["focuser"].num_output_bins()
     if sl.symbols == 0:  # its block lies past the recording's end: zeros, as one graph's
         return {"index": sl.index, "image": np.zeros((sl.apertures * sl.lines, k), np.complex64),
-                "compute_s": time.perf_counter() - start}
+                "compute_s": time.perf_counter() - start, "snr_db": None}
     tb.run()
     bad = graph["echo"].nonfinite_count()
     if bad:
         raise SliceError(f"aperture {sl.index}: {bad} non-finite samples in symbols "
-                         f"[{sl.first}, {sl.first + sl.symbols}) of {rec.data_path}")
+                         f"[{read}, {sl.first + sl.symbols}) of {rec.data_path}")
     image = np.asarray(graph["image_sink"].data(), np.complex64).reshape(-1, k)
     if image.shape[0] != sl.apertures * sl.lines:
         raise RuntimeError(f"aperture {sl.index}: {image.shape[0]} image lines, expected "
                            f"{sl.apertures * sl.lines}")
-    return {"index": sl.index, "image": image, "compute_s": time.perf_counter() - start}
+    snr = graph["filter"].estimated_snr_db() if sim_opts.estimate_snr else None
+    return {"index": sl.index, "image": image, "compute_s": time.perf_counter() - start,
+            "snr_db": snr}
 
 
 def security_of(opts):
@@ -298,8 +317,9 @@ def write_strip(path, lay, done):
     """Streams the image lines of done ((slice, result, held) in aperture order, as
     in_order yields them) into the .npy file at path, written under a temporary name and
     renamed at the end; a failed slice's lines are zero. Nothing but the aperture in hand is
-    kept. Returns (failures [{aperture, error}], task times, the most tasks held at once)."""
-    failed, times, peak = [], [], 0
+    kept. Returns (failures [{aperture, error}], task times, the most tasks held at once,
+    each task's last SNR estimate (None: failed, read nothing, or no --estimate-snr))."""
+    failed, times, peak, snrs = [], [], 0, []
     rows = len(lay.slices) * lay.lines
     with results.atomic(path) as tmp, open(tmp, "wb") as f:
         np.lib.format.write_array_header_1_0(f, {"descr": np.lib.format.dtype_to_descr(
@@ -309,11 +329,13 @@ def write_strip(path, lay, done):
             if isinstance(r, str):
                 failed.append({"aperture": sl.index, "error": r})
                 image = np.zeros((sl.apertures * sl.lines, lay.bins), np.complex64)
+                snrs.append(None)
             else:
                 image = r["image"]
                 times.append(r["compute_s"])
+                snrs.append(r["snr_db"])
             f.write(np.ascontiguousarray(image, np.complex64).tobytes())
-    return failed, times, peak
+    return failed, times, peak, snrs
 
 
 def run(opts, client=None):
@@ -328,13 +350,14 @@ def run(opts, client=None):
     with contextlib.ExitStack() as stack:
         if client is None and opts.dask:
             client = stack.enter_context(connect(opts))
-        failed, times, peak = write_strip(path, lay, in_order(
+        failed, times, peak, snrs = write_strip(path, lay, in_order(
             opts, rec.meta_path, slices, client, opts.strip_window))
         workers = len(client.scheduler_info()["workers"]) if client else 1
     return {"recording_meta": rec.meta_path, "strip_apertures": len(slices),
             "strip_aperture_lines": lay.lines, "strip_slices":
             [[s.first, s.symbols] for s in slices], "strip_overlap_lines": [lay.before, lay.after],
-            "strip_line_shift": lay.shift,
+            "strip_line_shift": lay.shift, "strip_warmup_symbols": [s.warmup for s in slices],
+            "strip_snr_db": snrs,
             "strip_read_factor": lay.read_factor(), "strip_image_npy": path,
             "strip_lines": len(slices) * lay.lines, "strip_failed": failed,
             "strip_task_s": times, "strip_held_peak": peak, "overflows": len(rec.gaps),

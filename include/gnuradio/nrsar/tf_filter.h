@@ -87,6 +87,14 @@ public:
     virtual bool constant_modulus_path() const = 0;
     //! Items (vectors) filtered by the constant-modulus shortcut so far.
     virtual std::uint64_t constant_modulus_items() const = 0;
+
+    /*!
+     * The first item of the window behind the SNR estimate that filters item `item` (items
+     * of vlen REs counted from the stream's start; kernel::snr_estimator::window_start): a
+     * stream of the same items started there estimates as this one, bit for bit, from
+     * `item` on. A strip's task starting mid-flight warms up from there (docs/scale.md).
+     */
+    static std::uint64_t snr_window_start(unsigned vlen, std::uint64_t item);
 };
 
 } // namespace nrsar

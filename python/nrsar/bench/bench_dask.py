@@ -13,8 +13,9 @@ recording (each task reads its aperture and the focuser's overlap: read_factor l
 line kept), with the automatic overlap (the scene band's extent: the whole flight for these
 beamless targets) and with --strip-overlap-s 0.0125 (300 lines each side). Rates are
 apertures per second of wall time, the cluster already started (its start-up is a column of
-its own); TLS on, as nrsar-process runs it. Per-task overhead: the wall time of 200 empty
-tasks through the same cluster, divided by 200. A row of its own: a task without the
+its own); TLS on, as nrsar-process runs it. Each rate, the one graph's and each cluster's,
+is the median of 3 runs of the whole strip. Per-task overhead: the wall time of 200 empty
+tasks through the same cluster, divided by 200 (a mean over 200 already). A row of its own: a task without the
 reference branch against one with it (median of 5 alternating runs). docs/scale.md turns
 these into a projection for 100 workers.
 """
@@ -46,6 +47,16 @@ def _reference_row(opts, meta, sl):
                          read_factor=None, workers=1)
 
 
+def _median_rate(apertures, strip, runs=3):
+    """Apertures per second of wall time: the median of `runs` calls of strip()."""
+    times = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        strip()
+        times.append(time.perf_counter() - start)
+    return apertures / statistics.median(times)
+
+
 def run(quick=False):
     folder = tempfile.mkdtemp(prefix="nrsar_bench_dask_")
     try:
@@ -66,18 +77,16 @@ def run(quick=False):
             compute = statistics.median(r["compute_s"] for r in
                                         dp.run_slices(opts, meta, slices).values())
             # the peer: one graph focusing the whole recording (it reads every line once)
-            start = time.perf_counter()
-            dp.focus_slice(opts, meta, dp.whole(opts, rec, lay))
-            serial_rate = len(slices) / (time.perf_counter() - start)
+            serial_rate = _median_rate(len(slices), lambda: dp.focus_slice(
+                opts, meta, dp.whole(opts, rec, lay)))
             name = "automatic overlap" if overlap is None else f"overlap {overlap:g} s"
             for workers in (1, 2, 4):
                 start = time.perf_counter()
                 with dp.connect(opts.replace(dask=f"local:{workers}")) as client:
                     startup = time.perf_counter() - start
                     client.run(dp.focus_slice, opts, meta, warm)  # on every worker
-                    start = time.perf_counter()
-                    dp.run_slices(opts, meta, slices, client)
-                    rate = len(slices) / (time.perf_counter() - start)
+                    rate = _median_rate(len(slices), lambda: dp.run_slices(
+                        opts, meta, slices, client))
                     n = 200
                     start = time.perf_counter()
                     client.gather(client.map(_noop, range(n), pure=False))

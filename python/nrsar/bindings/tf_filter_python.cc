@@ -79,5 +79,12 @@ void bind_tf_filter(py::module& m)
              "REs with an empty reference (|s|^2 = 0) so far.")
         .def("nonfinite_count",
              &tf_filter::nonfinite_count,
-             "Non-finite input samples replaced by 0 so far.");
+             "Non-finite input samples replaced by 0 so far.")
+        .def_static("snr_window_start",
+                    &tf_filter::snr_window_start,
+                    py::arg("vlen"),
+                    py::arg("item"),
+                    "The first item of the window behind the SNR estimate that filters item "
+                    "`item` (counted from the stream's start): a stream started there "
+                    "estimates as this one from `item` on (a strip task's warm-up).");
 }

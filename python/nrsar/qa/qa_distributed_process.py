@@ -8,10 +8,13 @@
 apertures, a target on the boundary between two, processed as a strip on a local Dask cluster
 over TLS equals one graph focusing the whole recording (each task reads its aperture and the
 focuser's overlap by offset); a worker killed mid-run costs a retry; a slice with non-finite
-samples is reported with its aperture index while the others complete; a client without the
-certificate is refused by the scheduler; --dask-make-certs writes a set."""
+samples is reported with its aperture index while the others complete; with --estimate-snr
+each task first reads the SNR estimator's window and the strip still equals one graph (a
+recording whose SNR falls along the track); a client without the certificate is refused by
+the scheduler; --dask-make-certs writes a set."""
 
 import contextlib
+import dataclasses
 import faulthandler
 import gc
 import os
@@ -163,7 +166,7 @@ class qa_distributed_process(gr_unittest.TestCase):
         os.kill(pids[busy[0]], signal.SIGKILL)  # its task runs again elsewhere
         runner.join(600)
         self.assertFalse(runner.is_alive())
-        failed, _, held = out[0]
+        failed, _, held, _ = out[0]
         self.assertEqual((failed, held), ([], 4))  # the default window: twice the workers
         np.testing.assert_array_equal(np.load(path), self.whole_image)
 
@@ -253,6 +256,92 @@ class qa_distributed_process(gr_unittest.TestCase):
             self.assertGreater(res["strip_slices"][2][0], 0)
             np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
 
+    def test_003f_estimated_snr(self):
+        # --estimate-snr: the Wiener filter's SNR estimate at a symbol sums the estimator's
+        # window before it (2^24 REs, pooled in buckets of 2^18 from the stream's start), so
+        # each task first reads that window (bucket-aligned, tf_filter.snr_window_start) and
+        # its estimate, and image, equal one graph's bit for bit. paper (3333 REs: a window
+        # of 5034 symbols, 0.21 s; buckets of 79 symbols), srs2, 0.4 s = 9600 symbols cut
+        # into 6 apertures of 56 lines (1568 symbols), 10 lines of overlap (a task reads
+        # from line 56 a - 13 - 10): tasks 4 and 5 start past the first window, at symbols
+        # 5628 and 7196. The SNR falls along the track (noise added to
+        # the recording from symbol 4000 on, rising to 4x the recording's power), so where a
+        # task's window starts matters.
+        meta = self._recording("snr", ["--preset", "paper", "--aperture-s", "0.4"])
+        rec = recording.read(meta)
+        sym = rec.symbol_samples
+        data = np.memmap(rec.data_path, np.complex64, "r+")
+        power = float(np.mean(np.abs(data[:1 << 20]) ** 2))
+        rng = np.random.default_rng(7)
+        first = rec.hardware_delay_samples + 4000 * sym
+        chunk = 1 << 20
+        for at in range(first, len(data), chunk):
+            end = min(len(data), at + chunk)
+            sigma = np.sqrt(4 * power * (at - first) / (len(data) - first) / 2)
+            noise = rng.standard_normal((end - at, 2), np.float32) * np.float32(sigma)
+            data[at:end] += noise.view(np.complex64)[:, 0]
+        data.flush()
+        del data
+        step = 28 * rec.num.symbol_s()
+        opts = ProcessOptions(recording=meta, strip_aperture_s=56 * step,
+                              strip_overlap_s=10 * step, estimate_snr=True,
+                              out=os.path.join(self.dir, "snr_out")).validate()
+        lay = dp.layout(opts, rec)
+        whole = self.whole(opts)
+        window, bucket = (1 << 24) / 3333, 79  # symbols
+        for sl in lay.slices:
+            start = sl.first - sl.warmup
+            self.assertEqual(start % bucket, 0)
+            if start:  # the window behind the first symbol, and not one bucket more
+                self.assertGreaterEqual(sl.warmup + 1, window)
+                self.assertLess(sl.warmup + 1 - bucket, window)
+        self.assertEqual([sl.first for sl in lay.slices],
+                         [0] + [28 * (56 * a - 13 - 10) for a in range(1, 6)])
+        self.assertEqual([sl.first - sl.warmup > 0 for sl in lay.slices], [False] * 4 + [True] * 2)
+        for client in (None, self.client):
+            res = dp.run(opts.replace(out=os.path.join(self.dir, f"snr_{client is None}")),
+                         client)
+            self.assertEqual(res["strip_failed"], [])
+            np.testing.assert_array_equal(np.load(res["strip_image_npy"]), whole)
+            self.assertEqual(res["strip_warmup_symbols"], [sl.warmup for sl in lay.slices])
+        # each task's last estimate: the recorded 5 dB at the start (measured 4.89), falling
+        # along the track with the added noise (measured 4.85, 4.72, 4.05, 2.61, 1.00 dB)
+        snr = res["strip_snr_db"]
+        self.assertAlmostEqual(snr[0], 5.0, delta=0.25)
+        self.assertTrue(all(a > b for a, b in zip(snr[1:], snr[2:])), snr)
+        self.assertLess(snr[-1], snr[0] - 3.0)
+        # without the warm-up the last task differs from one graph (what the warm-up is
+        # for): measured 25 % of the image's peak at most, the estimate -0.57 dB
+        cold = dp.focus_slice(opts, meta, dataclasses.replace(lay.slices[-1], warmup=0))
+        rows = slice(5 * lay.lines, 6 * lay.lines)
+        self.assertGreater(np.abs(cold["image"] - whole[rows]).max(), 0.05 * np.abs(whole).max())
+        self.assertLess(cold["snr_db"], snr[-1] - 1.0)
+        # the warm-up's skiphead before a presummer in the TF domain (cheby, D = 2), and
+        # bp_focuser's tasks (each its own aperture): one graph's strip too
+        for kw in (dict(presum="cheby", decim=2, presum_domain="tf"), dict(focuser="bp")):
+            o = opts.replace(out=os.path.join(self.dir, "snr_" + kw.get("presum", "bp")), **kw)
+            res = dp.run(o)
+            self.assertEqual(res["strip_failed"], [])
+            self.assertGreater(res["strip_warmup_symbols"][-1], 5000)
+            np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(o))
+
+    def test_003g_estimated_snr_fused(self):
+        # the same with --rx-fuse on (range_compress filters and range-compresses in one
+        # block, so the warm-up's skiphead follows it): paper, every symbol a pulse, 0.3 s
+        # cut into 6 apertures of 1200 lines, 60 lines of overlap (line shift +831): tasks 4
+        # and 5 start past the first window (warm-ups of 5097 and 5033 symbols)
+        meta = self._recording("fused", ["--preset", "paper", "--mode", "data",
+                                         "--aperture-s", "0.3"])
+        rec = recording.read(meta)
+        opts = ProcessOptions(recording=meta, strip_aperture_s=1200 * rec.num.symbol_s(),
+                              strip_overlap_s=60 * rec.num.symbol_s(), estimate_snr=True,
+                              rx_fuse="on", out=os.path.join(self.dir, "fused_out")).validate()
+        lay = dp.layout(opts, rec)
+        self.assertEqual([sl.first - sl.warmup > 0 for sl in lay.slices], [False] * 4 + [True] * 2)
+        res = dp.run(opts)
+        self.assertEqual(res["strip_failed"], [])
+        np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
+
     def test_004_tls_refuses_a_client_without_certificate(self):
         import distributed
         from distributed.security import Security
@@ -284,9 +373,6 @@ class qa_distributed_process(gr_unittest.TestCase):
         with self.assertRaisesRegex(OptionError, "--presum = 'lms' with --strip-aperture-s: "
                                     "its filter adapts from the flight's first pulse"):
             dp.layout(self.opts("o", presum="lms", decim=2), rec)
-        with self.assertRaisesRegex(OptionError, "--estimate-snr = True with "
-                                    "--strip-aperture-s: the Wiener filter's SNR estimate"):
-            dp.layout(self.opts("o", estimate_snr=True), rec)
         for aperture_s in (0.001, 0.6):
             with self.assertRaisesRegex(OptionError, "--strip-aperture-s = .* at most the "
                                         "recording's 428 lines"):

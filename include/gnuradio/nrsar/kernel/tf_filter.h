@@ -148,6 +148,15 @@ public:
     double signal_power() const { return d_p; }
     double noise_power() const { return d_sigma2; }
     void reset();
+    /*!
+     * The first vector of the window behind the estimate made at vector t (vectors of n
+     * REs, counted from the stream's start, each passed to update()). It is a bucket
+     * boundary, so a stream of the same vectors started there pools the same buckets and
+     * has the same estimate, bit for bit, at t and after: the warm-up of a strip's task
+     * that starts at t mid-flight (docs/scale.md). About window / n + bucket / n vectors
+     * before t once the window is full, else 0.
+     */
+    std::uint64_t window_start(std::uint64_t t, std::size_t n) const;
 
 private:
     struct moments {
