@@ -258,10 +258,8 @@ def make_probe(opts, sc, foc, cfg, reference):
 # Sample-rate edges (the ISAC graph's, a recording's source): GNU Radio's default buffers
 # (64 KiB) cut the 245 M samples of the paper aperture into calls of at most 4096 samples,
 # and the thread wake-ups between the blocks cost more than the blocks' work
-# (docs/performance.md, "make demo"). 4 MiB per edge (about 100 paper symbols): against
-# 1 MiB the demo's CPU falls by 2 s (system time 3.4 -> 2.2 s) for +22 MB of RSS
-# (docs/performance.md, "Third pass").
-SAMPLE_EDGE_BYTES = 4 << 20
+# (docs/performance.md, "make demo"); 1 MiB per edge.
+SAMPLE_EDGE_BYTES = 1 << 20
 
 
 def widen_buffers(*blks):
