@@ -96,14 +96,15 @@ install: runtime
 # The demo runs the installed module, as a user would: the one ISAC graph (docs/isac.md) at
 # the paper scenario. Payload: GPL-3 (on every Debian machine) repeated 100 times = 3,514,900
 # bytes, 96 TBs of the 2 s aperture, the TS 38.212 UL-SCH at qam256 MCS 27 (256-QAM, R 0.93);
-# the JSON object is the last line.
+# the JSON object is the last line. --rx-fuse on: filter and range IFFT in one block per
+# branch (the same images, less CPU and memory: docs/performance.md, "Third pass").
 demo: install
 	mkdir -p $(DEMO_OUT)
 	for i in $$(seq 100); do cat /usr/share/common-licenses/GPL-3; done > $(DEMO_OUT)/payload.bin
 	$(PREFIX)/bin/nrsar-isac --preset paper --scene paper3 --filter wf --snr-db -20 \
 		--payload $(DEMO_OUT)/payload.bin --bs-snr-db 50 --cfo-hz 9000 --delay-samples 1234 \
 		--coding nr-ldpc --mcs-table qam256 --mcs 27 --rx-threads $(DEMO_RX_THREADS) \
-		--out $(DEMO_OUT) --json
+		--rx-fuse on --out $(DEMO_OUT) --json
 
 # Kernel benchmarks (Google Benchmark, outside ctest so VOLK uses its fast kernels), then
 # the flowgraph-level comparisons with peers; results land in docs/bench/.

@@ -36,6 +36,8 @@ void BM_TdEchoPaper3(benchmark::State& state)
     const bool noise = state.range(1) != 0;
     kernel::td_echo k(num, geometry::preset("paper"), scene::preset("paper3"), taps);
     k.fir().set_simd(state.range(2) != 0);
+    k.fir().set_avx512(state.range(2) == 2);
+    state.SetLabel(k.fir().implementation());
     kernel::gaussian_noise g(5);
     const std::size_t n = 8192, hist = k.history();
     const auto x = samples(hist + n);
@@ -55,6 +57,8 @@ void BM_MultipathFirOnePath(benchmark::State& state)
     const unsigned taps = static_cast<unsigned>(state.range(0));
     kernel::multipath_fir fir(taps, 9.0, 2000);
     fir.set_simd(state.range(1) != 0);
+    fir.set_avx512(state.range(1) == 2);
+    state.SetLabel(fir.implementation());
     const kernel::echo_path p{ 900.37, 1.0 };
     fir.set_paths(&p, 1);
     const std::size_t n = 8192;
@@ -82,7 +86,8 @@ void BM_TdEchoSymbolSetup(benchmark::State& state)
 
 } // namespace
 
-// Args: taps, noise (0/1), AVX2 loop (1) or one VOLK dot product per output (0).
-BENCHMARK(BM_TdEchoPaper3)->ArgsProduct({ { 16, 32, 64 }, { 0, 1 }, { 0, 1 } });
+// Args: taps, noise (0/1), loop: one VOLK dot product per output (0), AVX2 (1), AVX-512
+// where the CPU has it (2; the label names the loop that ran).
+BENCHMARK(BM_TdEchoPaper3)->ArgsProduct({ { 16, 32, 64 }, { 0, 1 }, { 0, 1, 2 } });
 BENCHMARK(BM_TdEchoSymbolSetup);
-BENCHMARK(BM_MultipathFirOnePath)->ArgsProduct({ { 16, 32, 64 }, { 0, 1 } });
+BENCHMARK(BM_MultipathFirOnePath)->ArgsProduct({ { 16, 32, 64 }, { 0, 1, 2 } });

@@ -14,6 +14,7 @@
 #include <complex>
 #include <cstdio>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 using namespace gr::nrsar;
@@ -93,6 +94,36 @@ TEST(MultipathFir, Avx2AndVolkPathsAgree)
     fir.filter(x.data() + 300, b.data(), b.size());
     for (std::size_t k = 0; k < a.size(); k++) // odd length: the tails of both loops
         ASSERT_LT(std::abs(a[k] - b[k]), 1e-5f * (1.0f + std::abs(b[k]))) << k;
+}
+
+TEST(MultipathFir, Avx512EqualsAvx2BitForBit)
+{
+    // The AVX-512 loop does each output's arithmetic as the AVX2 loop does (taps in order,
+    // one FMA each into x Re g and x Im g): equal bit for bit, at every length (32-output
+    // blocks, then the AVX2 loop's 16-, 4- and tail paths) and span (1 tap is a copy).
+    multipath_fir fir(32, 9.0, 300);
+    if (fir.set_avx512(true), std::string(fir.implementation()) != "avx512")
+        GTEST_SKIP() << "no AVX-512F on this CPU (" << fir.implementation() << ")";
+    const auto x = nrsar_test::gaussian_samples(300 + 1003, 7);
+    const std::vector<std::vector<echo_path>> cases = {
+        { { 200.37, cd(0.3, 0.8) }, { 211.9, cd(-1.0, 0.1) } }, // span 44
+        { { 250.5, cd(0.5, -0.2) } },                            // span 32
+        { { 100.0, cd(1.0, 0.0) }, { 101.0, cd(0.0, 1.0) } },    // two integer lags
+    };
+    for (const auto& paths : cases) {
+        fir.set_paths(paths.data(), paths.size());
+        for (std::size_t n : { 1003, 64, 35, 31, 3 }) {
+            std::vector<gr_complex> a(n), b(n);
+            fir.set_avx512(true);
+            fir.filter(x.data() + 300, a.data(), n);
+            fir.set_avx512(false);
+            EXPECT_STREQ(fir.implementation(), "avx2");
+            fir.filter(x.data() + 300, b.data(), n);
+            for (std::size_t k = 0; k < n; k++)
+                ASSERT_EQ(a[k], b[k]) << "span " << fir.lag_hi() - fir.lag_lo() + 1 << " n " << n
+                                      << " k " << k;
+        }
+    }
 }
 
 TEST(MultipathFir, IntegerDelayIsExact)

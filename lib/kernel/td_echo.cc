@@ -20,6 +20,7 @@ namespace kernel {
 
 multipath_fir::multipath_fir(unsigned taps, double kaiser_beta, unsigned max_lag)
     : d_simd(noise_detail::avx2_available()),
+      d_avx512(d_simd && td_detail::avx512_available()),
       d_taps(taps),
       d_beta(kaiser_beta),
       d_max_lag(max_lag)
@@ -122,14 +123,23 @@ void multipath_fir::filter(const gr_complex* x, gr_complex* y, std::size_t n) co
     const gr_complex* g = d_grev.data();
     const gr_complex* xs = x - d_lag_hi;
     if (d_simd) {
-        td_detail::fir_avx2(xs, g, span, y, n, d_tail.data());
+        (d_avx512 ? td_detail::fir_avx512 : td_detail::fir_avx2)(xs, g, span, y, n, d_tail.data());
         return;
     }
     for (std::size_t i = 0; i < n; i++)
         volk_32fc_x2_dot_prod_32fc(y + i, xs + i, g, span);
 }
 
-void multipath_fir::set_simd(bool allow) { d_simd = allow && noise_detail::avx2_available(); }
+void multipath_fir::set_simd(bool allow)
+{
+    d_simd = allow && noise_detail::avx2_available();
+    d_avx512 = d_simd && td_detail::avx512_available();
+}
+
+void multipath_fir::set_avx512(bool allow)
+{
+    d_avx512 = allow && d_simd && td_detail::avx512_available();
+}
 
 td_echo::td_echo(const numerology& num,
                  const geometry& geo,

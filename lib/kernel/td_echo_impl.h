@@ -38,6 +38,17 @@ void fir_avx2(const gr_complex* x,
               std::size_t n,
               gr_complex* tail);
 
+//! fir_avx2's outputs bit for bit, 32 at a time with AVX-512F (call after avx512_available()).
+void fir_avx512(const gr_complex* x,
+                const gr_complex* g,
+                unsigned span,
+                gr_complex* y,
+                std::size_t n,
+                gr_complex* tail);
+
+//! Whether the CPU runs AVX-512F (and the library was built for x86).
+bool avx512_available();
+
 } // namespace td_detail
 } // namespace kernel
 } // namespace nrsar

@@ -33,7 +33,8 @@ LICENSE = "/usr/share/common-licenses/GPL-3"
 
 DEMO = ["--preset", "paper", "--scene", "paper3", "--filter", "wf", "--snr-db", "-20",
         "--bs-snr-db", "50", "--cfo-hz", "9000", "--delay-samples", "1234",
-        "--coding", "nr-ldpc", "--mcs-table", "qam256", "--mcs", "27", "--json"]
+        "--coding", "nr-ldpc", "--mcs-table", "qam256", "--mcs", "27", "--rx-fuse", "on",
+        "--json"]
 DEMO += ["--rx-threads", "2" if (os.cpu_count() or 1) > 1 else "1"]  # as the Makefile
 RUN_ISAC = ("import sys; from gnuradio.nrsar import cli, isac_chain; "
             "from gnuradio.nrsar.options import IsacOptions; "

@@ -81,11 +81,17 @@ public:
 
     //! false: the VOLK dot-product loop even when the CPU has AVX2/FMA (tests, bench).
     void set_simd(bool allow);
-    //! "avx2" or "volk".
-    const char* implementation() const { return d_simd ? "avx2" : "volk"; }
+    //! false: the AVX2 loop even when the CPU has AVX-512F (tests, bench; the same outputs).
+    void set_avx512(bool allow);
+    //! "avx512", "avx2" or "volk".
+    const char* implementation() const
+    {
+        return d_simd ? (d_avx512 ? "avx512" : "avx2") : "volk";
+    }
 
 private:
     bool d_simd;
+    bool d_avx512; //!< with d_simd: the AVX-512F loop
     unsigned d_taps;
     double d_beta;
     double d_i0_beta;
