@@ -338,8 +338,9 @@ TEST(SnrEstimator, WarmUpFromWindowStartEqualsTheWholeStream)
             ASSERT_EQ(task.snr_db(), est[v]) << t0 << " " << v;
             ASSERT_EQ(task.signal_power(), p[v]) << t0 << " " << v;
             ASSERT_EQ(task.noise_power(), s2[v]) << t0 << " " << v;
-            if (v == t0 && start > 0) // the warm-up is the least that reproduces t0
+            if (v == t0 && start > 0) { // the warm-up is the least that reproduces t0
                 EXPECT_NE(late.snr_db(), est[v]) << t0;
+            }
         }
     }
     // the default window at paper (3333 REs, buckets of 79 vectors): 5102 vectors of
