@@ -67,6 +67,48 @@ bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsig
     return _mm256_movemask_epi8(bad) == 0;
 }
 
+// The same in 16 lanes of int16 (the wide path): +-32767 bounds every value.
+bool layer_avx2(std::int16_t* t, std::int16_t* r, unsigned deg, unsigned zp, unsigned zc, std::int16_t offset)
+{
+    const __m256i lo = _mm256_set1_epi16(-32767);
+    const __m256i one = _mm256_set1_epi16(1);
+    const __m256i off = _mm256_set1_epi16(offset);
+    const __m256i ramp = _mm256_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    __m256i bad = _mm256_setzero_si256();
+    for (unsigned v = 0; v < zp; v += 16) {
+        __m256i min1 = _mm256_set1_epi16(32767), min2 = min1;
+        __m256i sgn = _mm256_setzero_si256(), sgnl = sgn;
+        for (unsigned e = 0; e < deg; e++) {
+            __m256i* pt = reinterpret_cast<__m256i*>(t + e * zp + v);
+            const __m256i l = _mm256_loadu_si256(pt);
+            const __m256i x = _mm256_max_epi16(
+                _mm256_subs_epi16(l, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(r + e * zp + v))), lo);
+            _mm256_storeu_si256(pt, x);
+            const __m256i a = _mm256_abs_epi16(x);
+            min2 = _mm256_min_epi16(min2, _mm256_max_epi16(min1, a));
+            min1 = _mm256_min_epi16(min1, a);
+            sgn = _mm256_xor_si256(sgn, x);
+        }
+        const __m256i m1 = _mm256_subs_epu16(min1, off);
+        const __m256i m2 = _mm256_subs_epu16(min2, off);
+        for (unsigned e = 0; e < deg; e++) {
+            __m256i* pt = reinterpret_cast<__m256i*>(t + e * zp + v);
+            __m256i* pr = reinterpret_cast<__m256i*>(r + e * zp + v);
+            const __m256i x = _mm256_loadu_si256(pt);
+            const __m256i m = _mm256_blendv_epi8(m1, m2, _mm256_cmpeq_epi16(_mm256_abs_epi16(x), min1));
+            const __m256i s = _mm256_sign_epi16(m, _mm256_or_si256(_mm256_xor_si256(sgn, x), one));
+            _mm256_storeu_si256(pr, s);
+            const __m256i l = _mm256_max_epi16(_mm256_adds_epi16(x, s), lo);
+            _mm256_storeu_si256(pt, l);
+            sgnl = _mm256_xor_si256(sgnl, l);
+        }
+        if (v + 16 > zc)
+            sgnl = _mm256_and_si256(sgnl, _mm256_cmpgt_epi16(_mm256_set1_epi16(static_cast<short>(zc - v)), ramp));
+        bad = _mm256_or_si256(bad, sgnl);
+    }
+    return (_mm256_movemask_epi8(bad) & 0xAAAAAAAAu) == 0; // the high byte of each int16 has its sign
+}
+
 void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
 {
     const __m256 s = _mm256_set1_ps(scale);
@@ -94,6 +136,35 @@ void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
         x = x < -63.0f ? -63.0f : (x > 63.0f ? 63.0f : x);
         const int r = _mm_cvtss_si32(_mm_set_ss(x));
         out[k] = static_cast<std::int8_t>(v == INFINITY ? 127 : (v == -INFINITY ? -127 : r));
+    }
+}
+
+void quantize_avx2(const float* in, unsigned n, float scale, std::int16_t* out)
+{
+    const __m256 s = _mm256_set1_ps(scale);
+    const __m256 hi = _mm256_set1_ps(252.0f), lo = _mm256_set1_ps(-252.0f);
+    const __m256 pinf = _mm256_set1_ps(INFINITY), ninf = _mm256_set1_ps(-INFINITY);
+    unsigned k = 0;
+    for (; k + 16 <= n; k += 16) {
+        __m256i q[2];
+        for (unsigned g = 0; g < 2; g++) {
+            const __m256 v = _mm256_loadu_ps(in + k + 8 * g);
+            __m256 x = _mm256_and_ps(_mm256_mul_ps(v, s), _mm256_cmp_ps(v, v, _CMP_ORD_Q)); // NaN -> 0
+            x = _mm256_min_ps(_mm256_max_ps(x, lo), hi);
+            x = _mm256_blendv_ps(x, _mm256_set1_ps(32767.0f), _mm256_cmp_ps(v, pinf, _CMP_EQ_OQ));
+            x = _mm256_blendv_ps(x, _mm256_set1_ps(-32767.0f), _mm256_cmp_ps(v, ninf, _CMP_EQ_OQ));
+            q[g] = _mm256_cvtps_epi32(x); // nearest, ties to even
+        }
+        // packs works per 128-bit lane: 64-bit quarters 0 2 1 3 restore the order.
+        const __m256i w = _mm256_permute4x64_epi64(_mm256_packs_epi32(q[0], q[1]), 0xD8);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + k), w);
+    }
+    for (; k < n; k++) {
+        const float v = in[k];
+        float x = v == v ? v * scale : 0.0f;
+        x = x < -252.0f ? -252.0f : (x > 252.0f ? 252.0f : x);
+        const int r = _mm_cvtss_si32(_mm_set_ss(x));
+        out[k] = static_cast<std::int16_t>(v == INFINITY ? 32767 : (v == -INFINITY ? -32767 : r));
     }
 }
 
@@ -141,6 +212,21 @@ bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
     return _mm256_movemask_epi8(bad) == 0;
 }
 
+bool signs_ok_avx2(const std::int16_t* t, unsigned deg, unsigned zp, unsigned zc)
+{
+    const __m256i ramp = _mm256_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    __m256i bad = _mm256_setzero_si256();
+    for (unsigned v = 0; v < zp; v += 16) {
+        __m256i x = _mm256_setzero_si256();
+        for (unsigned e = 0; e < deg; e++)
+            x = _mm256_xor_si256(x, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(t + e * zp + v)));
+        if (v + 16 > zc)
+            x = _mm256_and_si256(x, _mm256_cmpgt_epi16(_mm256_set1_epi16(static_cast<short>(zc - v)), ramp));
+        bad = _mm256_or_si256(bad, x);
+    }
+    return (_mm256_movemask_epi8(bad) & 0xAAAAAAAAu) == 0;
+}
+
 } // namespace ldpc_detail
 } // namespace kernel
 } // namespace nrsar
@@ -155,9 +241,17 @@ namespace ldpc_detail {
 bool avx2_available() { return false; }
 bool layer_avx2(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc, std::int8_t offset)
 {
-    return layer_generic(t, r, deg, zp, zc);
+    return layer_generic(t, r, deg, zp, zc, offset);
+}
+bool layer_avx2(std::int16_t* t, std::int16_t* r, unsigned deg, unsigned zp, unsigned zc, std::int16_t offset)
+{
+    return layer_generic(t, r, deg, zp, zc, offset);
 }
 void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
+{
+    quantize_generic(in, n, scale, out);
+}
+void quantize_avx2(const float* in, unsigned n, float scale, std::int16_t* out)
 {
     quantize_generic(in, n, scale, out);
 }
@@ -167,6 +261,10 @@ void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
     root_sums_generic(in, n8, part, cnt);
 }
 bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+{
+    return signs_ok_generic(t, deg, zp, zc);
+}
+bool signs_ok_avx2(const std::int16_t* t, unsigned deg, unsigned zp, unsigned zc)
 {
     return signs_ok_generic(t, deg, zp, zc);
 }
