@@ -147,63 +147,63 @@ bool signs_ok_avx2(const std::int16_t* t, unsigned deg, unsigned zp, unsigned zc
     return signs_ok<lanes16>(t, deg, zp, zc);
 }
 
-void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
+namespace {
+
+// 8 LLRs -> 8 int32 of fixed<T>: round(clamp(v scale, -in_max, in_max)) (nearest, ties to
+// even), NaN -> 0, +-inf -> +-max.
+template <typename T>
+__m256i quantize8(const float* in, __m256 s)
 {
-    const __m256 s = _mm256_set1_ps(scale);
-    const __m256 hi = _mm256_set1_ps(63.0f), lo = _mm256_set1_ps(-63.0f);
-    const __m256 pinf = _mm256_set1_ps(INFINITY), ninf = _mm256_set1_ps(-INFINITY);
-    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
-    unsigned k = 0;
-    for (; k + 32 <= n; k += 32) {
-        __m256i q[4];
-        for (unsigned g = 0; g < 4; g++) {
-            const __m256 v = _mm256_loadu_ps(in + k + 8 * g);
-            __m256 x = _mm256_and_ps(_mm256_mul_ps(v, s), _mm256_cmp_ps(v, v, _CMP_ORD_Q)); // NaN -> 0
-            x = _mm256_min_ps(_mm256_max_ps(x, lo), hi);
-            x = _mm256_blendv_ps(x, _mm256_set1_ps(127.0f), _mm256_cmp_ps(v, pinf, _CMP_EQ_OQ));
-            x = _mm256_blendv_ps(x, _mm256_set1_ps(-127.0f), _mm256_cmp_ps(v, ninf, _CMP_EQ_OQ));
-            q[g] = _mm256_cvtps_epi32(x); // nearest, ties to even
-        }
-        // packs works per 128-bit lane: the permutation restores the element order.
-        const __m256i w = _mm256_packs_epi16(_mm256_packs_epi32(q[0], q[1]), _mm256_packs_epi32(q[2], q[3]));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + k), _mm256_permutevar8x32_epi32(w, order));
-    }
+    const __m256 v = _mm256_loadu_ps(in);
+    __m256 x = _mm256_and_ps(_mm256_mul_ps(v, s), _mm256_cmp_ps(v, v, _CMP_ORD_Q)); // NaN -> 0
+    x = _mm256_min_ps(_mm256_max_ps(x, _mm256_set1_ps(-fixed<T>::in_max)), _mm256_set1_ps(fixed<T>::in_max));
+    const __m256 big = _mm256_set1_ps(static_cast<float>(fixed<T>::max));
+    x = _mm256_blendv_ps(x, big, _mm256_cmp_ps(v, _mm256_set1_ps(INFINITY), _CMP_EQ_OQ));
+    x = _mm256_blendv_ps(x, _mm256_sub_ps(_mm256_setzero_ps(), big), _mm256_cmp_ps(v, _mm256_set1_ps(-INFINITY), _CMP_EQ_OQ));
+    return _mm256_cvtps_epi32(x);
+}
+
+// The same for the last n % 8 values.
+template <typename T>
+void quantize_tail(const float* in, unsigned k, unsigned n, float scale, T* out)
+{
     for (; k < n; k++) {
         const float v = in[k];
         float x = v == v ? v * scale : 0.0f;
-        x = x < -63.0f ? -63.0f : (x > 63.0f ? 63.0f : x);
+        x = x < -fixed<T>::in_max ? -fixed<T>::in_max : (x > fixed<T>::in_max ? fixed<T>::in_max : x);
         const int r = _mm_cvtss_si32(_mm_set_ss(x));
-        out[k] = static_cast<std::int8_t>(v == INFINITY ? 127 : (v == -INFINITY ? -127 : r));
+        out[k] = static_cast<T>(v == INFINITY ? fixed<T>::max : (v == -INFINITY ? -fixed<T>::max : r));
     }
+}
+
+} // namespace
+
+void quantize_avx2(const float* in, unsigned n, float scale, std::int8_t* out)
+{
+    const __m256 s = _mm256_set1_ps(scale);
+    const __m256i order = _mm256_setr_epi32(0, 4, 1, 5, 2, 6, 3, 7);
+    unsigned k = 0;
+    for (; k + 32 <= n; k += 32) {
+        const __m256i q0 = quantize8<std::int8_t>(in + k, s), q1 = quantize8<std::int8_t>(in + k + 8, s);
+        const __m256i q2 = quantize8<std::int8_t>(in + k + 16, s), q3 = quantize8<std::int8_t>(in + k + 24, s);
+        // packs works per 128-bit lane: the permutation restores the element order.
+        const __m256i w = _mm256_packs_epi16(_mm256_packs_epi32(q0, q1), _mm256_packs_epi32(q2, q3));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + k), _mm256_permutevar8x32_epi32(w, order));
+    }
+    quantize_tail(in, k, n, scale, out);
 }
 
 void quantize_avx2(const float* in, unsigned n, float scale, std::int16_t* out)
 {
     const __m256 s = _mm256_set1_ps(scale);
-    const __m256 hi = _mm256_set1_ps(252.0f), lo = _mm256_set1_ps(-252.0f);
-    const __m256 pinf = _mm256_set1_ps(INFINITY), ninf = _mm256_set1_ps(-INFINITY);
     unsigned k = 0;
     for (; k + 16 <= n; k += 16) {
-        __m256i q[2];
-        for (unsigned g = 0; g < 2; g++) {
-            const __m256 v = _mm256_loadu_ps(in + k + 8 * g);
-            __m256 x = _mm256_and_ps(_mm256_mul_ps(v, s), _mm256_cmp_ps(v, v, _CMP_ORD_Q)); // NaN -> 0
-            x = _mm256_min_ps(_mm256_max_ps(x, lo), hi);
-            x = _mm256_blendv_ps(x, _mm256_set1_ps(32767.0f), _mm256_cmp_ps(v, pinf, _CMP_EQ_OQ));
-            x = _mm256_blendv_ps(x, _mm256_set1_ps(-32767.0f), _mm256_cmp_ps(v, ninf, _CMP_EQ_OQ));
-            q[g] = _mm256_cvtps_epi32(x); // nearest, ties to even
-        }
+        const __m256i q0 = quantize8<std::int16_t>(in + k, s), q1 = quantize8<std::int16_t>(in + k + 8, s);
         // packs works per 128-bit lane: 64-bit quarters 0 2 1 3 restore the order.
-        const __m256i w = _mm256_permute4x64_epi64(_mm256_packs_epi32(q[0], q[1]), 0xD8);
+        const __m256i w = _mm256_permute4x64_epi64(_mm256_packs_epi32(q0, q1), 0xD8);
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + k), w);
     }
-    for (; k < n; k++) {
-        const float v = in[k];
-        float x = v == v ? v * scale : 0.0f;
-        x = x < -252.0f ? -252.0f : (x > 252.0f ? 252.0f : x);
-        const int r = _mm_cvtss_si32(_mm_set_ss(x));
-        out[k] = static_cast<std::int16_t>(v == INFINITY ? 32767 : (v == -INFINITY ? -32767 : r));
-    }
+    quantize_tail(in, k, n, scale, out);
 }
 
 bool any_received_avx2(const float* in, unsigned n)
