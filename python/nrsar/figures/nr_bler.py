@@ -4,8 +4,8 @@
 #
 # SPDX-License-Identifier: GPL-3.0-or-later
 #
-"""BLER against SNR of the NR UL-SCH (nrsar.ulsch: TS 38.212 LDPC, rv 0, the int8 layered
-min-sum decoder with at most --max-iter iterations) over AWGN with the TS 38.211 constellations and max-log
+"""BLER against SNR of the NR UL-SCH (nrsar.ulsch: TS 38.212 LDPC, rv 0, the fixed-point
+layered offset min-sum decoder with at most --max-iter iterations) over AWGN with the TS 38.211 constellations and max-log
 LLRs (nrsar.soft_demapper), for one MCS per modulation. Prints, per MCS, the BLER at each SNR
 and the SNR of BLER 10 % (interpolated in log BLER), beside the Shannon limit of the
 information rate A / (G / Qm) bits per symbol, log2(1 + SNR) = rate, and the normal
