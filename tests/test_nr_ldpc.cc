@@ -243,7 +243,9 @@ TEST(NrLdpcDecoder, Rate09AgainstTheCapacityLimit)
 TEST(NrLdpcDecoder, Avx2AndScalarAgree)
 {
     // The two paths compute the same integers: same bits and iteration counts on noisy words,
-    // for a Zc that is a multiple of the SIMD width and one that is not.
+    // for a Zc that is a multiple of the SIMD width and one that is not, in both widths: the
+    // whole word sent (every row decoded: int16) and the first K / 0.9 bits (rate 0.9: at
+    // most 5 edges per column, int8).
     for (unsigned zc : { 384u, 52u }) {
         for (int bg : { 1, 2 }) {
             nr_ldpc_encoder enc(bg, zc);
@@ -253,17 +255,19 @@ TEST(NrLdpcDecoder, Avx2AndScalarAgree)
             std::normal_distribution<float> noise(0.0f, 0.8f);
             std::vector<std::uint8_t> c(enc.k()), d(enc.n()), oa(enc.k()), os(enc.k());
             std::vector<float> llr(enc.n());
-            for (int b = 0; b < 5; b++) {
-                for (auto& v : c)
-                    v = rng() & 1u;
-                enc.encode(c.data(), d.data());
-                for (std::size_t k = 0; k < d.size(); k++)
-                    llr[k] = 2.0f * ((d[k] ? -1.0f : 1.0f) + noise(rng)) / 0.64f;
-                const auto ra = a.decode(llr.data(), oa.data());
-                const auto rs = s.decode(llr.data(), os.data());
-                EXPECT_EQ(oa, os);
-                EXPECT_EQ(ra.iterations, rs.iterations);
-                EXPECT_EQ(ra.parity_ok, rs.parity_ok);
+            for (const std::size_t n_tx : { enc.n(), enc.k() * 10 / 9 }) {
+                for (int b = 0; b < 5; b++) {
+                    for (auto& v : c)
+                        v = rng() & 1u;
+                    enc.encode(c.data(), d.data());
+                    for (std::size_t k = 0; k < d.size(); k++)
+                        llr[k] = k < n_tx ? 2.0f * ((d[k] ? -1.0f : 1.0f) + noise(rng)) / 0.64f : 0.0f;
+                    const auto ra = a.decode(llr.data(), oa.data());
+                    const auto rs = s.decode(llr.data(), os.data());
+                    EXPECT_EQ(oa, os);
+                    EXPECT_EQ(ra.iterations, rs.iterations);
+                    EXPECT_EQ(ra.parity_ok, rs.parity_ok);
+                }
             }
         }
     }

@@ -17,36 +17,38 @@ namespace nrsar {
 namespace kernel {
 namespace ldpc_detail {
 
-bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, unsigned zc, std::int8_t offset)
+template <typename T>
+bool layer_generic(T* t, T* r, unsigned deg, unsigned zp, unsigned zc, T offset)
 {
-    std::int8_t min1[lanes], min2[lanes], sgn[lanes], sgnl[lanes];
+    constexpr int hi = fixed<T>::max;
+    T min1[lanes], min2[lanes], sgn[lanes], sgnl[lanes];
     bool ok = true;
     for (unsigned v = 0; v < zp; v += lanes) {
-        std::fill(min1, min1 + lanes, 127);
-        std::fill(min2, min2 + lanes, 127);
+        std::fill(min1, min1 + lanes, hi);
+        std::fill(min2, min2 + lanes, hi);
         std::fill(sgn, sgn + lanes, 0);
         std::fill(sgnl, sgnl + lanes, 0);
         for (unsigned e = 0; e < deg; e++) {
-            std::int8_t* pt = t + e * zp + v;
-            const std::int8_t* pr = r + e * zp + v;
+            T* pt = t + e * zp + v;
+            const T* pr = r + e * zp + v;
             for (unsigned z = 0; z < lanes; z++) {
-                const auto xs = static_cast<std::int8_t>(std::clamp(pt[z] - pr[z], -127, 127));
+                const auto xs = static_cast<T>(std::clamp(pt[z] - pr[z], -hi, hi));
                 const int a = std::abs(xs);
                 pt[z] = xs;
-                min2[z] = static_cast<std::int8_t>(std::min<int>(min2[z], std::max<int>(min1[z], a)));
-                min1[z] = static_cast<std::int8_t>(std::min<int>(min1[z], a));
+                min2[z] = static_cast<T>(std::min<int>(min2[z], std::max<int>(min1[z], a)));
+                min1[z] = static_cast<T>(std::min<int>(min1[z], a));
                 sgn[z] ^= xs;
             }
         }
         for (unsigned e = 0; e < deg; e++) {
-            std::int8_t* pt = t + e * zp + v;
-            std::int8_t* pr = r + e * zp + v;
+            T* pt = t + e * zp + v;
+            T* pr = r + e * zp + v;
             for (unsigned z = 0; z < lanes; z++) {
                 const int x = pt[z];
                 const int m = std::max((std::abs(x) == min1[z] ? min2[z] : min1[z]) - offset, 0);
                 const int s = (sgn[z] ^ x) < 0 ? -m : m;
-                pr[z] = static_cast<std::int8_t>(s);
-                pt[z] = static_cast<std::int8_t>(std::clamp(x + s, -127, 127));
+                pr[z] = static_cast<T>(s);
+                pt[z] = static_cast<T>(std::clamp(x + s, -hi, hi));
                 sgnl[z] ^= pt[z];
             }
         }
@@ -56,15 +58,17 @@ bool layer_generic(std::int8_t* t, std::int8_t* r, unsigned deg, unsigned zp, un
     return ok;
 }
 
-void quantize_generic(const float* in, unsigned n, float scale, std::int8_t* out)
+template <typename T>
+void quantize_generic(const float* in, unsigned n, float scale, T* out)
 {
+    constexpr float lim = fixed<T>::in_max;
     for (unsigned k = 0; k < n; k++) {
         const float v = in[k];
         float x = v == v ? v * scale : 0.0f;
-        x = std::min(std::max(x, -63.0f), 63.0f);
+        x = std::min(std::max(x, -lim), lim);
         // Adding and removing 1.5 2^23 rounds to nearest even, like cvtps2dq (|x| < 2^22).
         const int q = static_cast<int>((x + 12582912.0f) - 12582912.0f);
-        out[k] = static_cast<std::int8_t>(v == INFINITY ? 127 : (v == -INFINITY ? -127 : q));
+        out[k] = static_cast<T>(v == INFINITY ? fixed<T>::max : (v == -INFINITY ? -fixed<T>::max : q));
     }
 }
 
@@ -84,9 +88,10 @@ bool any_received_generic(const float* in, unsigned n)
     return std::any_of(in, in + n, [](float v) { return v != 0.0f && v == v; });
 }
 
-bool signs_ok_generic(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+template <typename T>
+bool signs_ok_generic(const T* t, unsigned deg, unsigned zp, unsigned zc)
 {
-    std::int8_t x[lanes];
+    T x[lanes];
     for (unsigned v = 0; v < zp; v += lanes) {
         std::fill(x, x + lanes, 0);
         for (unsigned e = 0; e < deg; e++)
@@ -98,6 +103,14 @@ bool signs_ok_generic(const std::int8_t* t, unsigned deg, unsigned zp, unsigned 
     }
     return true;
 }
+
+// Both widths (the AVX2 unit's fallback on other CPUs calls them too).
+template bool layer_generic(std::int8_t*, std::int8_t*, unsigned, unsigned, unsigned, std::int8_t);
+template bool layer_generic(std::int16_t*, std::int16_t*, unsigned, unsigned, unsigned, std::int16_t);
+template void quantize_generic(const float*, unsigned, float, std::int8_t*);
+template void quantize_generic(const float*, unsigned, float, std::int16_t*);
+template bool signs_ok_generic(const std::int8_t*, unsigned, unsigned, unsigned);
+template bool signs_ok_generic(const std::int16_t*, unsigned, unsigned, unsigned);
 
 } // namespace ldpc_detail
 
@@ -143,7 +156,7 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
 {
     const std::size_t n = this->n();
     // Columns that received nothing (at a high rate most parity columns) are neither summed
-    // nor quantised: their int8 LLRs are 0.
+    // nor quantised: their fixed-point LLRs are 0.
     for (std::size_t j = 2; j < d_cols; j++) {
         const float* in = llr + (j - 2) * d_zc;
         d_received[j] = d_simd ? any_received_avx2(in, d_zc) : any_received_generic(in, d_zc);
@@ -188,17 +201,28 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
         }
     }
     // Headroom: an a-posteriori LLR sums its channel value and up to d_max messages and
-    // saturates at 127, so the target shrinks with the largest column degree of the rows
+    // saturates, so the int8 target shrinks with the largest column degree of the rows
     // decoded (BG1 at rate 0.9: 5 -> 28; 256-QAM at R 0.82: 7 -> 21; QPSK at R 0.3: 17 -> 9.3).
+    // Beyond int8_max_degree the int16 path decodes, at 4x the scale: saturated a-posteriori
+    // sums were the error floor of the low-rate words (docs/nr_coding.md).
     const unsigned d_max = select_layers();
-    const double target = std::clamp(168.0 / (1.0 + d_max), 8.0, 32.0);
+    const bool wide = d_max > int8_max_degree;
+    const double target = std::clamp(168.0 / (1.0 + d_max), 8.0, 32.0) *
+                          (wide ? fixed<std::int16_t>::target_gain : fixed<std::int8_t>::target_gain);
     const double root_mean = count > 0.0 ? sum / count : 0.0;
     const float scale = root_mean > 0.0 ? static_cast<float>(target / (root_mean * root_mean)) : 1.0f;
-    d_offset = static_cast<std::int8_t>(std::min(std::lround(offset_llr * scale), 127L));
-    std::fill(d_l.begin(), d_l.begin() + 2 * d_zp, 0);
+    d_offset = static_cast<int>(std::min(std::lround(offset_llr * scale), 127L));
+    return wide ? quantize_and_run<std::int16_t>(llr, scale, c) : quantize_and_run<std::int8_t>(llr, scale, c);
+}
+
+template <typename T>
+nr_ldpc_decode_result nr_ldpc_decoder::quantize_and_run(const float* llr, float scale, std::uint8_t* c)
+{
+    T* l = reinterpret_cast<T*>(d_l.data());
+    std::fill(l, l + 2 * d_zp, 0);
     for (std::size_t j = 2; j < d_cols; j++) {
         const float* in = llr + (j - 2) * d_zc;
-        std::int8_t* out = d_l.data() + j * d_zp;
+        T* out = l + j * d_zp;
         if (!d_received[j])
             std::fill(out, out + d_zc, 0);
         else if (d_simd)
@@ -206,25 +230,32 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
         else
             quantize_generic(in, d_zc, scale, out);
     }
-    return run(c);
+    return run<T>(c);
 }
 
 nr_ldpc_decode_result nr_ldpc_decoder::decode_int8(const std::int8_t* llr, std::uint8_t* c, std::int8_t offset)
 {
-    d_offset = std::max<std::int8_t>(offset, 0);
-    std::fill(d_l.begin(), d_l.end(), 0);
+    d_offset = std::max<int>(offset, 0);
     for (std::size_t j = 2; j < d_cols; j++) {
         const std::int8_t* in = llr + (j - 2) * d_zc;
-        std::int8_t* out = d_l.data() + j * d_zp;
+        d_received[j] = std::any_of(in, in + d_zc, [](std::int8_t v) { return v != 0; });
+    }
+    return select_layers() > int8_max_degree ? widen_and_run<std::int16_t>(llr, c)
+                                             : widen_and_run<std::int8_t>(llr, c);
+}
+
+template <typename T>
+nr_ldpc_decode_result nr_ldpc_decoder::widen_and_run(const std::int8_t* llr, std::uint8_t* c)
+{
+    T* l = reinterpret_cast<T*>(d_l.data());
+    std::fill(l, l + std::size_t{ d_cols } * d_zp, 0);
+    for (std::size_t j = 2; j < d_cols; j++) {
+        const std::int8_t* in = llr + (j - 2) * d_zc;
+        T* out = l + j * d_zp;
         for (unsigned z = 0; z < d_zc; z++)
             out[z] = std::max<std::int8_t>(in[z], -127);
     }
-    for (std::size_t j = 2; j < d_cols; j++) {
-        const std::int8_t* col = d_l.data() + j * d_zp;
-        d_received[j] = std::any_of(col, col + d_zc, [](std::int8_t v) { return v != 0; });
-    }
-    select_layers();
-    return run(c);
+    return run<T>(c);
 }
 
 unsigned nr_ldpc_decoder::select_layers()
@@ -238,53 +269,60 @@ unsigned nr_ldpc_decoder::select_layers()
         if (pc < d_cols && !d_received[pc])
             continue;
         d_active.push_back(ly);
-        std::fill(d_r.begin() + std::size_t{ ly.first_edge } * d_zp,
-                  d_r.begin() + std::size_t{ ly.first_edge + ly.degree } * d_zp,
-                  0);
         for (unsigned k = 0; k < ly.degree; k++)
             d_max = std::max(d_max, ++degree[d_edges[ly.first_edge + k].col]);
     }
     return d_max;
 }
 
+template <typename T>
 void nr_ldpc_decoder::gather(const layer& ly)
 {
     // t[z] = L[(z + s) mod zc] for each column of the row
+    const T* l = reinterpret_cast<const T*>(d_l.data());
+    T* t = reinterpret_cast<T*>(d_t.data());
     for (unsigned k = 0; k < ly.degree; k++) {
         const nr_lifted_edge& e = d_edges[ly.first_edge + k];
-        const std::int8_t* col = d_l.data() + std::size_t{ e.col } * d_zp;
-        std::int8_t* t = d_t.data() + std::size_t{ k } * d_zp;
-        std::memcpy(t, col + e.shift, d_zc - e.shift);
-        std::memcpy(t + d_zc - e.shift, col, e.shift);
+        const T* col = l + std::size_t{ e.col } * d_zp;
+        T* tk = t + std::size_t{ k } * d_zp;
+        std::memcpy(tk, col + e.shift, (d_zc - e.shift) * sizeof(T));
+        std::memcpy(tk + d_zc - e.shift, col, e.shift * sizeof(T));
     }
 }
 
+template <typename T>
 bool nr_ldpc_decoder::row_ok(const layer& ly)
 {
-    gather(ly);
-    return d_simd ? signs_ok_avx2(d_t.data(), ly.degree, d_zp, d_zc)
-                  : signs_ok_generic(d_t.data(), ly.degree, d_zp, d_zc);
+    gather<T>(ly);
+    const T* t = reinterpret_cast<const T*>(d_t.data());
+    return d_simd ? signs_ok_avx2(t, ly.degree, d_zp, d_zc) : signs_ok_generic(t, ly.degree, d_zp, d_zc);
 }
 
+template <typename T>
 nr_ldpc_decode_result nr_ldpc_decoder::run(std::uint8_t* c)
 {
     const unsigned zc = d_zc, zp = d_zp;
     nr_ldpc_decode_result res;
-    std::int8_t* t = d_t.data();
+    T* t = reinterpret_cast<T*>(d_t.data());
+    T* l = reinterpret_cast<T*>(d_l.data());
+    const auto offset = static_cast<T>(std::min(d_offset, fixed<T>::max));
+    T* r0 = reinterpret_cast<T*>(d_r.data());
+    for (const layer& ly : d_active)
+        std::fill(r0 + std::size_t{ ly.first_edge } * zp, r0 + std::size_t{ ly.first_edge + ly.degree } * zp, 0);
     for (unsigned it = 1; it <= d_max_iter; it++) {
         d_failed.clear();
         for (const layer& ly : d_active) {
-            gather(ly);
-            std::int8_t* r = d_r.data() + std::size_t{ ly.first_edge } * zp;
-            const bool ok = d_simd ? layer_avx2(t, r, ly.degree, zp, zc, d_offset)
-                                   : layer_generic(t, r, ly.degree, zp, zc, d_offset);
+            gather<T>(ly);
+            T* r = r0 + std::size_t{ ly.first_edge } * zp;
+            const bool ok = d_simd ? layer_avx2(t, r, ly.degree, zp, zc, offset)
+                                   : layer_generic(t, r, ly.degree, zp, zc, offset);
             if (!ok)
                 d_failed.push_back(&ly);
             for (unsigned k = 0; k < ly.degree; k++) { // scatter back
                 const nr_lifted_edge& e = d_edges[ly.first_edge + k];
-                std::int8_t* col = d_l.data() + std::size_t{ e.col } * zp;
-                std::memcpy(col + e.shift, t + k * zp, zc - e.shift);
-                std::memcpy(col, t + k * zp + zc - e.shift, e.shift);
+                T* col = l + std::size_t{ e.col } * zp;
+                std::memcpy(col + e.shift, t + k * zp, (zc - e.shift) * sizeof(T));
+                std::memcpy(col, t + k * zp + zc - e.shift, e.shift * sizeof(T));
             }
         }
         res.iterations = it;
@@ -292,16 +330,16 @@ nr_ldpc_decode_result nr_ldpc_decoder::run(std::uint8_t* c)
         // are checked again; when they hold, a full syndrome on the final hard decisions
         // confirms (a row that held at its visit may have changed since).
         const bool failed_now_hold =
-            std::all_of(d_failed.begin(), d_failed.end(), [this](const layer* ly) { return row_ok(*ly); });
+            std::all_of(d_failed.begin(), d_failed.end(), [this](const layer* ly) { return row_ok<T>(*ly); });
         if (failed_now_hold &&
-            std::all_of(d_active.begin(), d_active.end(), [this](const layer& ly) { return row_ok(ly); })) {
+            std::all_of(d_active.begin(), d_active.end(), [this](const layer& ly) { return row_ok<T>(ly); })) {
             res.parity_ok = true;
             break;
         }
     }
     const unsigned info = nr_base_graph::get(d_bg).info_cols;
     for (unsigned j = 0; j < info; j++) {
-        const std::int8_t* col = d_l.data() + std::size_t{ j } * zp;
+        const T* col = l + std::size_t{ j } * zp;
         for (unsigned z = 0; z < zc; z++)
             c[std::size_t{ j } * zc + z] = col[z] < 0 ? 1 : 0;
     }

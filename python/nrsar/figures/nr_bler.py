@@ -4,8 +4,8 @@
 #
 # SPDX-License-Identifier: GPL-3.0-or-later
 #
-"""BLER against SNR of the NR UL-SCH (nrsar.ulsch: TS 38.212 LDPC, rv 0, the int8 layered
-min-sum decoder with at most --max-iter iterations) over AWGN with the TS 38.211 constellations and max-log
+"""BLER against SNR of the NR UL-SCH (nrsar.ulsch: TS 38.212 LDPC, rv 0, the fixed-point
+layered offset min-sum decoder with at most --max-iter iterations) over AWGN with the TS 38.211 constellations and max-log
 LLRs (nrsar.soft_demapper), for one MCS per modulation. Prints, per MCS, the BLER at each SNR
 and the SNR of BLER 10 % (interpolated in log BLER), beside the Shannon limit of the
 information rate A / (G / Qm) bits per symbol, log2(1 + SNR) = rate, and the normal
@@ -15,10 +15,13 @@ the constellation (normal_approximation_snr_db): the reference the curves are he
 Run: /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler [--blocks 100] [--max-iter 20]
      [--only qam64:4,qam256:24]
      /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --published [--blocks 1000]
+     /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --floor [--blocks 100000]
 --published: the decoder against AFF3CT's published 5G NR LDPC curves (PUBLISHED).
+--floor: the FER of PUBLISHED's BG2 K' 512 code down to 1e-5, where an error floor would show.
 """
 
 import dataclasses
+import math
 import sys
 
 import numpy as np
@@ -87,24 +90,49 @@ PUBLISHED = {
 }
 
 
-def bpsk_fer(bg, zc, k_prime, e, ebn0_db, frames, max_iter=10, seed=1):
+def bpsk_fer(bg, zc, k_prime, e, ebn0_db, frames, max_iter=10, seed=1, failures=None):
     """Frame error rate of nrsar.ldpc_decode over BPSK-AWGN in the set-up of PUBLISHED:
     K' random bits and K - K' fillers, ldpc_encode, rate_match(rv 0) to E bits, LLRs
     2 y / sigma^2 at Eb/N0 = Es/N0 - 10 log10(K' / E), rate_recover, at most max_iter
-    iterations. Returns the number of frames whose K' bits came back wrong."""
+    iterations. Returns the number of frames whose K' bits came back wrong; failures (a
+    list), when given, receives (LLRs of d, K' bits) of each of them."""
     k = (22 if bg == 1 else 10) * zc  # K of 38.212 5.3.2
     rng = np.random.default_rng(seed)
     sigma2 = 1.0 / (2.0 * 10 ** ((ebn0_db + 10 * np.log10(k_prime / e)) / 10))
     errors = 0
-    for _ in range(frames):
-        info = rng.integers(0, 2, k_prime).astype(np.int8)
-        d = nrsar.ldpc_encode(np.concatenate([info, -np.ones(k - k_prime, np.int8)]), bg)
-        x = nrsar.rate_match(d, e, 0, 1, bg)
-        y = 1.0 - 2.0 * x + np.sqrt(sigma2) * rng.normal(size=e)
-        soft = nrsar.rate_recover((2.0 * y / sigma2).astype(np.float32), bg, zc, k_prime, 0, 1)
+    for start in range(0, frames, 1000):  # encoded and decoded 1000 frames per call
+        n = min(1000, frames - start)
+        info = rng.integers(0, 2, (n, k_prime)).astype(np.int8)
+        d = nrsar.ldpc_encode(np.hstack([info, -np.ones((n, k - k_prime), np.int8)]), bg)
+        soft = np.empty(d.shape, np.float32)
+        for f in range(n):
+            x = nrsar.rate_match(d[f], e, 0, 1, bg)
+            y = 1.0 - 2.0 * x + np.sqrt(sigma2) * rng.normal(size=e)
+            soft[f] = nrsar.rate_recover((2.0 * y / sigma2).astype(np.float32), bg, zc, k_prime, 0, 1)
         c, _, _ = nrsar.ldpc_decode(soft, bg, max_iter)
-        errors += not np.array_equal(c[:k_prime], info)
+        wrong = np.flatnonzero(np.any(c[:, :k_prime] != info, axis=1))
+        errors += len(wrong)
+        if failures is not None:
+            failures.extend((soft[f], info[f]) for f in wrong)
     return errors
+
+
+def poisson_interval(n, confidence=0.95):
+    """Exact two-sided interval of a Poisson mean from n observed events: the means whose
+    P(X <= n) and P(X >= n) are (1 - confidence) / 2, by bisection."""
+    tail = (1.0 - confidence) / 2
+
+    def cdf(n_, mu):  # P(X <= n_)
+        return math.fsum(math.exp(j * math.log(mu) - mu - math.lgamma(j + 1)) for j in range(n_ + 1))
+
+    def solve(f):  # f falls from positive to negative in mu
+        lo, hi = 1e-9, 10.0 * n + 10.0
+        for _ in range(100):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if f(mid) > 0 else (lo, mid)
+        return 0.5 * (lo + hi)
+    lower = 0.0 if n == 0 else solve(lambda mu: tail - (1.0 - cdf(n - 1, mu)))  # P(X >= n)
+    return lower, solve(lambda mu: cdf(n, mu) - tail)
 
 
 def bicm_capacity_dispersion(qm, snr_db, symbols=100000, seed=7):
@@ -174,6 +202,8 @@ class NrBlerOptions(Options):
                              "(PUBLISHED), --blocks frames per point, 10 iterations")
     harq: bool = option(False, "HARQ gain instead: qam64 MCS 13 sent once (rv 0) and twice "
                         "(rv 0 + rv 2, combined)")
+    floor: bool = option(False, "instead: the short BG2 code of PUBLISHED (K' 512) from 2.0 to "
+                         "3.0 dB, --blocks frames per point, FER with its 95 % interval")
 
     def check(self):
         cases = [f"{t}:{m}" for t, m, _ in CASES]
@@ -205,6 +235,18 @@ def main(argv=None):
             print(f"| BG{bg} Zc {zc} K' {kp} E {e} | "
                   + ", ".join(f"{p:g}: {f:.3f}" for p, f in zip(pts, fer))
                   + f" | {fmt(mine)} | {fmt(at['SPA'])} | {fmt(at['OMS 0.5'])} | {fmt(gap)} |")
+        return 0
+    if args.floor:
+        bg, zc, kp, e = 2, 64, 512, 1024
+        oms = dict(PUBLISHED[(bg, zc, kp, e)]["OMS 0.5"])
+        print("| Eb/N0 | frames | failed | FER | 95 % interval | published OMS 0.5 |")
+        print("|---|---|---|---|---|---|")
+        for p in (2.0, 2.25, 2.5, 2.75, 3.0):
+            n = bpsk_fer(bg, zc, kp, e, p, args.blocks)
+            lo, hi = poisson_interval(n)
+            pub = f"{oms[p]:.2e}" if p in oms else "n/a"
+            print(f"| {p:g} dB | {args.blocks} | {n} | {n / args.blocks:.2e} | "
+                  f"{lo / args.blocks:.1e} .. {hi / args.blocks:.1e} | {pub} |")
         return 0
     if args.harq:
         print("| transmissions | SNR (dB): BLER | BLER 10 % at |")

@@ -25,7 +25,7 @@ struct nr_ldpc_decode_result {
 };
 
 /*!
- * \brief Layered offset min-sum LDPC decoder for the codes of TS 38.212 5.3.2, int8
+ * \brief Layered offset min-sum LDPC decoder for the codes of TS 38.212 5.3.2, int8 or int16
  * fixed point.
  *
  * Each base-graph row is a layer; a layer reads the a-posteriori LLRs of its columns,
@@ -42,12 +42,16 @@ struct nr_ldpc_decode_result {
  * failed it tested again at the end of the iteration, then a full syndrome on the final
  * hard decisions.
  *
- * Fixed point: LLRs saturate at +-127; the float input is scaled so that (mean sqrt|L|)^2
- * maps to clamp(168 / (1 + d_max), 8, 32), d_max the largest column degree of the decoded
- * rows (resolution for weak LLRs against headroom for the sums of high-degree columns;
- * docs/nr_coding.md), and clamped to +-63; +infinity marks known bits (fillers) and
- * becomes +127.
- * The AVX2 path (32 lanes of int8 per instruction, runtime CPU check) and the scalar path
+ * Fixed point: a word whose decoded rows give some column at most int8_max_degree (5) edges
+ * (high rates: BG1 at rate 0.9 decodes 5 rows, d_max 5) is decoded in int8, every value
+ * saturating at +-127; the float input is scaled so that (mean sqrt|L|)^2 maps to
+ * clamp(168 / (1 + d_max), 8, 32), d_max the largest column degree of the decoded rows, and
+ * clamped to +-63. Other words are decoded in int16 at 4x that scale, input clamped to
+ * +-252, values saturating at +-32767: in int8 their a-posteriori sums saturated and left an
+ * error floor (BG2 K' 512 at rate 1/2: FER 5e-3 at 2.5 dB, now 1e-4 as AFF3CT's float
+ * offset min-sum; docs/nr_coding.md). +infinity marks known bits (fillers) and becomes the
+ * largest value.
+ * The AVX2 path (32 int8 or 16 int16 lanes per instruction, runtime CPU check) and the scalar path
  * compute the same integers.
  */
 class NRSAR_API nr_ldpc_decoder
@@ -73,8 +77,9 @@ public:
      */
     nr_ldpc_decode_result decode(const float* llr, std::uint8_t* c);
 
-    //! The same from int8 LLRs (clamped to +-127), e.g. from a fixed-point demapper;
-    //! offset: beta in their units (negative counts as 0).
+    //! The same from int8 LLRs (clamped to +-127), e.g. from a fixed-point demapper, not
+    //! rescaled (in int16 the sums do not saturate); offset: beta in their units (negative
+    //! counts as 0).
     nr_ldpc_decode_result decode_int8(const std::int8_t* llr, std::uint8_t* c, std::int8_t offset = 1);
 
     //! beta of the check-node update, in LLR units of decode()'s input.
@@ -90,12 +95,24 @@ private:
         unsigned first_edge; // into d_edges and d_r
         unsigned degree;
     };
+    // T = std::int8_t or std::int16_t: the message width of this word
+    template <typename T>
+    nr_ldpc_decode_result quantize_and_run(const float* llr, float scale, std::uint8_t* c);
+    template <typename T>
+    nr_ldpc_decode_result widen_and_run(const std::int8_t* llr, std::uint8_t* c);
+    template <typename T>
     nr_ldpc_decode_result run(std::uint8_t* c); // decodes d_l over d_active
     //! d_active = the rows to decode given which columns received LLRs (d_received);
     //! returns the largest column degree over them.
     unsigned select_layers();
+    template <typename T>
     void gather(const layer& ly); // the row's columns, shifted by P_ij, into d_t
+    template <typename T>
     bool row_ok(const layer& ly); // parity check of one row on the current hard decisions
+
+    //! Words whose decoded rows give a column more edges than this decode in int16: in int8
+    //! their a-posteriori sums saturate (the error floor of low-rate words).
+    static constexpr unsigned int8_max_degree = 5;
 
     int d_bg;
     unsigned d_zc;
@@ -103,14 +120,15 @@ private:
     unsigned d_cols;
     unsigned d_max_iter;
     bool d_simd;
-    std::int8_t d_offset = 0;             // beta in int8 units for the current word
+    int d_offset = 0;                     // beta in fixed-point units for the current word
     std::vector<nr_lifted_edge> d_edges; // all rows, row by row
     std::vector<layer> d_layers;          // every row of H
     std::vector<unsigned> d_row_parity;   // the degree-one column of each row (or none)
     std::vector<std::uint8_t> d_received; // per column: received a non-zero LLR
-    std::vector<std::int8_t> d_l;         // a-posteriori LLRs, cols x zp
-    std::vector<std::int8_t> d_r;         // check-to-variable messages, edges x zp
-    std::vector<std::int8_t> d_t;         // the gathered columns of one layer, degree x zp
+    // Sized for int16; an int8 word uses the first half of each (both views of one store).
+    std::vector<std::int16_t> d_l;        // a-posteriori LLRs, cols x zp
+    std::vector<std::int16_t> d_r;        // check-to-variable messages, edges x zp
+    std::vector<std::int16_t> d_t;        // the gathered columns of one layer, degree x zp
     std::vector<layer> d_active;          // the layers decoded for this word
     std::vector<const layer*> d_failed;   // layers whose check failed at their visit
 };
