@@ -107,6 +107,7 @@ void pusch_receiver_impl::finish_slot()
         pmt::from_bool(data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::last)));
     add("sn", pmt::from_long(data ? tb.sdu.sn : -1));
     add("so", pmt::from_long(data ? tb.sdu.so : -1));
+    add("lost", pmt::PMT_F);
     add("transmissions", pmt::from_long(res.transmissions));
     add("ldpc_iterations", pmt::from_double(tb.mean_iterations));
     add("code_blocks", pmt::from_long(tb.code_blocks));
@@ -115,9 +116,47 @@ void pusch_receiver_impl::finish_slot()
     add("evm_db", pmt::from_double(res.evm_db));
     const pmt::pmt_t bytes = data ? pmt::init_u8vector(tb.sdu.data.size(), tb.sdu.data)
                                   : pmt::make_u8vector(0, 0);
-    message_port_pub(pdus_port(), pmt::cons(meta, bytes));
+    publish(meta, bytes, res.tb_index);
     d_slot++;
     d_fill = 0;
+}
+
+void pusch_receiver_impl::publish(const pmt::pmt_t& meta, const pmt::pmt_t& bytes, std::uint64_t tb)
+{
+    d_reported_tb = tb;
+    message_port_pub(pdus_port(), pmt::cons(meta, bytes));
+}
+
+void pusch_receiver_impl::report_lost(std::uint64_t slot)
+{
+    // A TB is lost when its last transmission is and it has not been reported (decoded) yet.
+    const std::uint64_t tb = slot / d_repetitions;
+    if (slot % d_repetitions != d_repetitions - 1 || tb == d_reported_tb)
+        return;
+    d_failed++;
+    d_lost++;
+    const double nan = std::nan("");
+    pmt::pmt_t meta = pmt::make_dict();
+    auto add = [&meta](const char* key, const pmt::pmt_t& v) {
+        meta = pmt::dict_add(meta, pmt::mp(key), v);
+    };
+    add("slot", pmt::from_uint64(tb * d_repetitions));
+    add("seq", pmt::from_long(-1));
+    add("crc_ok", pmt::PMT_F);
+    add("filler", pmt::PMT_F);
+    add("payload_len", pmt::from_long(0));
+    add("pdu_start", pmt::PMT_F);
+    add("pdu_end", pmt::PMT_F);
+    add("sn", pmt::from_long(-1));
+    add("so", pmt::from_long(-1));
+    add("lost", pmt::PMT_T);
+    add("transmissions", pmt::from_long(0));
+    add("ldpc_iterations", pmt::from_double(0.0));
+    add("code_blocks", pmt::from_long(0));
+    add("cb_crc_ok", pmt::from_long(0));
+    add("snr_db", pmt::from_double(nan));
+    add("evm_db", pmt::from_double(nan));
+    publish(meta, pmt::make_u8vector(0, 0), tb);
 }
 
 int pusch_receiver_impl::general_work(int noutput_items,
@@ -175,6 +214,7 @@ int pusch_receiver_impl::general_work(int noutput_items,
         if (next_tag < slot_tags.size() && slot_tags[next_tag].offset == abs &&
             (pmt::is_uint64(slot_tags[next_tag].value) ||
              pmt::is_integer(slot_tags[next_tag].value))) {
+            const std::uint64_t slot = pmt::to_uint64(slot_tags[next_tag].value);
             if (d_fill != 0) {
                 d_partial++;
                 d_logger->warn("slot tag at item {} inside slot {}: {} symbols discarded",
@@ -182,8 +222,15 @@ int pusch_receiver_impl::general_work(int noutput_items,
                                d_slot,
                                d_fill);
             }
+            // Slots numbered ahead of the one expected never arrived whole (a gap upstream;
+            // a number going back is a new acquisition): their TBs are reported lost.
+            if (d_seen_slot_tag && slot > d_slot) {
+                for (std::uint64_t s = d_slot; s < slot; s++)
+                    report_lost(s);
+            }
+            d_seen_slot_tag = true;
             d_fill = 0;
-            d_slot = pmt::to_uint64(slot_tags[next_tag].value);
+            d_slot = slot;
         }
         std::size_t bad = 0;
         const gr_complex* src = d_guard.guard(in + static_cast<std::size_t>(used) * n, n, bad);

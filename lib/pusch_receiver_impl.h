@@ -34,6 +34,9 @@ private:
 
     std::atomic<std::uint64_t> d_ok{ 0 };
     std::atomic<std::uint64_t> d_failed{ 0 };
+    std::atomic<std::uint64_t> d_lost{ 0 };
+    bool d_seen_slot_tag = false;        // slot numbers are known (a gap can be seen)
+    std::uint64_t d_reported_tb = ~std::uint64_t{ 0 }; // last TB reported on the PDU port
     std::atomic<std::uint64_t> d_filler{ 0 };
     std::atomic<std::uint64_t> d_bytes{ 0 };
     std::atomic<std::uint64_t> d_partial{ 0 };
@@ -46,6 +49,8 @@ private:
     unsigned d_repetitions;
 
     void finish_slot();
+    void publish(const pmt::pmt_t& meta, const pmt::pmt_t& bytes, std::uint64_t tb);
+    void report_lost(std::uint64_t slot);
 
 public:
     explicit pusch_receiver_impl(const pusch_config& cfg);
@@ -59,6 +64,7 @@ public:
 
     std::uint64_t blocks_ok() const override { return d_ok; }
     std::uint64_t blocks_failed() const override { return d_failed; }
+    std::uint64_t blocks_lost() const override { return d_lost; }
     std::uint64_t filler_blocks() const override { return d_filler; }
     std::uint64_t payload_bytes_ok() const override { return d_bytes; }
     double last_snr_db() const override { return d_snr; }
