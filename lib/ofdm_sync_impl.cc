@@ -132,6 +132,8 @@ void ofdm_sync_impl::lose_lock(const char* why)
 {
     d_lock_losses++;
     d_pad = d_tracker.pad_to_symbol(d_grid_out);
+    d_gap_tag_pending = true;
+    d_gap_samples = 0;
     d_search_pending = true;
     d_logger->warn("lock lost ({}) at output grid sample {} (slot {}): searching again",
                    why,
@@ -277,6 +279,8 @@ void ofdm_sync_impl::handle_stamp(const gr::tag_t& tag, std::uint64_t out_item)
         d_skipped_slots += p.resume_slot - p.first_slot;
         d_skipped_symbols += p.skipped_symbols;
         d_pad = p.pad;
+        d_gap_tag_pending = true;
+        d_gap_samples = std::uint64_t(lost);
         d_reacquisitions++;
     }
     d_drop = p.drop;
@@ -311,7 +315,7 @@ int ofdm_sync_impl::general_work(int noutput_items,
         d_state = state::search;
         d_fresh = true;
         d_pad = d_drop = 0;
-        d_resume = d_search_pending = false;
+        d_resume = d_search_pending = d_gap_tag_pending = false;
         d_in_origin = r0;
         d_timing = -1;
         d_cfo_hz = 0.0;
@@ -382,6 +386,10 @@ int ofdm_sync_impl::general_work(int noutput_items,
             const std::uint64_t k = std::min<std::uint64_t>(d_pad, noutput_items - produced);
             if (k == 0)
                 break;
+            if (d_gap_tag_pending) { // the slot may now look whole: mark it cut
+                add_item_tag(0, w0 + produced, tags::gap_key(), pmt::from_uint64(d_gap_samples));
+                d_gap_tag_pending = false;
+            }
             std::fill_n(out + produced, k, gr_complex(0.0f, 0.0f));
             jump_grid(d_grid_out + k);
             d_pad -= k;

@@ -49,6 +49,8 @@ private:
     std::uint64_t d_next_slot = 0;  // next slot to tag
     // After a gap or a lost lock: zeros owed, input samples to drop, the slot to resume at.
     std::uint64_t d_pad = 0;
+    bool d_gap_tag_pending = false; // tags::gap_key() on the first zero of the pad
+    std::uint64_t d_gap_samples = 0;
     std::uint64_t d_drop = 0;
     bool d_resume = false;
     std::uint64_t d_resume_slot = 0;

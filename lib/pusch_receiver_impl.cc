@@ -62,6 +62,17 @@ void pusch_receiver_impl::forecast(int /*noutput_items*/, gr_vector_int& ninput_
 
 void pusch_receiver_impl::finish_slot()
 {
+    if (d_cut) { // completed with zeros after a gap: lost, not decoded
+        d_cut = false;
+        if (d_eq_output) {
+            std::fill(d_eq.begin(), d_eq.end(), gr_complex(0.0f, 0.0f));
+            d_eq_pos = 0;
+        }
+        report_lost(d_slot);
+        d_slot++;
+        d_fill = 0;
+        return;
+    }
     const auto res = d_rx.process(d_slot_buf.data(), d_slot, d_eq_output ? d_eq.data() : nullptr);
     if (d_eq_output)
         d_eq_pos = 0;
@@ -191,9 +202,11 @@ int pusch_receiver_impl::general_work(int noutput_items,
     const auto in = static_cast<const gr_complex*>(input_items[0]);
     const int avail = ninput_items[0];
     const std::uint64_t base = nitems_read(0);
-    std::vector<gr::tag_t> slot_tags;
+    std::vector<gr::tag_t> slot_tags, gap_tags;
     get_tags_in_window(slot_tags, 0, 0, static_cast<std::uint64_t>(avail), tags::slot_key());
-    std::size_t next_tag = 0;
+    get_tags_in_window(gap_tags, 0, 0, static_cast<std::uint64_t>(avail), tags::gap_key());
+    std::sort(gap_tags.begin(), gap_tags.end(), gr::tag_t::offset_compare);
+    std::size_t next_tag = 0, next_gap = 0;
 
     int used = 0;
     while (used < avail) {
@@ -229,9 +242,12 @@ int pusch_receiver_impl::general_work(int noutput_items,
                     report_lost(s);
             }
             d_seen_slot_tag = true;
+            d_cut = false;
             d_fill = 0;
             d_slot = slot;
         }
+        while (next_gap < gap_tags.size() && gap_tags[next_gap].offset <= abs)
+            d_cut = d_cut || gap_tags[next_gap++].offset == abs;
         std::size_t bad = 0;
         const gr_complex* src = d_guard.guard(in + static_cast<std::size_t>(used) * n, n, bad);
         std::copy(src, src + n, d_slot_buf.data() + static_cast<std::size_t>(d_fill) * n);

@@ -35,7 +35,8 @@ private:
     std::atomic<std::uint64_t> d_ok{ 0 };
     std::atomic<std::uint64_t> d_failed{ 0 };
     std::atomic<std::uint64_t> d_lost{ 0 };
-    bool d_seen_slot_tag = false;        // slot numbers are known (a gap can be seen)
+    bool d_seen_slot_tag = false;
+    bool d_cut = false;                  // a gap tag in the slot being buffered        // slot numbers are known (a gap can be seen)
     std::uint64_t d_reported_tb = ~std::uint64_t{ 0 }; // last TB reported on the PDU port
     std::atomic<std::uint64_t> d_filler{ 0 };
     std::atomic<std::uint64_t> d_bytes{ 0 };

@@ -121,6 +121,11 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         p = DELAY - self.b + 2 * self.L
         self.assertEqual(self.check_stamped(p, 2 * self.L), [2, 3])
 
+    def test_007_gap_in_a_slots_last_symbol(self):
+        # the zeros that complete the cut symbol complete the slot too: its gap tag marks it
+        p = DELAY - self.b + 4 * self.L - 500
+        self.assertEqual(self.check_stamped(p, 100), [3])
+
     def test_006_no_rx_time_the_dmrs_check(self):
         # 100 samples lost without a tag: the DMRS arrives 100 samples early (more than the
         # backoff), two slots miss the check, the third re-acquires the grid modulo a slot.
