@@ -246,8 +246,9 @@ int pusch_receiver_impl::general_work(int noutput_items,
             d_fill = 0;
             d_slot = slot;
         }
-        while (next_gap < gap_tags.size() && gap_tags[next_gap].offset <= abs)
-            d_cut = d_cut || gap_tags[next_gap++].offset == abs;
+        for (; next_gap < gap_tags.size() && gap_tags[next_gap].offset <= abs; next_gap++)
+            if (gap_tags[next_gap].offset == abs)
+                d_cut = true;
         std::size_t bad = 0;
         const gr_complex* src = d_guard.guard(in + static_cast<std::size_t>(used) * n, n, bad);
         std::copy(src, src + n, d_slot_buf.data() + static_cast<std::size_t>(d_fill) * n);

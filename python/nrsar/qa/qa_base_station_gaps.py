@@ -59,7 +59,19 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         return list(range(first, last + 1))
 
     def run_gap(self, p, g, stamped=True):
-        x = np.concatenate([self.x[:p], self.x[p + g:]])
+        return self.run_gaps([(p, g)], stamped)
+
+    def run_gaps(self, gaps, stamped=True):
+        """gaps: [(first lost sample of the burst's stream, samples lost)], in order."""
+        keep = np.ones(len(self.x), bool)
+        for p, g in gaps:
+            keep[p:p + g] = False
+        x = self.x[keep]
+        # rx_time_stamper's gaps: (received index of the first sample after, lost)
+        stamps, before = [], 0
+        for p, g in gaps:
+            stamps.append((p - before, g))
+            before += g
         tb = gr.top_block()
         src = blocks.vector_source_c(x.tolist())
         sync = nrsar.ofdm_sync(self.num, nrsar.make_dmrs("pusch2"))
@@ -67,7 +79,7 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         rx = nrsar.pusch_receiver(self.cfg)
         store = blocks.message_debug()
         if stamped:
-            stamper = recording.rx_time_stamper(self.num.sample_rate_hz(), [(p, g)])
+            stamper = recording.rx_time_stamper(self.num.sample_rate_hz(), stamps)
             tb.connect(src, stamper, sync)
         else:
             tb.connect(src, sync)
@@ -125,6 +137,26 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         # the zeros that complete the cut symbol complete the slot too: its gap tag marks it
         p = DELAY - self.b + 4 * self.L - 500
         self.assertEqual(self.check_stamped(p, 100), [3])
+
+    def test_008_gaps_close_together(self):
+        # as a radio overflowing every few thousand samples: gaps inside the samples dropped
+        # after the last one, in consecutive slots, in the same symbol's zeros
+        base = DELAY - self.b + 2 * self.L
+        gaps = [(base + 4000, 50), (base + 4100, 300), (base + 5000, 7),
+                (base + 2 * self.L - 600, 20), (base + 2 * self.L - 100, 10),
+                (base + 2 * self.L + 15000, 4000)]
+        sync, rx, pdus = self.run_gaps(gaps)
+        cut = sorted(set(k for p, g in gaps for k in self.cut_slots(p, g)))
+        self.assertEqual(cut, [2, 3, 4, 5])
+        self.assertEqual(sync.lost_samples(), sum(g for _, g in gaps))
+        self.assertEqual(sync.rx_time_gaps(), len(gaps))
+        self.assertEqual(sync.skipped_slots(), len(cut))
+        self.assertEqual(rx.blocks_lost(), len(cut))
+        for s in range(NSLOTS):
+            crc_ok, lost, data = pdus[s]
+            self.assertEqual((crc_ok, lost), (s not in cut, s in cut), s)
+            if s not in cut:
+                self.assertEqual(data, self.chunks[s], s)
 
     def test_006_no_rx_time_the_dmrs_check(self):
         # 100 samples lost without a tag: the DMRS arrives 100 samples early (more than the
