@@ -272,28 +272,32 @@ void ofdm_sync_impl::handle_stamp(const gr::tag_t& tag, std::uint64_t out_item)
     // Tracking: the grid sample the stamped sample would have had without the gap.
     const std::uint64_t g = std::uint64_t(std::int64_t(tag.offset) - d_grid_start) - lost;
     const auto p = d_tracker.plan_gap(g, std::uint64_t(lost));
-    if (d_resume) { // a gap inside the samples still being dropped after the last one
-        d_skipped_slots += p.resume_slot - d_resume_slot;
-        d_skipped_symbols += (p.resume_slot - d_resume_slot) * d_num.symbols_per_slot;
-    } else {
-        d_skipped_slots += p.resume_slot - p.first_slot;
-        d_skipped_symbols += p.skipped_symbols;
+    // Output stands at the stamped sample unless samples after an earlier gap (or a
+    // re-acquisition's start) are still being dropped: then the slots from the one output
+    // resumes at are the ones not counted yet.
+    const bool normal = !d_resume && d_drop == 0;
+    const std::uint64_t from =
+        d_resume ? d_resume_slot : (normal ? p.first_slot : d_grid_out / d_tracker.slot_length());
+    const std::uint64_t resume = std::max(p.resume_slot, from);
+    d_skipped_slots += resume - from;
+    d_skipped_symbols += normal ? p.skipped_symbols : (resume - from) * d_num.symbols_per_slot;
+    if (normal) {
         d_pad = p.pad;
         d_gap_tag_pending = true;
         d_gap_samples = std::uint64_t(lost);
         d_reacquisitions++;
     }
-    d_drop = p.drop;
+    d_drop = resume * d_tracker.slot_length() - (g + std::uint64_t(lost));
     d_resume = true;
-    d_resume_slot = p.resume_slot;
+    d_resume_slot = resume;
     d_logger->warn("rx_time gap of {} samples at input sample {} (output item {}): slots {} .. {} "
                    "skipped, resuming at slot {}",
                    lost,
                    tag.offset,
                    out_item,
-                   p.first_slot,
-                   p.resume_slot - 1,
-                   p.resume_slot);
+                   from,
+                   resume - 1,
+                   resume);
 }
 
 int ofdm_sync_impl::general_work(int noutput_items,

@@ -103,37 +103,51 @@ void pusch_receiver_impl::finish_slot()
     }
     const bool data = ok && !filler;
     const long payload_len = data ? static_cast<long>(tb.sdu.data.size()) : 0;
-    pmt::pmt_t meta = pmt::make_dict();
-    auto add = [&meta](const char* key, const pmt::pmt_t& v) {
-        meta = pmt::dict_add(meta, pmt::mp(key), v);
-    };
-    add("slot", pmt::from_uint64(res.tb_index * d_repetitions));
-    add("seq", pmt::from_long(ok ? static_cast<long>(res.tb_index & 0xffffu) : -1));
-    add("crc_ok", pmt::from_bool(ok));
-    add("filler", pmt::from_bool(filler));
-    add("payload_len", pmt::from_long(payload_len));
-    add("pdu_start",
-        pmt::from_bool(data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::first)));
-    add("pdu_end",
-        pmt::from_bool(data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::last)));
-    add("sn", pmt::from_long(data ? tb.sdu.sn : -1));
-    add("so", pmt::from_long(data ? tb.sdu.so : -1));
-    add("lost", pmt::PMT_F);
-    add("transmissions", pmt::from_long(res.transmissions));
-    add("ldpc_iterations", pmt::from_double(tb.mean_iterations));
-    add("code_blocks", pmt::from_long(tb.code_blocks));
-    add("cb_crc_ok", pmt::from_long(tb.cb_crc_ok));
-    add("snr_db", pmt::from_double(res.snr_db));
-    add("evm_db", pmt::from_double(res.evm_db));
+    pdu_meta m;
+    m.slot = res.tb_index * d_repetitions;
+    m.seq = ok ? static_cast<long>(res.tb_index & 0xffffu) : -1;
+    m.crc_ok = ok;
+    m.filler = filler;
+    m.payload_len = payload_len;
+    m.pdu_start = data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::first);
+    m.pdu_end = data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::last);
+    m.sn = data ? tb.sdu.sn : -1;
+    m.so = data ? tb.sdu.so : -1;
+    m.transmissions = res.transmissions;
+    m.ldpc_iterations = tb.mean_iterations;
+    m.code_blocks = tb.code_blocks;
+    m.cb_crc_ok = tb.cb_crc_ok;
+    m.snr_db = res.snr_db;
+    m.evm_db = res.evm_db;
     const pmt::pmt_t bytes = data ? pmt::init_u8vector(tb.sdu.data.size(), tb.sdu.data)
                                   : pmt::make_u8vector(0, 0);
-    publish(meta, bytes, res.tb_index);
+    publish(m, bytes, res.tb_index);
     d_slot++;
     d_fill = 0;
 }
 
-void pusch_receiver_impl::publish(const pmt::pmt_t& meta, const pmt::pmt_t& bytes, std::uint64_t tb)
+void pusch_receiver_impl::publish(const pdu_meta& m, const pmt::pmt_t& bytes, std::uint64_t tb)
 {
+    pmt::pmt_t meta = pmt::make_dict();
+    auto add = [&meta](const char* key, const pmt::pmt_t& v) {
+        meta = pmt::dict_add(meta, pmt::mp(key), v);
+    };
+    add("slot", pmt::from_uint64(m.slot));
+    add("seq", pmt::from_long(m.seq));
+    add("crc_ok", pmt::from_bool(m.crc_ok));
+    add("filler", pmt::from_bool(m.filler));
+    add("payload_len", pmt::from_long(m.payload_len));
+    add("pdu_start", pmt::from_bool(m.pdu_start));
+    add("pdu_end", pmt::from_bool(m.pdu_end));
+    add("sn", pmt::from_long(m.sn));
+    add("so", pmt::from_long(m.so));
+    add("lost", pmt::from_bool(m.lost));
+    add("transmissions", pmt::from_long(m.transmissions));
+    add("ldpc_iterations", pmt::from_double(m.ldpc_iterations));
+    add("code_blocks", pmt::from_long(m.code_blocks));
+    add("cb_crc_ok", pmt::from_long(m.cb_crc_ok));
+    add("snr_db", pmt::from_double(m.snr_db));
+    add("evm_db", pmt::from_double(m.evm_db));
     d_reported_tb = tb;
     message_port_pub(pdus_port(), pmt::cons(meta, bytes));
 }
@@ -146,28 +160,10 @@ void pusch_receiver_impl::report_lost(std::uint64_t slot)
         return;
     d_failed++;
     d_lost++;
-    const double nan = std::nan("");
-    pmt::pmt_t meta = pmt::make_dict();
-    auto add = [&meta](const char* key, const pmt::pmt_t& v) {
-        meta = pmt::dict_add(meta, pmt::mp(key), v);
-    };
-    add("slot", pmt::from_uint64(tb * d_repetitions));
-    add("seq", pmt::from_long(-1));
-    add("crc_ok", pmt::PMT_F);
-    add("filler", pmt::PMT_F);
-    add("payload_len", pmt::from_long(0));
-    add("pdu_start", pmt::PMT_F);
-    add("pdu_end", pmt::PMT_F);
-    add("sn", pmt::from_long(-1));
-    add("so", pmt::from_long(-1));
-    add("lost", pmt::PMT_T);
-    add("transmissions", pmt::from_long(0));
-    add("ldpc_iterations", pmt::from_double(0.0));
-    add("code_blocks", pmt::from_long(0));
-    add("cb_crc_ok", pmt::from_long(0));
-    add("snr_db", pmt::from_double(nan));
-    add("evm_db", pmt::from_double(nan));
-    publish(meta, pmt::make_u8vector(0, 0), tb);
+    pdu_meta m; // the defaults: nothing received
+    m.slot = tb * d_repetitions;
+    m.lost = true;
+    publish(m, pmt::make_u8vector(0, 0), tb);
 }
 
 int pusch_receiver_impl::general_work(int noutput_items,

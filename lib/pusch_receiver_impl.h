@@ -13,6 +13,7 @@
 #include <gnuradio/nrsar/kernel/pusch_rx.h>
 #include <gnuradio/nrsar/pusch_receiver.h>
 #include <atomic>
+#include <limits>
 #include <vector>
 
 namespace gr {
@@ -50,7 +51,26 @@ private:
     unsigned d_repetitions;
 
     void finish_slot();
-    void publish(const pmt::pmt_t& meta, const pmt::pmt_t& bytes, std::uint64_t tb);
+    //! The PDU's meta (docs/blocks/pusch_receiver.md); the defaults are a lost TB's.
+    struct pdu_meta {
+        std::uint64_t slot = 0;
+        long seq = -1;
+        bool crc_ok = false;
+        bool filler = false;
+        long payload_len = 0;
+        bool pdu_start = false;
+        bool pdu_end = false;
+        long sn = -1;
+        long so = -1;
+        bool lost = false;
+        long transmissions = 0;
+        double ldpc_iterations = 0.0;
+        long code_blocks = 0;
+        long cb_crc_ok = 0;
+        double snr_db = std::numeric_limits<double>::quiet_NaN();
+        double evm_db = std::numeric_limits<double>::quiet_NaN();
+    };
+    void publish(const pdu_meta& m, const pmt::pmt_t& bytes, std::uint64_t tb);
     void report_lost(std::uint64_t slot);
 
 public:
