@@ -234,8 +234,15 @@ int pusch_receiver_impl::general_work(int noutput_items,
             // Slots numbered ahead of the one expected never arrived whole (a gap upstream;
             // a number going back is a new acquisition): their TBs are reported lost.
             if (d_seen_slot_tag && slot > d_slot) {
-                for (std::uint64_t s = d_slot; s < slot; s++)
-                    report_lost(s);
+                if (slot - d_slot <= max_lost_report) {
+                    for (std::uint64_t s = d_slot; s < slot; s++)
+                        report_lost(s);
+                } else { // bounded messages: a jump this long is a new burst, not a gap
+                    d_logger->warn("slot number jumps from {} to {}: taken as a new burst, "
+                                   "the slots between are not reported lost",
+                                   d_slot,
+                                   slot);
+                }
             }
             d_seen_slot_tag = true;
             d_cut = false;

@@ -158,6 +158,27 @@ class qa_base_station_gaps(gr_unittest.TestCase):
             if s not in cut:
                 self.assertEqual(data, self.chunks[s], s)
 
+    def test_009_receiver_slot_number_jumps(self):
+        # pusch_receiver alone: slot tags 0, 4 (3 lost), 5 + 4097 (a new burst: none lost)
+        n, sps = self.num.num_subcarriers, self.num.symbols_per_slot
+        grid, _ = backhaul.transmit_grid(self.cfg, self.chunks[:3], 3)
+        def tag(item, slot):
+            t = gr.tag_t()
+            t.offset, t.key, t.value = item, pmt.intern("slot"), pmt.from_uint64(slot)
+            return t
+        tb = gr.top_block()
+        src = blocks.vector_source_c(grid.ravel().tolist(), False, n,
+                                     [tag(0, 0), tag(sps, 4), tag(2 * sps, 5 + 4097)])
+        rx = nrsar.pusch_receiver(self.cfg)
+        store = blocks.message_debug()
+        tb.connect(src, rx)
+        tb.msg_connect((rx, "pdus"), (store, "store"))
+        tb.run()
+        lost = [backhaul.pdu_fields(store.get_message(i), ("slot", "lost"))[0]
+                for i in range(store.num_messages())]
+        self.assertEqual([int(m["slot"]) for m in lost if m["lost"]], [1, 2, 3])
+        self.assertEqual(rx.blocks_lost(), 3)
+
     def test_006_no_rx_time_the_dmrs_check(self):
         # 100 samples lost without a tag: the DMRS arrives 100 samples early (more than the
         # backoff), two slots miss the check, the third re-acquires the grid modulo a slot.
