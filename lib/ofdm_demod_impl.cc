@@ -7,6 +7,7 @@
 
 #include "ofdm_demod_impl.h"
 #include "param_check.h"
+#include "rx_time_tag.h"
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
 #include <algorithm>
@@ -24,24 +25,6 @@ void check_tx_start_time(double t)
                     "must be a finite time in seconds (negative turns the rx_time alignment off)");
 }
 
-//! rx_time = (whole seconds, fractional seconds): uint64 (UHD) or integer, and a real.
-bool parse_stamp(const pmt::pmt_t& v, std::uint64_t& full, double& frac)
-{
-    if (!pmt::is_tuple(v) || pmt::length(v) < 2)
-        return false;
-    const auto a = pmt::tuple_ref(v, 0);
-    const auto b = pmt::tuple_ref(v, 1);
-    if (!pmt::is_real(b))
-        return false;
-    if (pmt::is_uint64(a))
-        full = pmt::to_uint64(a);
-    else if (pmt::is_integer(a) && pmt::to_long(a) >= 0)
-        full = std::uint64_t(pmt::to_long(a));
-    else
-        return false;
-    frac = pmt::to_double(b);
-    return std::isfinite(frac);
-}
 } // namespace
 
 ofdm_demod::sptr ofdm_demod::make(const numerology& num, int fft_start, double tx_start_time)
@@ -254,7 +237,7 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
             const auto& t = tags[stamps[si]];
             std::uint64_t full;
             double frac;
-            if (!parse_stamp(t.value, full, frac)) {
+            if (!parse_rx_time(t.value, full, frac)) {
                 d_logger->warn("rx_time tag at input sample {} is not (uint64 s, double s); "
                                "ignored",
                                t.offset);
@@ -292,7 +275,7 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
             const auto& t = tags[stamps[si]];
             std::uint64_t full;
             double frac;
-            parse_stamp(t.value, full, frac); // checked by next_stamp()
+            parse_rx_time(t.value, full, frac); // checked by next_stamp()
             count_stamp(t.offset);
             apply_stamp(t.offset, full, frac);
             si++;

@@ -7,6 +7,8 @@
 
 #include "ofdm_sync_impl.h"
 #include "param_check.h"
+#include "rx_time_tag.h"
+#include <gnuradio/nrsar/kernel/rx_time_aligner.h>
 #include <gnuradio/io_signature.h>
 #include <gnuradio/nrsar/tags.h>
 #include <algorithm>
@@ -62,14 +64,26 @@ ofdm_sync_impl::ofdm_sync_impl(const numerology& num,
             num.cp_samples,
             threshold,
             std::size_t(dmrs.symbols.front()) * (num.cp_samples + num.fft_size) +
-                num.cp_samples + num.fft_size / 2 + std::size_t(std::llround(backoff * num.cp_samples)) + 2)
+                num.cp_samples + num.fft_size / 2 + std::size_t(std::llround(backoff * num.cp_samples)) + 2),
+      d_tracker(num.fft_size,
+                num.cp_samples,
+                num.symbols_per_slot,
+                std::uint64_t(dmrs.symbols.front()) * (num.cp_samples + num.fft_size) +
+                    std::uint64_t(std::llround(backoff * num.cp_samples)),
+                // the backoff is the FFT window's margin against late timing (at least cp/8)
+                std::max<unsigned>(unsigned(std::llround(backoff * num.cp_samples)),
+                                   num.cp_samples / 8)),
+      d_rx_time_key(pmt::mp("rx_time"))
 {
+    d_check.resize(d_tracker.check_length());
     // The other DMRS symbols of the slot refine the CFO estimate.
     std::vector<std::int64_t> repeats;
     for (std::size_t k = 1; k < dmrs.symbols.size(); k++)
         repeats.push_back(std::int64_t(dmrs.symbols[k] - dmrs.symbols[0]) *
                           (num.cp_samples + num.fft_size));
     d_acq.set_repeats(repeats);
+    d_tracker.set_repeats(repeats);
+    d_repeats = repeats;
     set_tag_propagation_policy(TPP_DONT);
     message_port_register_in(pmt::mp("reset"));
     set_msg_handler(pmt::mp("reset"), [this](const pmt::pmt_t&) { this->reset(); });
@@ -90,40 +104,111 @@ void ofdm_sync_impl::reset()
 
 void ofdm_sync_impl::forecast(int noutput_items, gr_vector_int& ninput_items_required)
 {
-    // Searching eats whatever arrives; draining needs no input; tracking is 1:1.
-    ninput_items_required[0] =
-        d_state == state::track ? noutput_items : (d_state == state::search ? 1 : 0);
+    // Searching eats whatever arrives; draining and padding need no input; dropping takes
+    // what comes; tracking is 1:1.
+    int need = 1;
+    if (d_state == state::drain || (d_state == state::track && (d_pad > 0 || d_search_pending)))
+        need = 0;
+    else if (d_state == state::track && d_drop == 0)
+        need = noutput_items;
+    ninput_items_required[0] = need;
 }
 
-void ofdm_sync_impl::on_lock()
+void ofdm_sync_impl::jump_grid(std::uint64_t to)
+{
+    // The derotator's phase follows the grid (the radio's time), skipped samples included.
+    const double skipped = double(std::int64_t(to - d_grid_out));
+    d_rot.set_phase(d_rot.phase() + 2.0 * M_PI * d_rot.frequency() * skipped);
+    d_grid_out = to;
+}
+
+void ofdm_sync_impl::start_check(std::uint64_t grid)
+{
+    d_check_slot = d_tracker.first_checkable_slot(grid);
+    d_tracker.clear_misses();
+}
+
+void ofdm_sync_impl::lose_lock(const char* why)
+{
+    d_lock_losses++;
+    d_pad = d_tracker.pad_to_symbol(d_grid_out);
+    d_gap_tag_pending = true;
+    d_gap_samples = 0;
+    d_search_pending = true;
+    d_logger->warn("lock lost ({}) at output grid sample {} (slot {}): searching again",
+                   why,
+                   d_grid_out,
+                   d_grid_out / d_tracker.slot_length());
+}
+
+void ofdm_sync_impl::on_lock(std::uint64_t out_item)
 {
     const auto& r = d_acq.get();
     const std::int64_t len = d_num.cp_samples + d_num.fft_size;
-    d_next = r.symbol_start - std::int64_t(d_first_dmrs) * len - d_backoff_samples;
+    const std::int64_t L = std::int64_t(d_tracker.slot_length());
     d_timing = std::int64_t(d_in_origin) + r.symbol_start;
-    d_start = std::int64_t(d_in_origin) + d_next;
-    d_cfo_hz = r.cfo * d_num.sample_rate_hz();
+    std::uint64_t slot0 = 0;
+    if (d_fresh) {
+        d_next = r.symbol_start - std::int64_t(d_first_dmrs) * len - d_backoff_samples;
+        d_grid_start = std::int64_t(d_in_origin) + d_next;
+        d_grid_out = 0;
+        d_rot.set_phase(0.0);
+    } else {
+        // A re-acquisition: the new DMRS goes on the old grid, and the slots in between are
+        // skipped (the output resumes at the new DMRS's slot).
+        // Which DMRS symbol of its slot the search found: the first whose later ones (in
+        // the buffer: lock waits for them) show the plateau too.
+        unsigned j = 0;
+        for (; j < d_repeats.size(); j++) {
+            bool all = true;
+            for (std::size_t k = j; k < d_repeats.size() && all; k++) {
+                const std::int64_t at = r.symbol_start + d_repeats[k] -
+                                        (j == 0 ? 0 : d_repeats[j - 1]) +
+                                        std::int64_t(d_num.cp_samples / 2) - d_acq.buffer_start();
+                if (at >= 0 && at + std::int64_t(d_num.fft_size) <= std::int64_t(d_acq.buffered()))
+                    all = d_tracker.metric_at(d_acq.buffer() + at) >= d_acq.threshold();
+            }
+            if (all)
+                break;
+        }
+        const auto r2 = d_tracker.relock_at(d_timing - d_grid_start, d_grid_out, j);
+        d_grid_start -= r2.shift;
+        if (r2.shift > 0)
+            d_lost_samples += std::uint64_t(r2.shift);
+        slot0 = r2.slot;
+        d_skipped_slots += slot0 - d_grid_out / std::uint64_t(L);
+        d_skipped_symbols += slot0 * d_num.symbols_per_slot - d_grid_out / std::uint64_t(len);
+        d_next = std::int64_t(slot0) * L + d_grid_start - std::int64_t(d_in_origin);
+        jump_grid(slot0 * std::uint64_t(L));
+        d_reacquisitions++;
+    }
+    d_start = d_grid_start + std::int64_t(d_grid_out);
+    d_out_minus_grid = std::int64_t(out_item) - std::int64_t(d_grid_out);
+    d_next_slot = slot0;
     d_metric = r.metric;
-    d_rot.set_frequency(-r.cfo);
-    d_rot.set_phase(0.0);
-    d_out_origin = nitems_written(0);
-    d_next_slot = 0;
+    if (d_fresh) { // a gap leaves the oscillators' offset as it was: the CFO is kept
+        d_cfo_hz = r.cfo * d_num.sample_rate_hz();
+        d_rot.set_frequency(-r.cfo);
+    }
     d_sync_tag_pending = true;
+    d_sync_tag_item = out_item;
     d_state = state::drain;
-    d_logger->info("locked: DMRS symbol at input sample {}, CFO {:.1f} Hz, metric {:.3f}, "
-                   "output starts at input sample {}",
+    d_logger->info("{}: DMRS symbol at input sample {}, CFO {:.1f} Hz, metric {:.3f}, "
+                   "slot {} starts at input sample {}",
+                   d_fresh ? "locked" : "re-acquired",
                    d_timing,
                    d_cfo_hz,
                    d_metric,
+                   slot0,
                    d_start);
+    d_fresh = false;
 }
 
 void ofdm_sync_impl::tag_slots(std::uint64_t out_begin, std::uint64_t out_end)
 {
-    const std::uint64_t slot_len = std::uint64_t(d_num.cp_samples + d_num.fft_size) *
-                                   d_num.symbols_per_slot;
+    const std::uint64_t slot_len = d_tracker.slot_length();
     while (true) {
-        const std::uint64_t at = d_out_origin + d_next_slot * slot_len;
+        const std::uint64_t at = std::uint64_t(std::int64_t(d_next_slot * slot_len) + d_out_minus_grid);
         if (at >= out_end)
             break;
         if (at >= out_begin) {
@@ -142,6 +227,79 @@ void ofdm_sync_impl::tag_slots(std::uint64_t out_begin, std::uint64_t out_end)
     }
 }
 
+void ofdm_sync_impl::handle_stamp(const gr::tag_t& tag, std::uint64_t out_item)
+{
+    std::uint64_t full;
+    double frac;
+    if (!parse_rx_time(tag.value, full, frac)) {
+        d_logger->warn("rx_time tag at input sample {} is not (uint64 s, double s); ignored",
+                       tag.offset);
+        return;
+    }
+    if (!d_have_stamp) {
+        d_have_stamp = true;
+        d_stamp_abs = tag.offset;
+        d_stamp_full = full;
+        d_stamp_frac = frac;
+        return;
+    }
+    // Samples the radio's clock says passed since the last stamp, against those that came.
+    const kernel::rx_time_aligner clock(d_num.sample_rate_hz(), 1, d_stamp_full, d_stamp_frac);
+    const std::int64_t lost =
+        -clock.samples_until_start(full, frac) - std::int64_t(tag.offset - d_stamp_abs);
+    d_stamp_abs = tag.offset;
+    d_stamp_full = full;
+    d_stamp_frac = frac;
+    if (lost == 0)
+        return;
+    d_gaps++;
+    if (lost < 0) {
+        d_logger->warn("rx_time at input sample {} goes back {} samples", tag.offset, -lost);
+        if (d_state == state::track && !d_search_pending)
+            lose_lock("rx_time went back");
+        return;
+    }
+    d_lost_samples += std::uint64_t(lost);
+    d_grid_start -= lost; // the grid of the samples after the gap (search: for the re-acquisition)
+    if (d_state == state::search) {
+        d_acq.reset(); // its history would straddle the gap
+        d_in_origin = tag.offset;
+        d_logger->warn("rx_time gap of {} samples at input sample {} while searching",
+                       lost,
+                       tag.offset);
+        return;
+    }
+    // Tracking: the grid sample the stamped sample would have had without the gap.
+    const std::uint64_t g = std::uint64_t(std::int64_t(tag.offset) - d_grid_start) - lost;
+    const auto p = d_tracker.plan_gap(g, std::uint64_t(lost));
+    // Output stands at the stamped sample unless samples after an earlier gap (or a
+    // re-acquisition's start) are still being dropped: then the slots from the one output
+    // resumes at are the ones not counted yet.
+    const bool normal = !d_resume && d_drop == 0;
+    const std::uint64_t from =
+        d_resume ? d_resume_slot : (normal ? p.first_slot : d_grid_out / d_tracker.slot_length());
+    const std::uint64_t resume = std::max(p.resume_slot, from);
+    d_skipped_slots += resume - from;
+    d_skipped_symbols += normal ? p.skipped_symbols : (resume - from) * d_num.symbols_per_slot;
+    if (normal) {
+        d_pad = p.pad;
+        d_gap_tag_pending = true;
+        d_gap_samples = std::uint64_t(lost);
+        d_reacquisitions++;
+    }
+    d_drop = resume * d_tracker.slot_length() - (g + std::uint64_t(lost));
+    d_resume = true;
+    d_resume_slot = resume;
+    d_logger->warn("rx_time gap of {} samples at input sample {} (output item {}): slots {} .. {} "
+                   "skipped, resuming at slot {}",
+                   lost,
+                   tag.offset,
+                   out_item,
+                   from,
+                   resume - 1,
+                   resume);
+}
+
 int ofdm_sync_impl::general_work(int noutput_items,
                                  gr_vector_int& ninput_items,
                                  gr_vector_const_void_star& input_items,
@@ -150,6 +308,8 @@ int ofdm_sync_impl::general_work(int noutput_items,
     gr::thread::scoped_lock guard(d_setlock);
     const auto in = static_cast<const gr_complex*>(input_items[0]);
     auto out = static_cast<gr_complex*>(output_items[0]);
+    const std::uint64_t r0 = nitems_read(0), w0 = nitems_written(0);
+    const int avail = ninput_items[0];
     int consumed = 0;
     int produced = 0;
 
@@ -157,59 +317,150 @@ int ofdm_sync_impl::general_work(int noutput_items,
         d_reset_pending = false;
         d_acq.reset();
         d_state = state::search;
-        d_in_origin = nitems_read(0);
+        d_fresh = true;
+        d_pad = d_drop = 0;
+        d_resume = d_search_pending = d_gap_tag_pending = false;
+        d_in_origin = r0;
         d_timing = -1;
         d_cfo_hz = 0.0;
         d_metric = 0.0;
     }
 
-    if (d_state == state::search) {
-        const int n = ninput_items[0];
-        std::size_t bad = 0;
-        const gr_complex* x = d_guard.guard(in, n, bad);
-        if (bad > 0)
-            d_nonfinite.note(d_logger, bad, nitems_read(0));
-        consumed = n;
-        if (d_acq.push(x, n))
-            on_lock();
-    }
+    std::vector<gr::tag_t> stamps;
+    get_tags_in_window(stamps, 0, 0, std::uint64_t(avail), d_rx_time_key);
+    std::stable_sort(stamps.begin(), stamps.end(), gr::tag_t::offset_compare);
+    std::size_t si = 0;
+    // Input items up to the next stamp not handled yet (all of them without one).
+    auto until_stamp = [&]() {
+        while (si < stamps.size() && stamps[si].offset < r0 + std::uint64_t(consumed))
+            si++; // consumed in an earlier call (search or drop)
+        return si < stamps.size() ? int(stamps[si].offset - r0) - consumed : avail - consumed;
+    };
 
-    if (d_state == state::drain) {
-        const std::int64_t bstart = d_acq.buffer_start();
-        const std::int64_t bend = bstart + std::int64_t(d_acq.buffered());
-        while (produced < noutput_items && d_next < bend) {
-            gr_complex* o = out + produced;
-            std::int64_t k;
-            if (d_next < bstart) {
-                // Before the first buffered sample (before the stream began): zeros.
-                k = std::min<std::int64_t>(bstart - d_next, noutput_items - produced);
-                std::fill_n(o, k, gr_complex(0.0f, 0.0f));
-            } else {
-                k = std::min<std::int64_t>(bend - d_next, noutput_items - produced);
-                std::memcpy(o, d_acq.buffer() + (d_next - bstart), sizeof(gr_complex) * k);
+    while (true) {
+        if (d_state == state::search) {
+            if (consumed == avail)
+                break;
+            const int n = until_stamp();
+            if (n == 0) {
+                handle_stamp(stamps[si++], w0 + produced);
+                continue;
             }
-            d_rot.rotate(o, o, std::size_t(k));
-            produced += int(k);
-            d_next += k;
-        }
-        if (d_next >= bend) {
-            d_acq.discard_before(bend); // frees the history
-            d_state = state::track;
-        }
-    }
-
-    if (d_state == state::track) {
-        const int n = std::min(ninput_items[0] - consumed, noutput_items - produced);
-        if (n > 0) {
             std::size_t bad = 0;
             const gr_complex* x = d_guard.guard(in + consumed, n, bad);
-            d_rot.rotate(x, out + produced, std::size_t(n));
-            if (bad > 0) {
-                const std::uint64_t item = nitems_written(0) + produced;
-                add_item_tag(0, d_nonfinite.tag(d_logger, bad, item, item, alias_pmt()));
-            }
+            if (bad > 0)
+                d_nonfinite.note(d_logger, bad, r0 + consumed);
             consumed += n;
-            produced += n;
+            if (d_acq.push(x, n))
+                on_lock(w0 + produced);
+            continue;
+        }
+
+        if (d_state == state::drain) {
+            const std::int64_t bstart = d_acq.buffer_start();
+            const std::int64_t bend = bstart + std::int64_t(d_acq.buffered());
+            while (produced < noutput_items && d_next < bend) {
+                gr_complex* o = out + produced;
+                std::int64_t k;
+                if (d_next < bstart) {
+                    // Before the first buffered sample (before the stream began): zeros.
+                    k = std::min<std::int64_t>(bstart - d_next, noutput_items - produced);
+                    std::fill_n(o, k, gr_complex(0.0f, 0.0f));
+                } else {
+                    k = std::min<std::int64_t>(bend - d_next, noutput_items - produced);
+                    std::memcpy(o, d_acq.buffer() + (d_next - bstart), sizeof(gr_complex) * k);
+                }
+                d_rot.rotate(o, o, std::size_t(k));
+                produced += int(k);
+                d_next += k;
+                d_grid_out += std::uint64_t(k);
+            }
+            if (d_next < bend && produced == noutput_items)
+                break;
+            // A re-acquisition may resume at a slot that starts after the buffer: drop to it.
+            d_drop = std::uint64_t(std::max<std::int64_t>(d_next - bend, 0));
+            d_acq.discard_before(bend); // frees the history
+            d_state = state::track;
+            start_check(d_grid_out);
+            continue;
+        }
+
+        // Tracking.
+        if (d_pad > 0) { // zeros complete the symbol a gap or lost lock cut
+            const std::uint64_t k = std::min<std::uint64_t>(d_pad, noutput_items - produced);
+            if (k == 0)
+                break;
+            if (d_gap_tag_pending) { // the slot may now look whole: mark it cut
+                add_item_tag(0, w0 + produced, tags::gap_key(), pmt::from_uint64(d_gap_samples));
+                d_gap_tag_pending = false;
+            }
+            std::fill_n(out + produced, k, gr_complex(0.0f, 0.0f));
+            jump_grid(d_grid_out + k);
+            d_pad -= k;
+            produced += int(k);
+            continue;
+        }
+        if (d_search_pending) {
+            d_search_pending = false;
+            d_resume = false;
+            d_drop = 0;
+            d_acq.reset();
+            d_in_origin = r0 + consumed;
+            d_state = state::search;
+            continue;
+        }
+        const int to_stamp = until_stamp();
+        if (to_stamp == 0 && si < stamps.size()) {
+            handle_stamp(stamps[si++], w0 + produced);
+            continue;
+        }
+        if (d_drop > 0) { // received samples of the last slot a gap cut
+            const int k = int(std::min<std::uint64_t>(d_drop, std::uint64_t(to_stamp)));
+            if (k == 0)
+                break;
+            consumed += k;
+            d_drop -= std::uint64_t(k);
+            continue;
+        }
+        if (d_resume) {
+            d_resume = false;
+            jump_grid(d_resume_slot * d_tracker.slot_length());
+            d_out_minus_grid = std::int64_t(w0 + produced) - std::int64_t(d_grid_out);
+            d_next_slot = d_resume_slot;
+            start_check(d_grid_out);
+        }
+        int n = std::min(to_stamp, noutput_items - produced);
+        // Stop at the end of the slot's check window, to look at it before going on.
+        const std::int64_t cs = d_tracker.check_start(d_check_slot);
+        const std::int64_t ce = cs + std::int64_t(d_tracker.check_length());
+        const std::int64_t g = std::int64_t(d_grid_out);
+        if (g < ce)
+            n = int(std::min<std::int64_t>(n, ce - g));
+        if (n <= 0)
+            break;
+        std::size_t bad = 0;
+        const gr_complex* x = d_guard.guard(in + consumed, n, bad);
+        const std::int64_t c0 = std::max(g, cs), c1 = std::min(g + n, ce);
+        if (c0 < c1)
+            std::copy(x + (c0 - g), x + (c1 - g), d_check.begin() + (c0 - cs));
+        d_rot.rotate(x, out + produced, std::size_t(n));
+        if (bad > 0) {
+            const std::uint64_t item = w0 + produced;
+            add_item_tag(0, d_nonfinite.tag(d_logger, bad, item, item, alias_pmt()));
+        }
+        consumed += n;
+        produced += n;
+        d_grid_out += std::uint64_t(n);
+        if (g + n == ce) {
+            const auto c = d_tracker.measure(d_check.data());
+            d_check_slot++;
+            if (d_tracker.score(c, d_acq.threshold())) {
+                d_logger->warn("slot {}: DMRS plateau metric {:.3f}, offset {} samples",
+                               d_check_slot - 1,
+                               c.mmax,
+                               c.offset);
+                lose_lock("DMRS check");
+            }
         }
     }
 
@@ -220,10 +471,10 @@ int ofdm_sync_impl::general_work(int noutput_items,
             info = pmt::dict_add(info, pmt::mp("timing"), pmt::from_long(d_timing));
             info = pmt::dict_add(info, pmt::mp("start"), pmt::from_long(d_start));
             info = pmt::dict_add(info, pmt::mp("metric"), pmt::from_double(d_metric));
-            add_item_tag(0, d_out_origin, tags::sync_key(), info);
+            add_item_tag(0, d_sync_tag_item, tags::sync_key(), info);
             d_sync_tag_pending = false;
         }
-        tag_slots(nitems_written(0), nitems_written(0) + produced);
+        tag_slots(w0, w0 + produced);
     }
     consume_each(consumed);
     return produced;

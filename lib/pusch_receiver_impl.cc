@@ -62,6 +62,17 @@ void pusch_receiver_impl::forecast(int /*noutput_items*/, gr_vector_int& ninput_
 
 void pusch_receiver_impl::finish_slot()
 {
+    if (d_cut) { // completed with zeros after a gap: lost, not decoded
+        d_cut = false;
+        if (d_eq_output) {
+            std::fill(d_eq.begin(), d_eq.end(), gr_complex(0.0f, 0.0f));
+            d_eq_pos = 0;
+        }
+        report_lost(d_slot);
+        d_slot++;
+        d_fill = 0;
+        return;
+    }
     const auto res = d_rx.process(d_slot_buf.data(), d_slot, d_eq_output ? d_eq.data() : nullptr);
     if (d_eq_output)
         d_eq_pos = 0;
@@ -92,32 +103,67 @@ void pusch_receiver_impl::finish_slot()
     }
     const bool data = ok && !filler;
     const long payload_len = data ? static_cast<long>(tb.sdu.data.size()) : 0;
+    pdu_meta m;
+    m.slot = res.tb_index * d_repetitions;
+    m.seq = ok ? static_cast<long>(res.tb_index & 0xffffu) : -1;
+    m.crc_ok = ok;
+    m.filler = filler;
+    m.payload_len = payload_len;
+    m.pdu_start = data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::first);
+    m.pdu_end = data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::last);
+    m.sn = data ? tb.sdu.sn : -1;
+    m.so = data ? tb.sdu.so : -1;
+    m.transmissions = res.transmissions;
+    m.ldpc_iterations = tb.mean_iterations;
+    m.code_blocks = tb.code_blocks;
+    m.cb_crc_ok = tb.cb_crc_ok;
+    m.snr_db = res.snr_db;
+    m.evm_db = res.evm_db;
+    const pmt::pmt_t bytes = data ? pmt::init_u8vector(tb.sdu.data.size(), tb.sdu.data)
+                                  : pmt::make_u8vector(0, 0);
+    publish(m, bytes, res.tb_index);
+    d_slot++;
+    d_fill = 0;
+}
+
+void pusch_receiver_impl::publish(const pdu_meta& m, const pmt::pmt_t& bytes, std::uint64_t tb)
+{
     pmt::pmt_t meta = pmt::make_dict();
     auto add = [&meta](const char* key, const pmt::pmt_t& v) {
         meta = pmt::dict_add(meta, pmt::mp(key), v);
     };
-    add("slot", pmt::from_uint64(res.tb_index * d_repetitions));
-    add("seq", pmt::from_long(ok ? static_cast<long>(res.tb_index & 0xffffu) : -1));
-    add("crc_ok", pmt::from_bool(ok));
-    add("filler", pmt::from_bool(filler));
-    add("payload_len", pmt::from_long(payload_len));
-    add("pdu_start",
-        pmt::from_bool(data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::first)));
-    add("pdu_end",
-        pmt::from_bool(data && (si == kernel::mac_sdu::complete || si == kernel::mac_sdu::last)));
-    add("sn", pmt::from_long(data ? tb.sdu.sn : -1));
-    add("so", pmt::from_long(data ? tb.sdu.so : -1));
-    add("transmissions", pmt::from_long(res.transmissions));
-    add("ldpc_iterations", pmt::from_double(tb.mean_iterations));
-    add("code_blocks", pmt::from_long(tb.code_blocks));
-    add("cb_crc_ok", pmt::from_long(tb.cb_crc_ok));
-    add("snr_db", pmt::from_double(res.snr_db));
-    add("evm_db", pmt::from_double(res.evm_db));
-    const pmt::pmt_t bytes = data ? pmt::init_u8vector(tb.sdu.data.size(), tb.sdu.data)
-                                  : pmt::make_u8vector(0, 0);
+    add("slot", pmt::from_uint64(m.slot));
+    add("seq", pmt::from_long(m.seq));
+    add("crc_ok", pmt::from_bool(m.crc_ok));
+    add("filler", pmt::from_bool(m.filler));
+    add("payload_len", pmt::from_long(m.payload_len));
+    add("pdu_start", pmt::from_bool(m.pdu_start));
+    add("pdu_end", pmt::from_bool(m.pdu_end));
+    add("sn", pmt::from_long(m.sn));
+    add("so", pmt::from_long(m.so));
+    add("lost", pmt::from_bool(m.lost));
+    add("transmissions", pmt::from_long(m.transmissions));
+    add("ldpc_iterations", pmt::from_double(m.ldpc_iterations));
+    add("code_blocks", pmt::from_long(m.code_blocks));
+    add("cb_crc_ok", pmt::from_long(m.cb_crc_ok));
+    add("snr_db", pmt::from_double(m.snr_db));
+    add("evm_db", pmt::from_double(m.evm_db));
+    d_reported_tb = tb;
     message_port_pub(pdus_port(), pmt::cons(meta, bytes));
-    d_slot++;
-    d_fill = 0;
+}
+
+void pusch_receiver_impl::report_lost(std::uint64_t slot)
+{
+    // A TB is lost when its last transmission is and it has not been reported (decoded) yet.
+    const std::uint64_t tb = slot / d_repetitions;
+    if (slot % d_repetitions != d_repetitions - 1 || tb == d_reported_tb)
+        return;
+    d_failed++;
+    d_lost++;
+    pdu_meta m; // the defaults: nothing received
+    m.slot = tb * d_repetitions;
+    m.lost = true;
+    publish(m, pmt::make_u8vector(0, 0), tb);
 }
 
 int pusch_receiver_impl::general_work(int noutput_items,
@@ -152,9 +198,11 @@ int pusch_receiver_impl::general_work(int noutput_items,
     const auto in = static_cast<const gr_complex*>(input_items[0]);
     const int avail = ninput_items[0];
     const std::uint64_t base = nitems_read(0);
-    std::vector<gr::tag_t> slot_tags;
+    std::vector<gr::tag_t> slot_tags, gap_tags;
     get_tags_in_window(slot_tags, 0, 0, static_cast<std::uint64_t>(avail), tags::slot_key());
-    std::size_t next_tag = 0;
+    get_tags_in_window(gap_tags, 0, 0, static_cast<std::uint64_t>(avail), tags::gap_key());
+    std::sort(gap_tags.begin(), gap_tags.end(), gr::tag_t::offset_compare);
+    std::size_t next_tag = 0, next_gap = 0;
 
     int used = 0;
     while (used < avail) {
@@ -175,6 +223,7 @@ int pusch_receiver_impl::general_work(int noutput_items,
         if (next_tag < slot_tags.size() && slot_tags[next_tag].offset == abs &&
             (pmt::is_uint64(slot_tags[next_tag].value) ||
              pmt::is_integer(slot_tags[next_tag].value))) {
+            const std::uint64_t slot = pmt::to_uint64(slot_tags[next_tag].value);
             if (d_fill != 0) {
                 d_partial++;
                 d_logger->warn("slot tag at item {} inside slot {}: {} symbols discarded",
@@ -182,9 +231,27 @@ int pusch_receiver_impl::general_work(int noutput_items,
                                d_slot,
                                d_fill);
             }
+            // Slots numbered ahead of the one expected never arrived whole (a gap upstream;
+            // a number going back is a new acquisition): their TBs are reported lost.
+            if (d_seen_slot_tag && slot > d_slot) {
+                if (slot - d_slot <= max_lost_report) {
+                    for (std::uint64_t s = d_slot; s < slot; s++)
+                        report_lost(s);
+                } else { // bounded messages: a jump this long is a new burst, not a gap
+                    d_logger->warn("slot number jumps from {} to {}: taken as a new burst, "
+                                   "the slots between are not reported lost",
+                                   d_slot,
+                                   slot);
+                }
+            }
+            d_seen_slot_tag = true;
+            d_cut = false;
             d_fill = 0;
-            d_slot = pmt::to_uint64(slot_tags[next_tag].value);
+            d_slot = slot;
         }
+        for (; next_gap < gap_tags.size() && gap_tags[next_gap].offset <= abs; next_gap++)
+            if (gap_tags[next_gap].offset == abs)
+                d_cut = true;
         std::size_t bad = 0;
         const gr_complex* src = d_guard.guard(in + static_cast<std::size_t>(used) * n, n, bad);
         std::copy(src, src + n, d_slot_buf.data() + static_cast<std::size_t>(d_fill) * n);

@@ -13,6 +13,7 @@
 #include <gnuradio/nrsar/kernel/pusch_rx.h>
 #include <gnuradio/nrsar/pusch_receiver.h>
 #include <atomic>
+#include <limits>
 #include <vector>
 
 namespace gr {
@@ -34,6 +35,12 @@ private:
 
     std::atomic<std::uint64_t> d_ok{ 0 };
     std::atomic<std::uint64_t> d_failed{ 0 };
+    std::atomic<std::uint64_t> d_lost{ 0 };
+    //! Longest jump in slot numbers whose slots are reported lost one by one (2.4 s at sdr20)
+    static constexpr std::uint64_t max_lost_report = 4096;
+    bool d_seen_slot_tag = false;
+    bool d_cut = false;                  // a gap tag in the slot being buffered        // slot numbers are known (a gap can be seen)
+    std::uint64_t d_reported_tb = ~std::uint64_t{ 0 }; // last TB reported on the PDU port
     std::atomic<std::uint64_t> d_filler{ 0 };
     std::atomic<std::uint64_t> d_bytes{ 0 };
     std::atomic<std::uint64_t> d_partial{ 0 };
@@ -46,6 +53,27 @@ private:
     unsigned d_repetitions;
 
     void finish_slot();
+    //! The PDU's meta (docs/blocks/pusch_receiver.md); the defaults are a lost TB's.
+    struct pdu_meta {
+        std::uint64_t slot = 0;
+        long seq = -1;
+        bool crc_ok = false;
+        bool filler = false;
+        long payload_len = 0;
+        bool pdu_start = false;
+        bool pdu_end = false;
+        long sn = -1;
+        long so = -1;
+        bool lost = false;
+        long transmissions = 0;
+        double ldpc_iterations = 0.0;
+        long code_blocks = 0;
+        long cb_crc_ok = 0;
+        double snr_db = std::numeric_limits<double>::quiet_NaN();
+        double evm_db = std::numeric_limits<double>::quiet_NaN();
+    };
+    void publish(const pdu_meta& m, const pmt::pmt_t& bytes, std::uint64_t tb);
+    void report_lost(std::uint64_t slot);
 
 public:
     explicit pusch_receiver_impl(const pusch_config& cfg);
@@ -59,6 +87,7 @@ public:
 
     std::uint64_t blocks_ok() const override { return d_ok; }
     std::uint64_t blocks_failed() const override { return d_failed; }
+    std::uint64_t blocks_lost() const override { return d_lost; }
     std::uint64_t filler_blocks() const override { return d_filler; }
     std::uint64_t payload_bytes_ok() const override { return d_bytes; }
     double last_snr_db() const override { return d_snr; }

@@ -31,6 +31,7 @@ NRSAR_DEFINE_KEY(doppler_axis_key, "doppler_axis")
 
 // ofdm_sync
 NRSAR_DEFINE_KEY(sync_key, "sync")
+NRSAR_DEFINE_KEY(gap_key, "gap")
 
 #undef NRSAR_DEFINE_KEY
 

@@ -14,7 +14,7 @@ import pmt
 
 #: Metadata keys of a pusch_receiver PDU.
 META_KEYS = ("slot", "seq", "crc_ok", "filler", "payload_len", "pdu_start", "pdu_end",
-             "sn", "so", "transmissions", "ldpc_iterations", "code_blocks", "cb_crc_ok",
+             "sn", "so", "lost", "transmissions", "ldpc_iterations", "code_blocks", "cb_crc_ok",
              "snr_db", "evm_db")
 
 

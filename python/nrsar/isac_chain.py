@@ -179,6 +179,14 @@ def backhaul_results(num, enc, bs, chunks, payload, out_path, repetitions=1):
         "sync_locked": bool(sync.locked()),
         "sync_cfo_hz": float(sync.cfo_hz()),
         "sync_timing_samples": int(sync.timing_samples()),
+        # gaps (docs/blocks/ofdm_sync.md "Gaps"): lost TBs are in blocks_failed too
+        "blocks_lost": int(rx.blocks_lost()),
+        "sync_lost_samples": int(sync.lost_samples()),
+        "sync_rx_time_gaps": int(sync.rx_time_gaps()),
+        "sync_lock_losses": int(sync.lock_losses()),
+        "sync_reacquisitions": int(sync.reacquisitions()),
+        "sync_skipped_slots": int(sync.skipped_slots()),
+        "sync_skipped_symbols": int(sync.skipped_symbols()),
         "bs_snr_est_db": float(rx.last_snr_db()),
         "bs_evm_db": float(rx.last_evm_db()),
     }

@@ -54,9 +54,17 @@ namespace nrsar {
  * timeline, which the base station does not know. Non-finite input samples are zeroed and
  * counted (after lock also tagged with tags::nonfinite_key()).
  *
- * Acquisition happens once per stream; reset() or any message on the `reset` port starts a
- * new one at the next input sample (output continues; the new slot 0 starts where the new
- * acquisition's output begins). Memory is bounded: before lock the block keeps
+ * Gaps (kernel::sync_tracker): an `rx_time` tag (uint64 s, double s) whose time does not
+ * continue the previous stamp's gives the samples lost exactly; the slots that lost samples
+ * are not output whole (the cut symbol is completed with zeros, the rest of the last cut slot
+ * dropped) and output resumes at the next whole slot with its slot number. Without tags, a
+ * per-slot check of the first DMRS symbol's plateau (peak M below threshold, or the plateau
+ * more than max(backoff cp, cp / 8) samples early or cp / 2 late, in two consecutive slots)
+ * loses the lock; a new search puts the DMRS found back on the slot grid (gap modulo a slot).
+ * The CFO is kept. Counted: lost_samples(), rx_time_gaps(), lock_losses(), reacquisitions(),
+ * skipped_slots(), skipped_symbols(). reset() or any message on the `reset` port starts a
+ * fresh acquisition at the next input sample (output continues; the new slot 0 starts where
+ * the new acquisition's output begins). Memory is bounded: before lock the block keeps
  * dmrs.symbols[0] (cp + fft_size) + cp + fft_size / 2 + backoff samples of history plus
  * the search span (up to the slot's last DMRS symbol while the CFO is refined).
  * The first detected DMRS symbol must be the first DMRS symbol of a slot (bursts start at
@@ -101,6 +109,20 @@ public:
     virtual void reset() = 0;
     //! Non-finite input samples replaced by 0 so far.
     virtual std::uint64_t nonfinite_count() const = 0;
+    //! Samples lost in gaps: exact from rx_time jumps, plus the shift (modulo a slot) that a
+    //! re-acquisition after a lost lock found.
+    virtual std::uint64_t lost_samples() const = 0;
+    //! Times the slot grid was re-established after a gap (from an rx_time jump, or a new
+    //! search after a lost lock); reset() is not counted.
+    virtual std::uint64_t reacquisitions() const = 0;
+    //! Times the per-slot DMRS check lost the lock (or an rx_time stamp went back in time).
+    virtual std::uint64_t lock_losses() const = 0;
+    //! Slots with lost samples, or cut by a lost lock, that were not output whole.
+    virtual std::uint64_t skipped_slots() const = 0;
+    //! Symbols from the one a gap (or lost lock) cuts to the resumed slot's first.
+    virtual std::uint64_t skipped_symbols() const = 0;
+    //! rx_time stamps that did not continue the previous one (overflows).
+    virtual std::uint64_t rx_time_gaps() const = 0;
 };
 
 } // namespace nrsar

@@ -47,7 +47,10 @@ public:
     static sptr make(const pusch_config& cfg = pusch_config());
 
     virtual std::uint64_t blocks_ok() const = 0;       //!< TBs with CRC ok (filler included)
-    virtual std::uint64_t blocks_failed() const = 0;   //!< TBs with CRC / header failure
+    virtual std::uint64_t blocks_failed() const = 0;   //!< TBs with CRC / header failure, lost ones included
+    //! TBs whose slots never arrived whole (a gap upstream: a partial slot, or slot numbers
+    //! skipped), reported crc_ok False, lost True without decoding; also in blocks_failed()
+    virtual std::uint64_t blocks_lost() const = 0;
     virtual std::uint64_t filler_blocks() const = 0;   //!< CRC-ok filler TBs
     virtual std::uint64_t payload_bytes_ok() const = 0; //!< payload bytes delivered
     virtual double last_snr_db() const = 0;            //!< SNR estimate of the last slot

@@ -47,6 +47,9 @@ NRSAR_API const pmt::pmt_t& doppler_axis_key();
 //! "sync": dict ("cfo_hz" double, "timing" int64, "start" int64, "metric" double) that
 //! ofdm_sync puts on output sample 0 of every acquisition.
 NRSAR_API const pmt::pmt_t& sync_key();
+//! "gap": uint64 samples lost, on the first of the zeros with which ofdm_sync completes the
+//! symbol a gap (or a lost lock) cut; pusch_receiver reports the slot holding it lost.
+NRSAR_API const pmt::pmt_t& gap_key();
 } // namespace tags
 
 } // namespace nrsar

@@ -31,6 +31,7 @@ import os
 import time
 
 import numpy as np
+import pmt
 from gnuradio import blocks, gr
 
 from gnuradio import nrsar
@@ -69,7 +70,7 @@ def uplink(preset, slots, snr_db, seed=1, periodic=False):
 
 def base_station(src, num, cfg, threads):
     """src -> ofdm_sync -> ofdm_demod -> pusch_receiver run to the end: (wall s, process CPU s,
-    the receiver, each block's work time [s])."""
+    the receiver, each block's work time [s], ofdm_sync)."""
     tb = gr.top_block()
     sync = nrsar.ofdm_sync(num, cfg.dmrs)
     demod = nrsar.ofdm_demod(num)
@@ -81,14 +82,14 @@ def base_station(src, num, cfg, threads):
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     work = {name: b.pc_work_time_total() / 1e9
             for name, b in (("ofdm_sync", sync), ("ofdm_demod", demod), ("pusch_receiver", rx))}
-    return wall, cpu, rx, work
+    return wall, cpu, rx, work, sync
 
 
 def run(preset="sdr20", slots=200, snr_db=35.0, threads=1):
     num, cfg, x, pdus = uplink(preset, slots, snr_db)
     cfg.max_iterations = 8
-    wall, cpu, rx, blocks_cpu = base_station(blocks.vector_source_c(x.tolist(), False), num,
-                                             cfg, threads)
+    wall, cpu, rx, blocks_cpu, _ = base_station(blocks.vector_source_c(x.tolist(), False),
+                                                num, cfg, threads)
     air = slots * num.symbols_per_slot * num.symbol_s()
     return {"preset": preset, "slots": slots, "snr_db": snr_db, "threads": threads, "air_s": air, "wall_s": wall,
             "cpu_s": cpu, "realtime_factor": air / wall, "cores_needed": cpu / air,
@@ -103,7 +104,9 @@ def run(preset="sdr20", slots=200, snr_db=35.0, threads=1):
 class paced_source(gr.sync_block):
     """x played in a loop at fs samples per second of wall clock for `seconds`, as a radio
     delivers samples: those that arrived wait in a FIFO of `fifo` samples while the output
-    buffer is full; what the FIFO cannot hold is dropped (overflows(), dropped())."""
+    buffer is full; what the FIFO cannot hold is dropped (overflows(), dropped()). Like a
+    USRP source, the first sample and the first after each overflow carry `rx_time` (the
+    radio's sample count / fs)."""
 
     def __init__(self, x, fs, seconds, fifo, chunk=8192):
         gr.sync_block.__init__(self, "paced_source", None, [np.complex64])
@@ -111,6 +114,7 @@ class paced_source(gr.sync_block):
         self.fifo, self.chunk = fifo, chunk
         self.delivered = self.lost = self.events = 0
         self.t0, self.first = None, None  # start; air time [s] of the first overflow
+        self.stamp = True  # the next sample delivered gets an rx_time tag
 
     def work(self, input_items, output_items):
         out = output_items[0]
@@ -129,10 +133,16 @@ class paced_source(gr.sync_block):
         first = min(n, self.x.size - pos)
         out[:first] = self.x[pos:pos + first]
         out[first:n] = self.x[:n - first]
+        if self.stamp:
+            t = (self.delivered + self.lost) / self.fs
+            self.add_item_tag(0, self.nitems_written(0), pmt.intern("rx_time"), pmt.make_tuple(
+                pmt.from_uint64(int(t)), pmt.from_double(t - int(t))))
+            self.stamp = False
         self.delivered += n
         if backlog - n > self.fifo:  # overflow: the radio drops what its FIFO cannot hold
             self.lost += backlog - n - self.fifo
             self.events += 1
+            self.stamp = True
             if self.first is None:
                 self.first = arrived / self.fs
         return n
@@ -152,14 +162,20 @@ def run_paced(preset="sdr20", seconds=10.0, snr_db=35.0, threads=2, fifo_ms=2.0)
     fs = num.sample_rate_hz()
     src = paced_source(x, fs, seconds, int(fifo_ms * 1e-3 * fs))
     src.set_min_output_buffer(1 << 16)
-    wall, cpu, rx, blocks_cpu = base_station(src, num, cfg, threads)
+    wall, cpu, rx, blocks_cpu, sync = base_station(src, num, cfg, threads)
     return {"preset": preset, "air_s": seconds, "threads": threads, "fifo_ms": fifo_ms,
             "wall_s": wall, "wall_over_air": wall / seconds, "cpu_s": cpu,
             "cores_used": cpu / seconds, "overflows": src.overflows(),
             "dropped_samples": src.dropped(), "first_overflow_s": src.first,
             "symbols_received": int(rx.nitems_read(0)),
             "block_cpu_per_air": {k: v / seconds for k, v in blocks_cpu.items()},
+            "slots_sent": int(round(seconds / (num.symbols_per_slot * num.symbol_s()))),
             "blocks_ok": int(rx.blocks_ok()), "blocks_failed": int(rx.blocks_failed()),
+            "blocks_lost": int(rx.blocks_lost()), "partial_slots": int(rx.partial_slots()),
+            "sync_lost_samples": int(sync.lost_samples()),
+            "sync_reacquisitions": int(sync.reacquisitions()),
+            "sync_lock_losses": int(sync.lock_losses()),
+            "sync_skipped_slots": int(sync.skipped_slots()),
             "ldpc_iterations_mean": rx.ldpc_iterations_mean(),
             "load_average": os.getloadavg(), "cpus": os.cpu_count()}
 

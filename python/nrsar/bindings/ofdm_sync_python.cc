@@ -54,5 +54,24 @@ void bind_ofdm_sync(py::module& m)
         .def("reset", &ofdm_sync::reset, "Starts a new acquisition at the next input sample.")
         .def("nonfinite_count",
              &ofdm_sync::nonfinite_count,
-             "Non-finite input samples replaced by 0 so far.");
+             "Non-finite input samples replaced by 0 so far.")
+        .def("lost_samples",
+             &ofdm_sync::lost_samples,
+             "Samples lost in gaps: exact from rx_time jumps, plus the shift (modulo a slot) a "
+             "re-acquisition after a lost lock found.")
+        .def("reacquisitions",
+             &ofdm_sync::reacquisitions,
+             "Times the slot grid was re-established after a gap or a lost lock.")
+        .def("lock_losses",
+             &ofdm_sync::lock_losses,
+             "Times the per-slot DMRS check (or an rx_time going back) lost the lock.")
+        .def("skipped_slots",
+             &ofdm_sync::skipped_slots,
+             "Slots with lost samples, or cut by a lost lock, not output whole.")
+        .def("skipped_symbols",
+             &ofdm_sync::skipped_symbols,
+             "Symbols from the one a gap cuts to the resumed slot's first.")
+        .def("rx_time_gaps",
+             &ofdm_sync::rx_time_gaps,
+             "rx_time stamps that did not continue the previous one (overflows).");
 }

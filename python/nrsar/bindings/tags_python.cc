@@ -32,4 +32,5 @@ void bind_tags(py::module& m)
     t.attr("pulse_interval") = pmt::symbol_to_string(tags::pulse_interval_key());
     // ofdm_sync
     t.attr("sync") = pmt::symbol_to_string(tags::sync_key());
+    t.attr("gap") = pmt::symbol_to_string(tags::gap_key());
 }

@@ -185,6 +185,10 @@ class qa_isac(gr_unittest.TestCase):
         self.assertTrue(result["payload_identical"])
         for key in ("coding", "mcs", "tbs_bits", "code_blocks", "ldpc_iterations_mean"):
             self.assertIn(key, result)
+        # a clean link: no gap, no lock lost (docs/isac.md, the sync_* keys)
+        for key in ("blocks_lost", "sync_lost_samples", "sync_rx_time_gaps", "sync_lock_losses",
+                    "sync_reacquisitions", "sync_skipped_slots", "sync_skipped_symbols"):
+            self.assertEqual(result[key], 0, key)
         self.assertEqual((result["coding"], result["mcs"]), ("nr-ldpc", 27))
         self.assertTrue(os.path.isfile(os.path.join(out, "decoded.bin")))
         self.assertTrue(os.path.isfile(result["image_png"]))

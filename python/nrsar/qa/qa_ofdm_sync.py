@@ -8,7 +8,7 @@
 ofdm_mod -> blocks.delay -> channels.channel_model (noise, CFO, multipath) -> ofdm_sync ->
 ofdm_demod: timing and CFO errors over random delays and CFOs at several SNRs, EVM of the
 recovered grid against a bound derived from the SNR, false-lock behaviour on noise and on
-DMRS-free data, output alignment, tags and parameter validation.
+DMRS-free data, re-acquisition of a second burst, output alignment, tags and parameter validation.
 
 References are independent of the block: the transmitted grid (numpy), the true delay
 (blocks.delay plus channel_model's own offset, measured with an impulse), the true CFO."""
@@ -223,14 +223,21 @@ class qa_ofdm_sync(gr_unittest.TestCase):
         sync, _, _, _ = run_link(self.num, self.x, 1234, 0.95 * df, 0.0)
         self.assertAlmostEqual(sync.cfo_hz() / df, 0.95, delta=1e-4)
 
-    def test_007_acquires_once_per_stream(self):
-        # A second burst later in the stream neither moves the lock nor the output alignment.
+    def test_007_second_burst_reacquired(self):
+        # The first burst ends: two slots without the DMRS plateau lose the lock (lock_losses),
+        # the search finds the second burst, whose slots resume on the first one's grid; the
+        # first lock's alignment is not moved before that.
         two = np.concatenate([self.x, np.zeros(30000, np.complex64), self.x])
         sync, y, raw, tags = run_link(self.num, two, 2000, 0.0, 0.0)
-        self.assertEqual(sync.timing_samples(), self.true_timing(2000))
-        self.assertEqual(sum(pmt.symbol_to_string(t.key) == "sync" for t in tags), 1)
-        second = len(self.x) + 30000 + round(0.125 * self.num.cp_samples)
-        np.testing.assert_allclose(raw[second:second + len(self.x)], self.x, atol=1e-4)
+        self.assertEqual(sync.timing_samples(), self.true_timing(2000) + len(self.x) + 30000)
+        self.assertEqual(sync.lock_losses(), 1)  # the tail after the second is too short
+        self.assertEqual(sync.reacquisitions(), 1)
+        syncs = [t.offset for t in tags if pmt.symbol_to_string(t.key) == "sync"]
+        self.assertEqual(len(syncs), 2)
+        b = round(0.125 * self.num.cp_samples)
+        np.testing.assert_allclose(raw[b:b + len(self.x)], self.x, atol=1e-4)
+        np.testing.assert_allclose(raw[syncs[1] + b:syncs[1] + b + len(self.x)], self.x,
+                                   atol=1e-4)
 
     def test_008_nonfinite_input(self):
         # Straight into the block (channel_model's filters would smear a NaN over 16 samples).
@@ -264,9 +271,12 @@ class qa_ofdm_sync(gr_unittest.TestCase):
 
         run(1000)
         self.assertEqual(sync.timing_samples(), 1000 + DMRS[0] * self.L)
-        tags = run(4321)
-        self.assertEqual(sync.timing_samples(), 1000 + DMRS[0] * self.L)
-        self.assertFalse(any(pmt.symbol_to_string(t.key) == "sync" for t in tags))
+        # Without reset() the lock check loses the old lock while the new burst's first
+        # slot goes by (two slots miss) and re-acquires on its second slot.
+        run(4321)
+        self.assertEqual(sync.lock_losses(), 1)
+        self.assertEqual(sync.timing_samples(),
+                         4321 + DMRS[0] * self.L + self.num.symbols_per_slot * self.L)
         sync.reset()
         tags = run(4321)
         self.assertTrue(sync.locked())
