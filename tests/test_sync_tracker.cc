@@ -145,20 +145,49 @@ TEST(sync_tracker, measure_finds_the_plateau_and_its_metric)
 TEST(sync_tracker, lock_lost_after_consecutive_misses)
 {
     sync_tracker t(F, CP, SPS, DMRS, EARLY, 2);
-    // the plateau EARLY + 1 samples early: the FFT window reaches into the next symbol
-    sync_tracker::check good{ 0.9, 1 }, weak{ 0.05, 0 }, early{ 0.9, -std::int64_t(EARLY) - 1 };
-    EXPECT_FALSE(t.score(weak, 0.1));
+    const sync_tracker::check good{ 0.9, 1 }, weak{ 0.05, 0 };
+    EXPECT_FALSE(t.score(weak, 0.1)); // the peak below the threshold: a miss
     EXPECT_EQ(t.misses(), 1u);
     EXPECT_FALSE(t.score(good, 0.1)); // a good slot in between clears it
     EXPECT_EQ(t.misses(), 0u);
-    EXPECT_FALSE(t.score(early, 0.1));
-    EXPECT_TRUE(t.score(weak, 0.1));
-    t.clear_misses();
-    EXPECT_FALSE(t.score(sync_tracker::check{ 0.9, -std::int64_t(EARLY) }, 0.1));
-    EXPECT_FALSE(t.score(sync_tracker::check{ 0.9, std::int64_t(CP / 2) }, 0.1));
+    EXPECT_FALSE(t.score(weak, 0.1));
+    EXPECT_TRUE(t.score(weak, 0.1)); // two in a row: the lock is lost
+}
+
+TEST(sync_tracker, timing_tests_read_the_mean_offset_of_three_slots)
+{
+    const std::int64_t early = EARLY, late = CP / 2;
+    const auto at = [](std::int64_t offset) { return sync_tracker::check{ 0.9, offset }; };
+    sync_tracker t(F, CP, SPS, DMRS, EARLY, 2);
+    // after a new lock the first slot's offset is the mean: the limits themselves pass
+    EXPECT_FALSE(t.score(at(-early), 0.1));
     EXPECT_EQ(t.misses(), 0u);
-    EXPECT_FALSE(t.score(sync_tracker::check{ 0.9, std::int64_t(CP / 2) + 1 }, 0.1));
+    t.clear_misses();
+    EXPECT_FALSE(t.score(at(-early - 1), 0.1));
     EXPECT_EQ(t.misses(), 1u);
+    t.clear_misses();
+    EXPECT_FALSE(t.score(at(late + 1), 0.1));
+    EXPECT_EQ(t.misses(), 1u);
+    // one slot's plateau far early among good ones (noise) is not a miss: mean -EARLY
+    t.clear_misses();
+    t.score(at(0), 0.1);
+    t.score(at(0), 0.1);
+    EXPECT_FALSE(t.score(at(-3 * early), 0.1));
+    EXPECT_EQ(t.misses(), 0u);
+    // a gap moves every later slot: more than 3 EARLY is a miss at once, lost at the second
+    t.clear_misses();
+    t.score(at(0), 0.1);
+    t.score(at(0), 0.1);
+    EXPECT_FALSE(t.score(at(-3 * early - 3), 0.1)); // mean -EARLY - 1
+    EXPECT_EQ(t.misses(), 1u);
+    EXPECT_TRUE(t.score(at(-3 * early - 3), 0.1));
+    // a weak slot's offset is not counted in the mean
+    t.clear_misses();
+    t.score(at(0), 0.1);
+    t.score(sync_tracker::check{ 0.05, -100 }, 0.1);
+    EXPECT_EQ(t.misses(), 1u);
+    EXPECT_FALSE(t.score(at(-2 * early), 0.1)); // mean of 0 and -2 EARLY: -EARLY, passes
+    EXPECT_EQ(t.misses(), 0u);
 }
 
 TEST(sync_tracker, parameter_errors)

@@ -58,8 +58,9 @@ namespace nrsar {
  * continue the previous stamp's gives the samples lost exactly; the slots that lost samples
  * are not output whole (the cut symbol is completed with zeros, the rest of the last cut slot
  * dropped) and output resumes at the next whole slot with its slot number. Without tags, a
- * per-slot check of the first DMRS symbol's plateau (peak M below threshold, or the plateau
- * more than max(backoff cp, cp / 8) samples early or cp / 2 late, in two consecutive slots)
+ * per-slot check of the first DMRS symbol's plateau (peak M below threshold, or the mean
+ * plateau start of the last three slots more than max(backoff cp, cp / 8) samples early or
+ * cp / 2 late, in two consecutive slots)
  * loses the lock; a new search puts the DMRS found back on the slot grid (gap modulo a slot).
  * The CFO is kept. Counted: lost_samples(), rx_time_gaps(), lock_losses(), reacquisitions(),
  * skipped_slots(), skipped_symbols(). reset() or any message on the `reset` port starts a

@@ -180,16 +180,17 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         self.assertEqual(rx.blocks_lost(), 3)
 
     def test_006_no_rx_time_the_dmrs_check(self):
-        # 100 samples lost without a tag: the DMRS arrives 100 samples early (more than the
-        # backoff), two slots miss the check, the third re-acquires the grid modulo a slot.
-        p, g = DELAY + 3 * self.L + 5000, 100
+        # 150 samples lost without a tag: the DMRS arrives 150 samples early; the check's
+        # mean offset over three slots passes the backoff (32) in the first slot after the
+        # gap (-50) and the second (-100): two misses, the third re-acquires modulo a slot.
+        p, g = DELAY + 3 * self.L + 5000, 150
         sync, rx, pdus = self.run_gap(p, g, stamped=False)
         self.assertEqual(sync.rx_time_gaps(), 0)
         self.assertEqual(sync.lock_losses(), 1)
         self.assertEqual(sync.reacquisitions(), 1)
         self.assertLessEqual(abs(int(sync.lost_samples()) - g), 2)
         bad = [s for s in range(NSLOTS) if not pdus.get(s, (False,))[0]]
-        # the cut slot 3 fails, slot 4 is decoded with its FFT windows 100 - 32 samples
+        # the cut slot 3 fails, slot 4 is decoded with its FFT windows 150 - 32 samples
         # late (QPSK at rate 0.2 may survive that), slot 5 is cut by the lost lock (its
         # check, the second miss, comes after its first DMRS symbol), slot 6 re-acquired
         self.assertIn(3, bad)

@@ -10,6 +10,7 @@
 
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -37,7 +38,10 @@ namespace kernel {
  * peak M is below the threshold, or it starts more than max_early samples before d0_hat (the
  * demodulator's FFT window, placed backoff x cp inside the CP, then reaches into the next
  * symbol: what lost samples without an rx_time tag do) or more than cp / 2 after it (the
- * window far into the CP, where the channel's delay spread reaches); the lock is lost after
+ * window far into the CP, where the channel's delay spread reaches). The timing tests read
+ * the mean offset of the last offset_window (3) slots whose peak passed: a gap moves every
+ * later slot by the same amount, noise scatters each slot's plateau on its own (a gap of
+ * more than 3 max_early is seen as soon as with one slot's offset). The lock is lost after
  * miss_limit consecutive misses.
  */
 class NRSAR_API sync_tracker
@@ -112,7 +116,12 @@ public:
 
     //! Scores one slot; true when this makes miss_limit consecutive misses (lock lost).
     bool score(const check& c, double threshold);
-    void clear_misses() { d_misses = 0; }
+    //! Forgets the misses and the offsets (a new lock).
+    void clear_misses()
+    {
+        d_misses = 0;
+        d_offset_count = 0;
+    }
     unsigned misses() const { return d_misses; }
     unsigned miss_limit() const { return d_miss_limit; }
 
@@ -127,6 +136,9 @@ private:
     unsigned d_miss_limit;
     std::size_t d_check_len;
     unsigned d_misses = 0;
+    static constexpr std::size_t offset_window = 3;
+    std::array<std::int64_t, offset_window> d_offsets{};
+    std::size_t d_offset_count = 0;
     std::vector<std::int64_t> d_repeats;
 };
 
