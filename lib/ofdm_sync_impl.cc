@@ -63,16 +63,15 @@ ofdm_sync_impl::ofdm_sync_impl(const numerology& num,
       d_acq(num.fft_size,
             num.cp_samples,
             threshold,
-            std::size_t(dmrs.symbols.front()) * (num.cp_samples + num.fft_size) +
-                num.cp_samples + num.fft_size / 2 + std::size_t(std::llround(backoff * num.cp_samples)) + 2),
+            std::size_t(d_first_dmrs) * (num.cp_samples + num.fft_size) + num.cp_samples +
+                num.fft_size / 2 + std::size_t(d_backoff_samples) + 2),
       d_tracker(num.fft_size,
                 num.cp_samples,
                 num.symbols_per_slot,
-                std::uint64_t(dmrs.symbols.front()) * (num.cp_samples + num.fft_size) +
-                    std::uint64_t(std::llround(backoff * num.cp_samples)),
+                std::uint64_t(d_first_dmrs) * (num.cp_samples + num.fft_size) +
+                    std::uint64_t(d_backoff_samples),
                 // the backoff is the FFT window's margin against late timing (at least cp/8)
-                std::max<unsigned>(unsigned(std::llround(backoff * num.cp_samples)),
-                                   num.cp_samples / 8)),
+                std::max<unsigned>(unsigned(d_backoff_samples), num.cp_samples / 8)),
       d_rx_time_key(pmt::mp("rx_time"))
 {
     d_check.resize(d_tracker.check_length());
@@ -83,7 +82,6 @@ ofdm_sync_impl::ofdm_sync_impl(const numerology& num,
                           (num.cp_samples + num.fft_size));
     d_acq.set_repeats(repeats);
     d_tracker.set_repeats(repeats);
-    d_repeats = repeats;
     set_tag_propagation_policy(TPP_DONT);
     message_port_register_in(pmt::mp("reset"));
     set_msg_handler(pmt::mp("reset"), [this](const pmt::pmt_t&) { this->reset(); });
@@ -155,22 +153,10 @@ void ofdm_sync_impl::on_lock(std::uint64_t out_item)
         d_rot.set_phase(0.0);
     } else {
         // A re-acquisition: the new DMRS goes on the old grid, and the slots in between are
-        // skipped (the output resumes at the new DMRS's slot).
-        // Which DMRS symbol of its slot the search found: the first whose later ones (in
-        // the buffer: lock waits for them) show the plateau too.
-        unsigned j = 0;
-        for (; j < d_repeats.size(); j++) {
-            bool all = true;
-            for (std::size_t k = j; k < d_repeats.size() && all; k++) {
-                const std::int64_t at = r.symbol_start + d_repeats[k] -
-                                        (j == 0 ? 0 : d_repeats[j - 1]) +
-                                        std::int64_t(d_num.cp_samples / 2) - d_acq.buffer_start();
-                if (at >= 0 && at + std::int64_t(d_num.fft_size) <= std::int64_t(d_acq.buffered()))
-                    all = d_tracker.metric_at(d_acq.buffer() + at) >= d_acq.threshold();
-            }
-            if (all)
-                break;
-        }
+        // skipped (the output resumes at the new DMRS's slot). Which DMRS symbol of its slot
+        // the search found is told by the later ones in the buffer (lock waits for them).
+        const unsigned j = d_tracker.found_dmrs(
+            d_acq.buffer(), d_acq.buffer_start(), d_acq.buffered(), r.symbol_start, d_acq.threshold());
         const auto r2 = d_tracker.relock_at(d_timing - d_grid_start, d_grid_out, j);
         d_grid_start -= r2.shift;
         if (r2.shift > 0)

@@ -30,7 +30,6 @@ private:
     kernel::sc_acquirer d_acq;
     kernel::phase_rotator d_rot;
     kernel::sync_tracker d_tracker;
-    std::vector<std::int64_t> d_repeats; // later DMRS symbols of a slot, after the first
     kernel::finite_guard d_guard;
     nonfinite_reporter d_nonfinite;
     pmt::pmt_t d_rx_time_key;

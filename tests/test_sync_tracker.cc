@@ -101,6 +101,30 @@ TEST(sync_tracker, relock_finds_the_gap_modulo_a_slot)
     EXPECT_THROW(t.relock_at(0, 0, 2), std::invalid_argument);
 }
 
+TEST(sync_tracker, found_dmrs_is_told_by_the_later_dmrs_symbols_in_the_buffer)
+{
+    sync_tracker t(F, CP, SPS, DMRS, EARLY);
+    const std::int64_t r1 = 3 * SYM, r2 = 5 * SYM, s = 100, b0 = 40;
+    t.set_repeats({ r1, r2 });
+    std::mt19937 rng(11);
+    // a DMRS symbol at p: its two halves equal half a cp into its CP (M = 1 there)
+    const auto plant = [](std::vector<gr_complex>& x, std::int64_t p) {
+        std::copy_n(x.begin() + p, F / 2, x.begin() + p + F / 2);
+    };
+    const auto at = [&](std::int64_t p) { return p + std::int64_t(CP / 2) - b0; };
+    auto x = noise(8 * SYM, rng);
+    plant(x, at(s + r1));
+    plant(x, at(s + r2));
+    EXPECT_EQ(t.found_dmrs(x.data(), b0, x.size(), s, 0.5), 0u); // the slot's first
+    x = noise(8 * SYM, rng);
+    plant(x, at(s + r2 - r1)); // found the second: the third follows r2 - r1 later
+    EXPECT_EQ(t.found_dmrs(x.data(), b0, x.size(), s, 0.5), 1u);
+    x = noise(8 * SYM, rng);
+    EXPECT_EQ(t.found_dmrs(x.data(), b0, x.size(), s, 0.5), 2u); // the last: none follows
+    // symbols beyond the buffer are no evidence against the first
+    EXPECT_EQ(t.found_dmrs(x.data(), b0, std::size_t(at(s + r2 - r1)), s, 0.5), 0u);
+}
+
 TEST(sync_tracker, check_windows)
 {
     sync_tracker t(F, CP, SPS, DMRS, EARLY);

@@ -86,6 +86,28 @@ double sync_tracker::metric_at(const gr_complex* x) const
     return e > 0.0 ? std::norm(p) / (0.25 * e * e) : 0.0;
 }
 
+unsigned sync_tracker::found_dmrs(const gr_complex* buf,
+                                  std::int64_t buf_start,
+                                  std::size_t buffered,
+                                  std::int64_t symbol_start,
+                                  double threshold) const
+{
+    unsigned j = 0;
+    for (; j < d_repeats.size(); j++) {
+        bool all = true;
+        for (std::size_t k = j; k < d_repeats.size() && all; k++) {
+            const std::int64_t at = symbol_start + d_repeats[k] -
+                                    (j == 0 ? 0 : d_repeats[j - 1]) + std::int64_t(d_cp / 2) -
+                                    buf_start;
+            if (at >= 0 && at + 2 * std::int64_t(d_half) <= std::int64_t(buffered))
+                all = metric_at(buf + at) >= threshold;
+        }
+        if (all)
+            break;
+    }
+    return j;
+}
+
 std::int64_t sync_tracker::check_start(std::uint64_t slot) const
 {
     return std::int64_t(slot * d_slot + d_dmrs) - std::int64_t(d_cp);

@@ -98,6 +98,16 @@ public:
     relock relock_at(std::int64_t g, std::uint64_t out_grid, unsigned dmrs_index) const;
     //! M at one position: x holds fft_size samples from it.
     double metric_at(const gr_complex* x) const;
+    /*!
+     * \brief Which DMRS symbol of its slot a search found at symbol_start (the argument
+     * relock_at wants): the first j whose later DMRS symbols, where buf (buffered samples from
+     * absolute index buf_start) holds them, show M >= threshold half a cp into their CP too.
+     */
+    unsigned found_dmrs(const gr_complex* buf,
+                        std::int64_t buf_start,
+                        std::size_t buffered,
+                        std::int64_t symbol_start,
+                        double threshold) const;
     //! Offsets (samples, > 0) of the slot's further DMRS symbols after its first.
     void set_repeats(const std::vector<std::int64_t>& offsets) { d_repeats = offsets; }
 
