@@ -38,8 +38,8 @@ private:
     std::atomic<std::uint64_t> d_lost{ 0 };
     //! Longest jump in slot numbers whose slots are reported lost one by one (2.4 s at sdr20)
     static constexpr std::uint64_t max_lost_report = 4096;
-    bool d_seen_slot_tag = false;
-    bool d_cut = false;                  // a gap tag in the slot being buffered        // slot numbers are known (a gap can be seen)
+    bool d_seen_slot_tag = false; // slot numbers are known (a jump in them can be seen)
+    bool d_cut = false;           // a gap tag in the slot being buffered
     std::uint64_t d_reported_tb = ~std::uint64_t{ 0 }; // last TB reported on the PDU port
     std::atomic<std::uint64_t> d_filler{ 0 };
     std::atomic<std::uint64_t> d_bytes{ 0 };
