@@ -37,6 +37,12 @@ void trajectory_autofocus_config::validate() const
 
 namespace {
 
+double distance(const vec3& a, const vec3& b)
+{
+    const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
 struct point {
     unsigned line, bin;
     vec3 p;   // the scatterer the pixel stands for
@@ -192,13 +198,8 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
                 // less the pixel's offset from the point, in the phase BP gave it:
                 // 2 pi (2 / lambda + fc_r / rho) (|a - p| - |a - q|)
                 const vec3& a = res.antenna[p];
-                const double r = std::sqrt((a[0] - q.q[0]) * (a[0] - q.q[0]) +
-                                           (a[1] - q.q[1]) * (a[1] - q.q[1]) +
-                                           (a[2] - q.q[2]) * (a[2] - q.q[2]));
-                const double dr = std::sqrt((a[0] - q.p[0]) * (a[0] - q.p[0]) +
-                                            (a[1] - q.p[1]) * (a[1] - q.p[1]) +
-                                            (a[2] - q.p[2]) * (a[2] - q.p[2])) -
-                                  r;
+                const double r = distance(a, q.q);
+                const double dr = distance(a, q.p) - r;
                 // plus the phase the path's correction so far took out, u . D / to_m: the
                 // smoothing then sees the whole error each iteration (smoothing only the
                 // residual would add its high-pass part back each time, and the estimate
@@ -252,9 +253,8 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         // Look-angle spread at the middle pulse decides how many components are solved.
         auto los = [&](const point& q, unsigned p) {
             const vec3& a = res.antenna[p];
-            const double dx = a[0] - q.q[0], dy = a[1] - q.q[1], dz = a[2] - q.q[2];
-            const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
-            return std::array<double, 2>{ dx / r, dz / r };
+            const double r = distance(a, q.q);
+            return std::array<double, 2>{ (a[0] - q.q[0]) / r, (a[2] - q.q[2]) / r };
         };
         double sw = 0.0, st = 0.0, st2 = 0.0;
         for (const point& q : pts) {
@@ -366,8 +366,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         vec3 p;
         pixel_position(grid, pl[0], pl[1], p);
         const vec3& a = res.antenna[n / 2];
-        const double r = std::sqrt((a[0] - p[0]) * (a[0] - p[0]) + (a[1] - p[1]) * (a[1] - p[1]) +
-                                   (a[2] - p[2]) * (a[2] - p[2]));
+        const double r = distance(a, p);
         mx += (a[0] - p[0]) / r;
         mz += (a[2] - p[2]) / r;
     }
