@@ -577,6 +577,13 @@ def read(meta_path):
                      gaps=gaps, datetime=when, trajectory=truth, navigation=nav)
 
 
+def rx_time_value(t):
+    """The `rx_time` tag value of t seconds, as a USRP source writes it: (uint64 whole
+    seconds, double fraction)."""
+    whole = math.floor(t)
+    return pmt.make_tuple(pmt.from_uint64(int(whole)), pmt.from_double(t - whole))
+
+
 class rx_time_stamper(gr.sync_block):
     """Passes the recorded samples through and tags them with `rx_time` where a radio's
     source would (docs/recording.md, "Gaps"): the first sample at t0, and the first sample
@@ -601,9 +608,7 @@ class rx_time_stamper(gr.sync_block):
         end = self.nitems_written(0) + n
         while self.next < len(self.stamps) and self.stamps[self.next][0] < end:
             index, t = self.stamps[self.next]
-            whole = math.floor(t)
-            self.add_item_tag(0, index, self.key, pmt.make_tuple(
-                pmt.from_uint64(int(whole)), pmt.from_double(t - whole)))
+            self.add_item_tag(0, index, self.key, rx_time_value(t))
             self.next += 1
         return n
 

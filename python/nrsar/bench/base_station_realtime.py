@@ -35,7 +35,7 @@ import pmt
 from gnuradio import blocks, gr
 
 from gnuradio import nrsar
-from gnuradio.nrsar import backhaul, runtime
+from gnuradio.nrsar import backhaul, recording, runtime
 
 
 def uplink(preset, slots, snr_db, seed=1, periodic=False):
@@ -134,9 +134,8 @@ class paced_source(gr.sync_block):
         out[:first] = self.x[pos:pos + first]
         out[first:n] = self.x[:n - first]
         if self.stamp:
-            t = (self.delivered + self.lost) / self.fs
-            self.add_item_tag(0, self.nitems_written(0), pmt.intern("rx_time"), pmt.make_tuple(
-                pmt.from_uint64(int(t)), pmt.from_double(t - int(t))))
+            self.add_item_tag(0, self.nitems_written(0), pmt.intern("rx_time"),
+                              recording.rx_time_value((self.delivered + self.lost) / self.fs))
             self.stamp = False
         self.delivered += n
         if backlog - n > self.fifo:  # overflow: the radio drops what its FIFO cannot hold
