@@ -107,8 +107,8 @@ PUBLISHED = {
 # nr-eesm-t<table>-bg<BG>.cc in github.com/UniVe-NeDS-Lab/fivegchannel,
 # channelmodel/sinr_bler/LENA/), from InterDigital's link-level simulator (Lagen et al., "New
 # Radio Physical Layer Abstraction for System-Level Simulations of 5G Networks", IEEE ICC
-# 2020). Per base graph, MCS and "CBS" (the TBS A of a TB sent as one code block, TB CRC
-# included, as the keys 24, 32, ... of the 38.214 TBS table show): SINR per RE in dB and BLER.
+# 2020). Per base graph, MCS and "CBS" (the TBS A of a TB that its TB CRC and A make one code
+# block, as the keys 24, 32, ... of the 38.214 TBS table show): SINR per RE in dB and BLER.
 # Decoder, iterations, LLRs and channel estimation are not stated with them. Keyed by an
 # allocation (n_prb x n_symbols, one DMRS symbol) whose 38.214 TBS is the CBS:
 # {(table, mcs, n_prb, n_symbols): (file, BG, CBS, [(SINR dB, BLER), ...])}
