@@ -118,6 +118,8 @@ bench: build install
 	$(PREFIX)/bin/nrsar-bench --out docs/bench
 	/usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --published --blocks 1000 \
 		> docs/bench/nr_bler_published.md
+	/usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --lena --blocks 1000 \
+		> docs/bench/nr_bler_lena.md
 
 # perf: soak test (issue #8), on demand, not in make test: 10 minutes of radar time at
 # paper scale through the whole chain; fails when the RSS grows (docs/soak.md).

@@ -16,7 +16,10 @@ Run: /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler [--blocks 100] [--max-it
      [--only qam64:4,qam256:24]
      /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --published [--blocks 1000]
      /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --floor [--blocks 100000]
+     /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --lena [--blocks 1000] [--max-iter 20]
 --published: the decoder against AFF3CT's published 5G NR LDPC curves (PUBLISHED).
+--lena: the chain against 5G-LENA's published AWGN BLER of one code block per MCS (LENA), one
+case per modulation, at the same MCS and TBS, SNR = Es/N0 per RE as LENA's SINR.
 --floor: the FER of PUBLISHED's BG2 K' 512 code down to 1e-5, where an error floor would show.
 """
 
@@ -36,12 +39,19 @@ MODS = {2: nrsar.modulation.QPSK, 4: nrsar.modulation.QAM16, 6: nrsar.modulation
         8: nrsar.modulation.QAM256}
 
 
-def bler_curve(table, mcs, n_prb, snrs_db, blocks, max_iter, seed=1, rvs=(0,)):
-    """BLER per SNR; rvs: the redundancy versions of the TB's transmissions, each through its
-    own noise and combined in the soft buffers before the last decoding (HARQ)."""
+def allocation(table, mcs, n_prb, n_symbols=14):
+    """(Qm, R, TBS, G) of n_prb PRBs x n_symbols symbols, one of them DMRS: 12 (n_symbols - 1)
+    data REs per PRB (156 in a slot)."""
     qm, rate = nrsar.mcs(table, mcs)
-    a = nrsar.tbs(table, mcs, n_prb, 14, 12)
-    g = 156 * n_prb * qm
+    g = 12 * (n_symbols - 1) * n_prb * qm
+    return qm, rate, nrsar.tbs(table, mcs, n_prb, n_symbols, 12), g
+
+
+def bler_curve(table, mcs, n_prb, snrs_db, blocks, max_iter, seed=1, rvs=(0,), n_symbols=14):
+    """BLER per SNR of the TB of allocation(table, mcs, n_prb, n_symbols); rvs: the redundancy
+    versions of the TB's transmissions, each through its own noise and combined in the soft
+    buffers before the last decoding (HARQ)."""
+    qm, rate, a, g = allocation(table, mcs, n_prb, n_symbols)
     ul = nrsar.ulsch(a, rate, qm, g, max_iter=max_iter)
     const = nrsar.constellation(MODS[qm])
     points = np.array(const.points())
@@ -65,6 +75,7 @@ def bler_curve(table, mcs, n_prb, snrs_db, blocks, max_iter, seed=1, rvs=(0,)):
         out.append(errors / blocks)
     info_rate = a / (g / qm)  # information bits per symbol
     return {"table": table, "mcs": mcs, "qm": qm, "tbs": a, "g": g, "code_rate": rate,
+            "base_graph": ul.base_graph, "code_blocks": ul.segmentation["C"],
             "info_rate": info_rate, "shannon_db": 10 * np.log10(2 ** info_rate - 1),
             "snr_db": list(snrs_db), "bler": out}
 
@@ -87,6 +98,31 @@ PUBLISHED = {
         "OMS 0.5": [(1.25, 0.384), (1.5, 0.186), (1.75, 0.0556), (2.0, 9.14e-3),
                     (2.25, 1.14e-3)],
     },
+}
+
+
+# Published AWGN BLER of NR code blocks with QAM: the SINR-BLER tables of ns-3's NR module
+# (5G-LENA, CTTC; gitlab.com/cttc-lena/nr, model/nr-eesm-t1.cc for MCS table 1 (qam64),
+# model/nr-eesm-t2.cc for table 2 (qam256); the same numbers as the per-BG extracts
+# nr-eesm-t<table>-bg<BG>.cc in github.com/UniVe-NeDS-Lab/fivegchannel,
+# channelmodel/sinr_bler/LENA/), from InterDigital's link-level simulator (Lagen et al., "New
+# Radio Physical Layer Abstraction for System-Level Simulations of 5G Networks", IEEE ICC
+# 2020). Per base graph, MCS and "CBS" (the TBS A of a TB that its TB CRC and A make one code
+# block, as the keys 24, 32, ... of the 38.214 TBS table show): SINR per RE in dB and BLER.
+# Decoder, iterations, LLRs and channel estimation are not stated with them. Keyed by an
+# allocation (n_prb x n_symbols, one DMRS symbol) whose 38.214 TBS is the CBS:
+# {(table, mcs, n_prb, n_symbols): (file, BG, CBS, [(SINR dB, BLER), ...])}
+LENA = {
+    ("qam64", 4, 126, 3): ("nr-eesm-t1-bg2.cc", 2, 1864, [
+        (0.9979, 1.0), (1.4356, 0.9605263), (1.8733, 0.3123449), (2.311, 0.0036),
+        (2.7487, 0.0)]),
+    ("qam64", 13, 89, 3): ("nr-eesm-t1-bg1.cc", 1, 4096, [
+        (7.5, 1.0), (7.85, 0.9980769), (8.2, 0.638125), (8.55, 0.0346), (8.9, 0.0)]),
+    ("qam64", 22, 88, 2): ("nr-eesm-t1-bg1.cc", 1, 4096, [
+        (15.36, 0.9148936), (15.6226, 0.5069721), (15.883, 0.09200405), (16.1434, 0.0033),
+        (16.4038, 0.0)]),
+    ("qam256", 24, 52, 2): ("nr-eesm-t2-bg1.cc", 1, 4096, [
+        (23.5, 0.9334532), (23.9167, 0.3027578), (24.3333, 0.0114), (24.75, 0.0)]),
 }
 
 
@@ -204,6 +240,8 @@ class NrBlerOptions(Options):
                         "(rv 0 + rv 2, combined)")
     floor: bool = option(False, "instead: the short BG2 code of PUBLISHED (K' 512) from 2.0 to "
                          "3.0 dB, --blocks frames per point, FER with its 95 % interval")
+    lena: bool = option(False, "instead: BLER against 5G-LENA's published AWGN tables (LENA), "
+                        "--blocks TBs per point")
 
     def check(self):
         cases = [f"{t}:{m}" for t, m, _ in CASES]
@@ -248,6 +286,29 @@ def main(argv=None):
             print(f"| {p:g} dB | {args.blocks} | {n} | {n / args.blocks:.2e} | "
                   f"{lo / args.blocks:.1e} .. {hi / args.blocks:.1e} | {pub} |")
         return 0
+    if args.lena:
+        print("| LENA: file, MCS, CBS | Qm | R | ours: PRB x symbols, TBS, G, BG, code blocks | "
+              "SNR (dB): BLER, ours | ours 10 % | LENA 10 % | ours - LENA | "
+              "normal approximation | ours - bound | LENA - bound |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|")
+        for (table, mcs, n_prb, n_sym), (name, bg, cbs, pub) in LENA.items():
+            qm, rate, a, g = allocation(table, mcs, n_prb, n_sym)
+            start = np.round(10 * np.log10(2 ** (a / (g / qm)) - 1) * 8) / 8 + 0.75
+            c = bler_curve(table, mcs, n_prb, np.arange(start, start + 2.26, 0.125), args.blocks,
+                           args.max_iter, n_symbols=n_sym)
+            ours = snr_at(c)
+            theirs = snr_at({"snr_db": [p for p, _ in pub], "bler": [b for _, b in pub]})
+            na = normal_approximation_snr_db(qm, g, a)
+            pts = ", ".join(f"{p:g}: {b:.3f}" for p, b in zip(c["snr_db"], c["bler"]))
+
+            def db(x, sign=""):
+                return "n/a" if x is None else f"{x:{sign}.2f} dB"
+            print(f"| {name}, MCS {mcs}, CBS {cbs} (BG{bg}) | {qm} | {rate:.3f} | "
+                  f"{n_prb} x {n_sym}, {a}, {g}, BG{c['base_graph']}, {c['code_blocks']} | "
+                  f"{pts} | {db(ours)} | {db(theirs)} | "
+                  f"{db(None if ours is None else ours - theirs, '+')} | {db(na)} | "
+                  f"{db(None if ours is None else ours - na, '+')} | {db(theirs - na, '+')} |")
+        return 0
     if args.harq:
         print("| transmissions | SNR (dB): BLER | BLER 10 % at |")
         print("|---|---|---|")
@@ -266,9 +327,8 @@ def main(argv=None):
     for table, mcs, n_prb in CASES:
         if only and (table, str(mcs)) not in only:
             continue
-        qm, rate = nrsar.mcs(table, mcs)
-        info = nrsar.tbs(table, mcs, n_prb, 14, 12) / (156 * n_prb)
-        start = np.round(10 * np.log10(2 ** info - 1) * 4) / 4 + 0.5
+        qm, rate, a, g = allocation(table, mcs, n_prb)
+        start = np.round(10 * np.log10(2 ** (a / (g / qm)) - 1) * 4) / 4 + 0.5
         c = bler_curve(table, mcs, n_prb, np.arange(start, start + 3.51, 0.25), args.blocks,
                        args.max_iter)
         at = snr_at(c)
