@@ -73,7 +73,8 @@ template <typename Points>
 void check_finite_points(const std::string& name, const Points& points, std::size_t max_count)
 {
     if (points.size() > max_count)
-        throw_param(name + " (count)", points.size(), "must be at most " + std::to_string(max_count));
+        throw_param(
+            name + " (count)", points.size(), "must be at most " + std::to_string(max_count));
     for (std::size_t i = 0; i < points.size(); ++i)
         for (double v : points[i])
             check_finite(name + "[" + std::to_string(i) + "]", v);

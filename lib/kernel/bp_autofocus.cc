@@ -70,6 +70,7 @@ bool pixel_position(const bp_grid& g, unsigned j, unsigned k, vec3& p)
 
 struct history {
     double sum; // of the unwrapped history [m]
+    double a2;  // coherent power per pulse A^2
     double w;   // A^2 / sigma^2 (0: the smoothed SNR is below 2)
     double v;   // variance of lambda psi / (4 pi) per pulse [m^2]
 };
@@ -113,6 +114,7 @@ history smoothed_history(const std::vector<std::complex<double>>& c,
     // A history whose smoothed SNR L A^2 / sigma^2 is below 2 (phase noise above
     // 0.5 rad) unwraps into a random walk (a noise peak taken for a point): unused.
     return { sum,
+             a2,
              pw > 0.0 && (2 * h + 1) * a2 >= 2.0 * sigma2 ? a2 / sigma2 : 0.0,
              pw > 0.0 ? to_m * to_m * sigma2 / (2.0 * a2) : 0.0 };
 }
@@ -195,7 +197,11 @@ bool calibrate_gcp(const gr_complex* pulses,
                    trajectory_autofocus_result& res)
 {
     const unsigned K = grid.num_range_bins;
-    const double half_lam = 0.5 * grid.wavelength_m, to_m = grid.wavelength_m / (4.0 * M_PI);
+    // A range error e turns a BP summand by 2 pi cs e: the carrier's 4 pi e / lambda and the
+    // range spectrum centre's 2 pi fc_r e / rho (the band's centre, not subcarrier 0, is the
+    // phase's carrier); the phase repeats every 1 / cs of range.
+    const double cs = 2.0 / grid.wavelength_m + grid.range_centre_cycles / grid.range_bin_m;
+    const double period = 1.0 / cs, to_m = period / (2.0 * M_PI);
     const double tm = 0.5 * (n - 1.0);
     double stt = 0.0;
     for (unsigned p = 0; p < n; ++p)
@@ -208,6 +214,7 @@ bool calibrate_gcp(const gr_complex* pulses,
         double ux, uz; // line of sight (x, z) at the middle pulse
         double c, s;   // constant at the middle pulse [m], slope [m / pulse]
         double v;      // per-pulse variance of the history [m^2]
+        double a2;     // coherent power per pulse
     };
     std::vector<fix> fixes;
     constexpr int steps = 6; // the range search: +-1.5 bins in quarter bins
@@ -250,11 +257,12 @@ bool calibrate_gcp(const gr_complex* pulses,
         double slope = 0.0;
         for (unsigned i = 0; i < n; ++i)
             slope += b[i] * (i - tm) / stt;
-        // The constant is the phase's, ambiguous by lambda / 2: the range peak of q's image
-        // along the path less the slope (its envelope |A(delta)|, delta in quarter bins,
-        // parabola through ln |A|) picks the integer. Its noise (about the resolution over
-        // sqrt(2 SNR) of the image) may miss it by one: a range shift of lambda / 2, a few
-        // hundredths of a bin (docs/blocks/bp_focuser.md).
+        // The constant is the phase's, ambiguous by the period 1 / cs: the range peak of q's
+        // image along the path less the slope (its envelope |A(delta)|, delta in quarter
+        // bins, parabola through ln |A|) picks the integer. Its noise (the resolution over
+        // about sqrt(2 SNR) of the image) and the neighbours' range sidelobes may miss it by
+        // a few: a range shift of k periods, a small part of the resolution cell, where the
+        // phase (what the image's NMSE feels) stays right (docs/blocks/bp_focuser.md).
         auto envelope = [&](int m) {
             for (unsigned i = 0; i < n; ++i)
                 path[i] = moved(i, 0.25 * m * grid.range_bin_m, slope);
@@ -273,24 +281,25 @@ bool calibrate_gcp(const gr_complex* pulses,
             (top - steps + peak_offset(env[top - 1], env[top], env[top + 1])) * 0.25 *
             grid.range_bin_m;
         const double fine = hs.sum / n;
-        const double constant = fine + half_lam * std::round((peak - fine) / half_lam);
+        const double constant = fine + period * std::round((peak - fine) / period);
         fixes.push_back(
-            { (am[0] - q[0]) / rm, (am[2] - q[2]) / rm, constant, slope, hs.v });
+            { (am[0] - q[0]) / rm, (am[2] - q[2]) / rm, constant, slope, hs.v, hs.a2 });
     }
     if (fixes.empty())
         return false;
     res.gcp_used = static_cast<unsigned>(fixes.size());
-    // The others' integers from the most precise one's: the lambda / 2 lattice point next
-    // to what its offset predicts along their line of sight (their own range peaks are
-    // noisier; a slip of lambda / 2 between two GCPs at look angles d apart would tilt the
-    // solution by lambda / (2 d) across the line of sight; this one needs the navigation's
-    // error across it below lambda / (4 d), 1.2 m at d = 1 degree).
-    const auto ref = std::min_element(
-        fixes.begin(), fixes.end(), [](const fix& a, const fix& b) { return a.v < b.v; });
+    // The others' integers from the strongest one's (the least noise, and the least pulled
+    // by its neighbours' range sidelobes): the lattice point next to what its offset
+    // predicts along their line of sight. Their own range peaks would slip; a slip of a
+    // period P (about lambda / 2) between two GCPs at look angles d apart tilts the solution
+    // by P / d across the line of sight; this needs the navigation's error across it below
+    // P / (2 d), 1.2 m at d = 1 degree.
+    const auto ref = std::max_element(
+        fixes.begin(), fixes.end(), [](const fix& a, const fix& b) { return a.a2 < b.a2; });
     const double ur2 = ref->ux * ref->ux + ref->uz * ref->uz;
     for (fix& f : fixes) {
         const double predicted = ref->c * (f.ux * ref->ux + f.uz * ref->uz) / ur2;
-        f.c += half_lam * std::round((predicted - f.c) / half_lam);
+        f.c += period * std::round((predicted - f.c) / period);
     }
     double sw = 0.0, st = 0.0, st2 = 0.0;
     for (const fix& f : fixes) {

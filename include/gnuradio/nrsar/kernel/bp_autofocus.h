@@ -40,7 +40,7 @@ struct NRSAR_API trajectory_autofocus_config {
     //! Ground control points: surveyed positions (x, y, z) in the scene frame [m], at most
     //! max_gcp. Those inside the image fix the navigation error's constant and linear trend
     //! over the pulses (which focus cannot see) from their phase histories (the constant's
-    //! lambda / 2 ambiguity from their range peak); empty: none, the trend stays.
+    //! ambiguity of about lambda / 2 from their range peak); empty: none, the trend stays.
     std::vector<std::array<double, 3>> gcp;
     static constexpr unsigned max_gcp = 16;
 
@@ -101,7 +101,7 @@ struct NRSAR_API trajectory_autofocus_result {
  * correction no larger than cfg.significance times its standard error is noise: the
  * navigation is kept. Ground control points (cfg.gcp) then fix the trend: each one's
  * history along the corrected path, referenced to its surveyed position, is R_nav -
- * R_true itself; its constant (the lambda / 2 integer from its range peak) and slope over
+ * R_true itself; its constant (the integer of ~lambda / 2 from its range peak) and slope over
  * the pulses, solved for x and z (look angles spread) or along their line of sight, are
  * taken off the path before the last back-projection.
  * pulses: n x K line-major; image_out: M x K, the image along the corrected path.
