@@ -386,6 +386,17 @@ TEST(bp_autofocus, validates)
     c.significance = -1.0;
     EXPECT_THROW(run(c, M), std::invalid_argument);
     EXPECT_THROW(run({}, 1), std::invalid_argument);
+    c = {};
+    c.gcp.assign(trajectory_autofocus_config::max_gcp + 1, vec3{ 800.0, 25.0, 0.0 });
+    EXPECT_THROW(run(c, M), std::invalid_argument);
+    try {
+        c = {};
+        c.gcp = { { 800.0, 25.0, 0.0 }, { 800.0, std::nan(""), 0.0 } };
+        run(c, M);
+        FAIL();
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("gcp[1] = nan must be finite"), std::string::npos);
+    }
     try {
         c = {};
         c.look_spread_rad = -0.1;
