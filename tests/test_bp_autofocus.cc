@@ -498,4 +498,21 @@ TEST(bp_autofocus, ground_control_points_fix_the_trend)
                 perfect_db, af_db, gcp1_db, gcp2_db);
     EXPECT_GT(af_db, perfect_db + 1.0);
     EXPECT_LT(gcp2_db, perfect_db + 0.5);
+    // What the range peak's integer miss (k periods, 0.057 bin here) costs: the path moved
+    // on by k periods along the first GCP's line of sight, where the constant is right,
+    // against the same range shift of the perfectly navigated image (the truth moved by
+    // k periods along that line of sight): the miss costs what that shift costs.
+    std::vector<vec3> right = r2.antenna, shifted = tru;
+    for (unsigned n = 0; n < M; ++n) {
+        right[n][0] += k * half * t0.ux;
+        right[n][2] += k * half * t0.uz;
+        shifted[n][0] -= k * half * t0.ux;
+        shifted[n][2] -= k * half * t0.uz;
+    }
+    const double right_db = nmse_db(bp_image(pulses, right), ref);
+    const double shifted_db = nmse_db(bp_image(pulses, shifted), ref);
+    std::printf("the integer right: %.2f dB (missed by %+.0f: %.2f dB); the perfect image "
+                "shifted by as much: %.2f dB\n",
+                right_db, k, gcp2_db, shifted_db);
+    EXPECT_NEAR(gcp2_db - right_db, shifted_db - perfect_db, 0.05);
 }
