@@ -25,6 +25,9 @@ back-projects again. A position error's constant and linear trend over the apert
 nothing (they move each target in range phase by its own line of sight, and in Doppler), so
 no autofocus can see them: the *_trend_db columns measure against BP of the noise-free echo
 along the truth plus that trend, the *_db columns against the perfectly navigated image.
+Ground control points observe the trend: the gcp1 columns take the first target as one
+(the trend along its line of sight), the gcp2 columns the first two (x and z); their
+estimate of the constant and drift against the true trend's (x, z).
 
 The true phase error at the target, 4 pi (R_nav - R_true) / lambda per pulse, is mapped to
 the image's azimuth DFT bins through the target's Doppler history (bin
