@@ -347,6 +347,24 @@ class qa_autofocus(gr_unittest.TestCase):
         return dict(st=st, nav=nav, ta=ta, na=na, clean=clean, noisy=noisy, ref=ref, foc=foc,
                     floor=floor, los_true=st.detrend_pulses(np.sum(u * err, axis=1)))
 
+    @staticmethod
+    def block_image(c, **af):
+        """The bp_focuser block along gnss_case c's navigation with bp_config(**af) on its
+        noisy echo: (image, block)."""
+        from gnuradio.nrsar.focus_scenario import K, NUM, R_FIRST, RHO, SPP, T
+        st = c["st"]
+        scn = nrsar.make_scene([(x, y) for x, y, _ in st.TARGETS])
+        foc = nrsar.bp_focuser(NUM, st.geometry(st.M * T), scn, K, R_FIRST, RHO,
+                               nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=st.M,
+                                               **af), c["nav"])
+        tb = gr.top_block()
+        src = blocks.vector_source_c(c["noisy"].astype(np.complex64).ravel().tolist(), False,
+                                     K)
+        snk = blocks.vector_sink_c(K)
+        tb.connect(src, foc, snk)
+        tb.run()
+        return np.array(snk.data()).reshape(-1, K), foc
+
     def test_trajectory_autofocus_recovers_a_gnss_navigation_error(self):
         """BP from a `gnss` navigation (seed 1), then autofocus by trajectory estimation:
         its displacement along the target's line of sight against the true navigation error
@@ -378,22 +396,11 @@ class qa_autofocus(gr_unittest.TestCase):
         focus can see, its line-of-sight estimate against the true error (numpy float64,
         trend removed); a significance it cannot reach gives the navigation's image bit for
         bit; each new option refused out of range, by name."""
-        from gnuradio.nrsar.focus_scenario import K, NUM, R_FIRST, RHO, SPP, T
         c = self.gnss_case()
         st, ref = c["st"], c["ref"]
-        scn = nrsar.make_scene([(x, y) for x, y, _ in st.TARGETS])
 
         def run(**af):
-            foc = nrsar.bp_focuser(NUM, st.geometry(st.M * T), scn, K, R_FIRST, RHO,
-                                   nrsar.bp_config(symbols_per_pulse=SPP,
-                                                   lines_per_aperture=st.M, **af), c["nav"])
-            tb = gr.top_block()
-            src = blocks.vector_source_c(c["noisy"].astype(np.complex64).ravel().tolist(),
-                                         False, K)
-            snk = blocks.vector_sink_c(K)
-            tb.connect(src, foc, snk)
-            tb.run()
-            return np.array(snk.data()).reshape(-1, K), foc
+            return self.block_image(c, **af)
 
         plain, _ = run()
         img, foc = run(trajectory_autofocus=True, autofocus_iterations=3, autofocus_points=3,
@@ -432,26 +439,15 @@ class qa_autofocus(gr_unittest.TestCase):
         first two targets as ground control points against the NMSE of the perfectly
         navigated image (BP of the noisy echo along the truth), computed here; its image
         sits where the truth's does (registration shift); bad GCPs refused by name."""
-        from gnuradio.nrsar.focus_scenario import K, NUM, R_FIRST, RHO, SPP, T
+        from gnuradio.nrsar.focus_scenario import T
         c = self.gnss_case(seed=2)
         st = c["st"]
         ref = st.image(c["clean"], st.path(c["ta"]))[0]
         perfect = st.nmse_db(st.image(c["noisy"], st.path(c["ta"]))[0], ref)
-        scn = nrsar.make_scene([(x, y) for x, y, _ in st.TARGETS])
 
         def run(gcp):
-            foc = nrsar.bp_focuser(NUM, st.geometry(st.M * T), scn, K, R_FIRST, RHO,
-                                   nrsar.bp_config(symbols_per_pulse=SPP,
-                                                   lines_per_aperture=st.M,
-                                                   trajectory_autofocus=True,
-                                                   autofocus_gcp=gcp), c["nav"])
-            tb = gr.top_block()
-            src = blocks.vector_source_c(c["noisy"].astype(np.complex64).ravel().tolist(),
-                                         False, K)
-            snk = blocks.vector_sink_c(K)
-            tb.connect(src, foc, snk)
-            tb.run()
-            return st.register(np.array(snk.data()).reshape(-1, K), ref), foc
+            img, foc = self.block_image(c, trajectory_autofocus=True, autofocus_gcp=gcp)
+            return st.register(img, ref), foc
 
         (alone, shift_alone), foc = run([])
         self.assertEqual(foc.trajectory_gcp_used(), 0)
