@@ -511,6 +511,24 @@ class qa_autofocus(gr_unittest.TestCase):
         self.assertEqual(runs["trajectory"]["nmse_db"], runs["none"]["nmse_db"])
         self.assertAlmostEqual(runs["trajectory"]["autofocus_phase_rms_rad"],
                                4 * math.pi * los / (299792458.0 / 3.5e9), delta=1e-12)
+        # a GNSS navigation with the reference target as ground control point: the image
+        # where the truth's is (peak error within the lambda / 2 periods the range peak may
+        # miss, 4.3 cm each; 1.48 m without), the trend in the JSON
+        gnss = common + ["--autofocus", "trajectory", "--nav-error", "gnss", "--out",
+                         os.path.join(out, "gnss")]
+        alone = chain.simulate(SimOptions.parse(gnss))
+        gcp = chain.simulate(SimOptions.parse(gnss + ["--autofocus-gcp", "600,5"]))
+        print(f"gnss: peak error {alone['peak_error_m']:.3f} m, NMSE {alone['nmse_db']:.2f} dB; "
+              f"with the GCP {gcp['peak_error_m']:.3f} m, {gcp['nmse_db']:.2f} dB, offset "
+              f"{gcp['autofocus_gcp_offset_m']} m, drift {gcp['autofocus_gcp_drift_mps']} m/s")
+        self.assertNotIn("autofocus_gcp_used", alone)
+        self.assertEqual(gcp["autofocus_gcp_used"], 1)
+        self.assertGreater(alone["peak_error_m"], 1.0)
+        self.assertLess(gcp["peak_error_m"], 0.1)
+        self.assertLess(gcp["nmse_db"], alone["nmse_db"])
+        self.assertEqual(len(gcp["autofocus_gcp_offset_m"]), 3)
+        self.assertEqual(gcp["autofocus_gcp_offset_m"][1], 0.0)
+        self.assertGreater(gcp["autofocus_gcp_drift_se_mps"], 0.0)
         self.assertNotIn("autofocus_los_rms_m", runs["pga"])
         self.assertNotIn("autofocus_los_se_m", runs["pga"])
         self.assertIn("autofocus", runs["pga"]["rx_block_s"])
