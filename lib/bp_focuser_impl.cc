@@ -213,6 +213,7 @@ void bp_focuser_impl::process_aperture()
         tc.points = d_cfg.autofocus_points;
         tc.tolerance_m = d_cfg.autofocus_tolerance_m;
         tc.significance = d_cfg.autofocus_significance;
+        tc.gcp = d_cfg.autofocus_gcp;
         tc.smooth_pulses = static_cast<unsigned>(
             std::clamp(std::round(0.04 / d_T), 1.0, static_cast<double>(d_fill)));
         const auto r = kernel::trajectory_autofocus(
@@ -222,6 +223,14 @@ void bp_focuser_impl::process_aperture()
             ss += v * v;
         d_los_rms = std::sqrt(ss / r.los_m.size());
         d_los_se = r.standard_error_m;
+        // the GCPs' trend, the drift per second (NaN without a GCP used)
+        d_gcp_used = r.gcp_used;
+        const double unused = r.gcp_used ? 1.0 : std::numeric_limits<double>::quiet_NaN();
+        for (int c = 0; c < 3; ++c) {
+            d_gcp_offset[c] = unused * r.gcp_offset_m[c];
+            d_gcp_drift[c] = unused * r.gcp_drift_m[c] / d_T;
+        }
+        d_gcp_se = { unused * r.gcp_offset_se_m, unused * r.gcp_drift_se_m / d_T };
     } else {
         d_kernel->reset(d_next_y);
         d_kernel->add(d_pulses.data(), d_fill, d_antenna.data());

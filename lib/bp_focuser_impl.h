@@ -41,6 +41,11 @@ private:
     double d_band_hi_hz = 0.0;
     double d_los_rms = std::numeric_limits<double>::quiet_NaN();
     double d_los_se = std::numeric_limits<double>::quiet_NaN();
+    unsigned d_gcp_used = 0;
+    static constexpr double s_nan = std::numeric_limits<double>::quiet_NaN();
+    std::array<double, 3> d_gcp_offset{ s_nan, s_nan, s_nan }; // NaN: before, or no GCP used
+    std::array<double, 3> d_gcp_drift{ s_nan, s_nan, s_nan };
+    std::array<double, 2> d_gcp_se{ s_nan, s_nan };
     std::unique_ptr<kernel::bp_focuser> d_kernel;
 
     bool d_pending = false; // axis change from a tag, applied at the next aperture
@@ -112,6 +117,10 @@ public:
     std::uint64_t nonfinite_count() const override { return d_nonfinite.count(); }
     double trajectory_los_rms_m() const override { return d_los_rms; }
     double trajectory_se_m() const override { return d_los_se; }
+    unsigned trajectory_gcp_used() const override { return d_gcp_used; }
+    std::array<double, 3> trajectory_gcp_offset_m() const override { return d_gcp_offset; }
+    std::array<double, 3> trajectory_gcp_drift_mps() const override { return d_gcp_drift; }
+    std::array<double, 2> trajectory_gcp_se() const override { return d_gcp_se; }
 };
 
 } // namespace nrsar

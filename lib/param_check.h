@@ -68,6 +68,18 @@ void check_range(const std::string& name, T value, T lo, T hi)
     }
 }
 
+//! A list of at most max_count points whose every coordinate is finite (name[i] names one).
+template <typename Points>
+void check_finite_points(const std::string& name, const Points& points, std::size_t max_count)
+{
+    if (points.size() > max_count)
+        throw_param(
+            name + " (count)", points.size(), "must be at most " + std::to_string(max_count));
+    for (std::size_t i = 0; i < points.size(); ++i)
+        for (double v : points[i])
+            check_finite(name + "[" + std::to_string(i) + "]", v);
+}
+
 } // namespace nrsar
 } // namespace gr
 

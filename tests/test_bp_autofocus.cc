@@ -386,6 +386,17 @@ TEST(bp_autofocus, validates)
     c.significance = -1.0;
     EXPECT_THROW(run(c, M), std::invalid_argument);
     EXPECT_THROW(run({}, 1), std::invalid_argument);
+    c = {};
+    c.gcp.assign(trajectory_autofocus_config::max_gcp + 1, vec3{ 800.0, 25.0, 0.0 });
+    EXPECT_THROW(run(c, M), std::invalid_argument);
+    try {
+        c = {};
+        c.gcp = { { 800.0, 25.0, 0.0 }, { 800.0, std::nan(""), 0.0 } };
+        run(c, M);
+        FAIL();
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("gcp[1] = nan must be finite"), std::string::npos);
+    }
     try {
         c = {};
         c.look_spread_rad = -0.1;
@@ -394,4 +405,114 @@ TEST(bp_autofocus, validates)
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("look_spread_rad = -0.1"), std::string::npos);
     }
+}
+
+TEST(bp_autofocus, ground_control_points_fix_the_trend)
+{
+    // The navigation error's constant and linear trend over the pulses (nav_error: 0.12 /
+    // -0.15 / -0.20 m and 0.05 / 0 / -0.08 m/s, besides the sway) only move the image, so
+    // focus leaves them; ground control points at surveyed positions fix them. Truth: each
+    // GCP's range error |a_nav - q| - |a_true - q| per pulse, its least-squares constant
+    // (at the middle pulse) and slope (the along-track error's part in it too: it moves the
+    // GCP in Doppler like a drift); the image against the perfectly navigated one.
+    std::vector<vec3> nav(M);
+    const auto tru = true_path();
+    for (unsigned n = 0; n < M; ++n)
+        for (int c = 0; c < 3; ++c)
+            nav[n][c] = tru[n][c] + nav_error(n)[c];
+    const double tm = 0.5 * (M - 1.0);
+    double stt = 0.0;
+    for (unsigned n = 0; n < M; ++n)
+        stt += (n - tm) * (n - tm);
+    struct los {
+        double ux, uz, c, s;
+    };
+    auto truth_of = [&](const double* q) {
+        auto range = [&](const vec3& a) {
+            return std::sqrt((a[0] - q[0]) * (a[0] - q[0]) + (a[1] - q[1]) * (a[1] - q[1]) +
+                             a[2] * a[2]);
+        };
+        los t{ (tru[M / 2][0] - q[0]) / range(tru[M / 2]), tru[M / 2][2] / range(tru[M / 2]),
+               0.0, 0.0 };
+        for (unsigned n = 0; n < M; ++n) {
+            const double e = range(nav[n]) - range(tru[n]);
+            t.c += e / M;
+            t.s += e * (n - tm) / stt;
+        }
+        return t;
+    };
+    const los t0 = truth_of(TGT[0]), t1 = truth_of(TGT[1]);
+    const double sigma2 = N / 10.0; // 10 dB per range-compressed sample of the first target
+    const auto pulses = echo(sigma2, 41);
+    std::vector<gr_complex> img1(std::size_t(M) * K), img2(img1.size()), img0(img1.size());
+    trajectory_autofocus_config cfg;
+    const auto r0 = trajectory_autofocus(pulses.data(), M, nav.data(), grid(), cfg, img0.data());
+    EXPECT_EQ(r0.gcp_used, 0u);
+
+    // One GCP (the first target): the trend along its line of sight.
+    cfg.gcp = { { TGT[0][0], TGT[0][1], 0.0 } };
+    const auto r1 = trajectory_autofocus(pulses.data(), M, nav.data(), grid(), cfg, img1.data());
+    ASSERT_EQ(r1.gcp_used, 1u);
+    EXPECT_FALSE(r1.gcp_two_dimensional);
+    const double c1 = r1.gcp_offset_m[0] * t0.ux + r1.gcp_offset_m[2] * t0.uz;
+    const double s1 = r1.gcp_drift_m[0] * t0.ux + r1.gcp_drift_m[2] * t0.uz;
+    // The constant's phase part (its distance to the lattice of the phase's period 1 / cs,
+    // cs = 2 / lambda + fc_r / rho) and slope within 3 standard errors (0.08 mm, 0.7 um /
+    // pulse: 1 / (2 pi cs sqrt(2 SNR n)) with the target's 10 dB over n = 400 pulses); the
+    // lattice point from the range peak within +-2 (0.09 m: the peak's bias from the
+    // neighbours' range sidelobes, unwindowed here, was 0.065 m on the true path).
+    const double half = 1.0 / (2.0 / LAM + FCR / RHO), k = std::round((c1 - t0.c) / half);
+    std::printf("1 GCP: constant %.2f mm (true %.2f, lattice %+.0f), se %.3f mm; slope %.4f "
+                "mm / pulse (true %.4f), se %.4f\n",
+                1e3 * c1, 1e3 * t0.c, k, 1e3 * r1.gcp_offset_se_m, 1e3 * s1, 1e3 * t0.s,
+                1e3 * r1.gcp_drift_se_m);
+    EXPECT_NEAR(c1 - k * half, t0.c, 3.0 * r1.gcp_offset_se_m);
+    EXPECT_LE(std::abs(k), 2.0);
+    EXPECT_NEAR(s1, t0.s, 3.0 * r1.gcp_drift_se_m);
+
+    // Two GCPs 1 degree apart: x and z, so also the constant across the line of sight that
+    // puts 4 pi (u_i - u_1) . e / lambda on the other targets' phases.
+    cfg.gcp.push_back({ TGT[1][0], TGT[1][1], 0.0 });
+    const auto r2 = trajectory_autofocus(pulses.data(), M, nav.data(), grid(), cfg, img2.data());
+    ASSERT_EQ(r2.gcp_used, 2u);
+    EXPECT_TRUE(r2.gcp_two_dimensional);
+    // Each GCP's line-of-sight constant and slope as the solution gives them: the second's
+    // integer is the first's (its lambda / 2 lattice point next to the first's prediction).
+    for (const los& t : { t0, t1 }) {
+        const double c = r2.gcp_offset_m[0] * t.ux + r2.gcp_offset_m[2] * t.uz;
+        const double s = r2.gcp_drift_m[0] * t.ux + r2.gcp_drift_m[2] * t.uz;
+        std::printf("2 GCPs: constant %.2f mm (true %.2f), slope %.4f mm / pulse (true %.4f)\n",
+                    1e3 * c, 1e3 * t.c, 1e3 * s, 1e3 * t.s);
+        EXPECT_NEAR(c - k * half, t.c, 3.0 * r1.gcp_offset_se_m * std::sqrt(2.0));
+        EXPECT_NEAR(s, t.s, 3.0 * r1.gcp_drift_se_m * std::sqrt(2.0));
+    }
+
+    // The images against the perfectly navigated one's NMSE (the reference: the noise-free
+    // echo along the truth).
+    const auto ref = bp_image(echo(0.0, 41), tru);
+    const double perfect_db = nmse_db(bp_image(pulses, tru), ref);
+    const double af_db = nmse_db(img0, ref), gcp1_db = nmse_db(img1, ref);
+    const double gcp2_db = nmse_db(img2, ref);
+    std::printf("NMSE: perfect navigation %.2f dB, autofocus %.2f dB, with 1 GCP %.2f dB, "
+                "2 GCPs %.2f dB\n",
+                perfect_db, af_db, gcp1_db, gcp2_db);
+    EXPECT_GT(af_db, perfect_db + 1.0);
+    EXPECT_LT(gcp2_db, perfect_db + 0.5);
+    // What the range peak's integer miss (k periods, 0.057 bin here) costs: the path moved
+    // on by k periods along the first GCP's line of sight, where the constant is right,
+    // against the same range shift of the perfectly navigated image (the truth moved by
+    // k periods along that line of sight): the miss costs what that shift costs.
+    std::vector<vec3> right = r2.antenna, shifted = tru;
+    for (unsigned n = 0; n < M; ++n) {
+        right[n][0] += k * half * t0.ux;
+        right[n][2] += k * half * t0.uz;
+        shifted[n][0] -= k * half * t0.ux;
+        shifted[n][2] -= k * half * t0.uz;
+    }
+    const double right_db = nmse_db(bp_image(pulses, right), ref);
+    const double shifted_db = nmse_db(bp_image(pulses, shifted), ref);
+    std::printf("the integer right: %.2f dB (missed by %+.0f: %.2f dB); the perfect image "
+                "shifted by as much: %.2f dB\n",
+                right_db, k, gcp2_db, shifted_db);
+    EXPECT_NEAR(gcp2_db - right_db, shifted_db - perfect_db, 0.05);
 }

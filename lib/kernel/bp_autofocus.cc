@@ -33,6 +33,7 @@ void trajectory_autofocus_config::validate() const
         throw_param("tolerance_m", tolerance_m, "must be in (0, 1)");
     if (!(std::isfinite(significance) && significance >= 0.0 && significance <= 100.0))
         throw_param("significance", significance, "must be in [0, 100]");
+    check_finite_points("gcp", gcp, max_gcp);
 }
 
 namespace {
@@ -65,6 +66,57 @@ bool pixel_position(const bp_grid& g, unsigned j, unsigned k, vec3& p)
         return false;
     p = { std::sqrt(r0 * r0 - g.reference_height_m * g.reference_height_m), y, 0.0 };
     return true;
+}
+
+struct history {
+    double sum; // of the unwrapped history [m]
+    double a2;  // coherent power per pulse A^2
+    double w;   // A^2 / sigma^2 (0: the smoothed SNR is below 2)
+    double v;   // variance of lambda psi / (4 pi) per pulse [m^2]
+};
+
+// c's complex moving sum over len[p] pulses (h each side), its phase unwrapped over the
+// pulses in metres (lambda psi / (4 pi)) into b, and the noise it carries.
+history smoothed_history(const std::vector<std::complex<double>>& c,
+                         const std::vector<unsigned>& len,
+                         unsigned h,
+                         double to_m,
+                         std::vector<double>& b)
+{
+    // The noise: sigma^2 from each summand's deviation from its moving mean (the
+    // path error is slow over the sum; white noise gives sigma^2 (1 - 1 / L));
+    // the coherent power A^2: mean |s / L|^2 less the sigma^2 / L noise adds.
+    // The smoothed phase's variance is then sigma^2 / (2 L A^2).
+    const unsigned n = static_cast<unsigned>(c.size());
+    double pw = 0.0, dev = 0.0, dof = 0.0, inv_len = 0.0;
+    std::complex<double> s(0.0, 0.0);
+    unsigned lo = 0, hi = 0; // s = sum of c[lo, hi)
+    double prev = 0.0, sum = 0.0;
+    for (unsigned p = 0; p < n; ++p) {
+        const unsigned want_lo = p > h ? p - h : 0, want_hi = std::min(n, p + h + 1);
+        for (; hi < want_hi; ++hi)
+            s += c[hi];
+        for (; lo < want_lo; ++lo)
+            s -= c[lo];
+        const double L = len[p];
+        pw += std::norm(s) / (L * L);
+        dev += std::norm(c[p] - s / L);
+        dof += 1.0 - 1.0 / L;
+        inv_len += 1.0 / L;
+        const double a = std::arg(s);
+        prev = p == 0 ? a : prev + std::remainder(a - prev, 2.0 * M_PI);
+        b[p] = prev * to_m;
+        sum += b[p];
+    }
+    pw /= n;
+    const double sigma2 = std::max(dof > 0.0 ? dev / dof : 0.0, 1e-12 * pw);
+    const double a2 = std::max(pw - sigma2 * inv_len / n, 1e-12 * pw);
+    // A history whose smoothed SNR L A^2 / sigma^2 is below 2 (phase noise above
+    // 0.5 rad) unwraps into a random walk (a noise peak taken for a point): unused.
+    return { sum,
+             a2,
+             pw > 0.0 && (2 * h + 1) * a2 >= 2.0 * sigma2 ? a2 / sigma2 : 0.0,
+             pw > 0.0 ? to_m * to_m * sigma2 / (2.0 * a2) : 0.0 };
 }
 
 // Offset of the peak from sample 0 by a parabola through ln|.| of three samples, in
@@ -128,6 +180,189 @@ std::vector<point> prominent(const std::vector<gr_complex>& img,
         pts.push_back({ j, k, p, q, 0.0, 0.0 });
     }
     return pts;
+}
+
+// The ground control points' calibration (docs/blocks/bp_focuser.md, "Ground control
+// points"): each GCP q in the image gives, along res.antenna, the constant c and slope s
+// over the pulses of its line-of-sight error R_nav - R_true; they fix the navigation
+// error's constant and linear trend, which no focus criterion observes. Takes them off
+// res.antenna; false when no GCP has a usable history.
+bool calibrate_gcp(const gr_complex* pulses,
+                   unsigned n,
+                   const bp_grid& grid,
+                   const std::vector<vec3>& gcps,
+                   bp_focuser& one,
+                   const std::vector<unsigned>& len,
+                   unsigned h,
+                   trajectory_autofocus_result& res)
+{
+    const unsigned K = grid.num_range_bins;
+    // A range error e turns a BP summand by 2 pi cs e: the carrier's 4 pi e / lambda and the
+    // range spectrum centre's 2 pi fc_r e / rho (the band's centre, not subcarrier 0, is the
+    // phase's carrier); the phase repeats every 1 / cs of range.
+    const double cs = 2.0 / grid.wavelength_m + grid.range_centre_cycles / grid.range_bin_m;
+    const double period = 1.0 / cs, to_m = period / (2.0 * M_PI);
+    const double tm = 0.5 * (n - 1.0);
+    double stt = 0.0;
+    for (unsigned p = 0; p < n; ++p)
+        stt += (p - tm) * (p - tm);
+    std::vector<gr_complex> line(K);
+    std::vector<std::complex<double>> c(n);
+    std::vector<double> b(n);
+    std::vector<vec3> path(n);
+    struct fix {
+        double ux, uz; // line of sight (x, z) at the middle pulse
+        double c, s;   // constant at the middle pulse [m], slope [m / pulse]
+        double v;      // per-pulse variance of the history [m^2]
+        double a2;     // coherent power per pulse
+    };
+    std::vector<fix> fixes;
+    constexpr int steps = 6; // the range search: +-1.5 bins in quarter bins
+    for (const vec3& q : gcps) {
+        const vec3& am = res.antenna[n / 2];
+        const double rm = distance(am, q);
+        const double jq = (q[1] - grid.first_y_m) / grid.line_spacing_m;
+        const double kq = grid.ground ? (q[0] - grid.first_x_m) / grid.x_spacing_m
+                                      : (rm - grid.first_range_m) / grid.range_bin_m;
+        const double kr = (rm - grid.first_range_m) / grid.range_bin_m;
+        // another aperture's (a strip's apertures share the list), or its echo off the bins
+        if (!(jq >= 0.0 && jq <= grid.num_lines - 1.0 && kq >= 0.0 && kq <= K - 1.0 &&
+              kr >= 2.0 && kr <= K - 3.0))
+            continue;
+        // Pixel kp of the line at q's y along the path moved by p - q sees exactly q's range
+        // history (|a + p - q - p| = |a - q|): BP's own interpolation and phase.
+        const unsigned kp = static_cast<unsigned>(std::lround(kq));
+        vec3 p;
+        if (!pixel_position(grid, 0, kp, p))
+            continue;
+        p[1] = q[1];
+        // The path moved by p - q and toward q by delta + slope (pulse - tm).
+        auto moved = [&](unsigned i, double delta, double slope) {
+            const vec3& a = res.antenna[i];
+            const double r = distance(a, q), m = (delta + slope * (i - tm)) / r;
+            return vec3{ a[0] + p[0] - q[0] - m * (a[0] - q[0]),
+                         a[1] + p[1] - q[1] - m * (a[1] - q[1]),
+                         a[2] + p[2] - q[2] - m * (a[2] - q[2]) };
+        };
+        for (unsigned i = 0; i < n; ++i) {
+            const vec3 a = moved(i, 0.0, 0.0);
+            one.reset(q[1]);
+            one.add(pulses + std::size_t(i) * K, 1, &a);
+            one.image(line.data());
+            c[i] = std::complex<double>(line[kp]);
+        }
+        const history hs = smoothed_history(c, len, h, to_m, b);
+        if (hs.w == 0.0)
+            continue;
+        double slope = 0.0;
+        for (unsigned i = 0; i < n; ++i)
+            slope += b[i] * (i - tm) / stt;
+        // The constant is the phase's, ambiguous by the period 1 / cs: the range peak of q's
+        // image along the path less the slope (its envelope |A(delta)|, delta in quarter
+        // bins, parabola through ln |A|) picks the integer. Its noise (the resolution over
+        // about sqrt(2 SNR) of the image) and the neighbours' range sidelobes may miss it by
+        // a few: a range shift of k periods, a small part of the resolution cell, where the
+        // phase (what the image's NMSE feels) stays right (docs/blocks/bp_focuser.md).
+        auto envelope = [&](int m) {
+            for (unsigned i = 0; i < n; ++i)
+                path[i] = moved(i, 0.25 * m * grid.range_bin_m, slope);
+            one.reset(q[1]);
+            one.add(pulses, n, path.data());
+            one.image(line.data());
+            return std::log(std::max(double(std::abs(line[kp])), 1e-300));
+        };
+        std::vector<double> env(2 * steps + 1);
+        for (int m = -steps; m <= steps; ++m)
+            env[m + steps] = envelope(m);
+        const int top = int(std::max_element(env.begin(), env.end()) - env.begin());
+        if (top == 0 || top == 2 * steps) // no peak within the search
+            continue;
+        const double peak =
+            (top - steps + peak_offset(env[top - 1], env[top], env[top + 1])) * 0.25 *
+            grid.range_bin_m;
+        const double fine = hs.sum / n;
+        const double constant = fine + period * std::round((peak - fine) / period);
+        fixes.push_back(
+            { (am[0] - q[0]) / rm, (am[2] - q[2]) / rm, constant, slope, hs.v, hs.a2 });
+    }
+    if (fixes.empty())
+        return false;
+    res.gcp_used = static_cast<unsigned>(fixes.size());
+    // The others' integers from the strongest one's (the least noise, and the least pulled
+    // by its neighbours' range sidelobes): the lattice point next to what its offset
+    // predicts along their line of sight. Their own range peaks would slip; a slip of a
+    // period P (about lambda / 2) between two GCPs at look angles d apart tilts the solution
+    // by P / d across the line of sight; this needs the navigation's error across it below
+    // P / (2 d), 1.2 m at d = 1 degree.
+    const auto ref = std::max_element(
+        fixes.begin(), fixes.end(), [](const fix& a, const fix& b) { return a.a2 < b.a2; });
+    const double ur2 = ref->ux * ref->ux + ref->uz * ref->uz;
+    for (fix& f : fixes) {
+        const double predicted = ref->c * (f.ux * ref->ux + f.uz * ref->uz) / ur2;
+        f.c += period * std::round((predicted - f.c) / period);
+    }
+    double sw = 0.0, st = 0.0, st2 = 0.0;
+    for (const fix& f : fixes) {
+        const double th = std::atan2(f.ux, f.uz);
+        sw += 1.0 / f.v;
+        st += th / f.v;
+        st2 += th * th / f.v;
+    }
+    // Both components when the GCPs' look angles spread (the one across the line of sight
+    // comes with the noise times 1 / spread; the constant averages n pulses, so even a
+    // degree of spread leaves millimetres); else along their mean line of sight.
+    res.gcp_two_dimensional =
+        fixes.size() >= 2 && std::sqrt(std::max(0.0, st2 / sw - (st / sw) * (st / sw))) >= 1e-3;
+    double e0[2], e1[2], g_trace; // (x, z) of the constant and slope; trace of G^-1
+    if (res.gcp_two_dimensional) { // weighted least squares, G = sum u u^T / v
+        double axx = 0.0, axz = 0.0, azz = 0.0, bx0 = 0.0, bz0 = 0.0, bx1 = 0.0, bz1 = 0.0;
+        for (const fix& f : fixes) {
+            axx += f.ux * f.ux / f.v;
+            axz += f.ux * f.uz / f.v;
+            azz += f.uz * f.uz / f.v;
+            bx0 += f.ux * f.c / f.v;
+            bz0 += f.uz * f.c / f.v;
+            bx1 += f.ux * f.s / f.v;
+            bz1 += f.uz * f.s / f.v;
+        }
+        const double det = axx * azz - axz * axz;
+        e0[0] = (azz * bx0 - axz * bz0) / det;
+        e0[1] = (axx * bz0 - axz * bx0) / det;
+        e1[0] = (azz * bx1 - axz * bz1) / det;
+        e1[1] = (axx * bz1 - axz * bx1) / det;
+        g_trace = (axx + azz) / det;
+    } else { // along the mean line of sight m
+        double mx = 0.0, mz = 0.0;
+        for (const fix& f : fixes) {
+            mx += f.ux / f.v;
+            mz += f.uz / f.v;
+        }
+        const double mn = std::hypot(mx, mz);
+        mx /= mn;
+        mz /= mn;
+        double num0 = 0.0, num1 = 0.0, den = 0.0;
+        for (const fix& f : fixes) {
+            const double um = f.ux * mx + f.uz * mz;
+            num0 += um * f.c / f.v;
+            num1 += um * f.s / f.v;
+            den += um * um / f.v;
+        }
+        e0[0] = num0 / den * mx;
+        e0[1] = num0 / den * mz;
+        e1[0] = num1 / den * mx;
+        e1[1] = num1 / den * mz;
+        g_trace = 1.0 / den;
+    }
+    // The constant averages n pulses, the slope sum (p - tm)^2 of them.
+    res.gcp_offset_se_m = std::sqrt(g_trace / n);
+    res.gcp_drift_se_m = std::sqrt(g_trace / stt);
+    res.gcp_offset_m = { e0[0], 0.0, e0[1] };
+    res.gcp_drift_m = { e1[0], 0.0, e1[1] };
+    for (unsigned i = 0; i < n; ++i) {
+        res.antenna[i][0] -= e0[0] + e1[0] * (i - tm);
+        res.antenna[i][2] -= e0[1] + e1[1] * (i - tm);
+    }
+    return true;
 }
 
 } // namespace
@@ -209,39 +444,11 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
                 c[p] = std::complex<double>(line[q.bin]) *
                        std::polar(1.0, ud / to_m - 2.0 * M_PI * cs * dr);
             }
-            // The noise: sigma^2 from each summand's deviation from its moving mean (the
-            // path error is slow over the sum; white noise gives sigma^2 (1 - 1 / L));
-            // the coherent power A^2: mean |s / L|^2 less the sigma^2 / L noise adds.
-            // The smoothed phase's variance is then sigma^2 / (2 L A^2).
-            double pw = 0.0, dev = 0.0, dof = 0.0, inv_len = 0.0;
-            std::complex<double> s(0.0, 0.0);
-            unsigned lo = 0, hi = 0; // s = sum of c[lo, hi)
-            double prev = 0.0, mean = 0.0;
-            for (unsigned p = 0; p < n; ++p) {
-                const unsigned want_lo = p > h ? p - h : 0, want_hi = std::min(n, p + h + 1);
-                for (; hi < want_hi; ++hi)
-                    s += c[hi];
-                for (; lo < want_lo; ++lo)
-                    s -= c[lo];
-                const double L = len[p];
-                pw += std::norm(s) / (L * L);
-                dev += std::norm(c[p] - s / L);
-                dof += 1.0 - 1.0 / L;
-                inv_len += 1.0 / L;
-                const double a = std::arg(s);
-                prev = p == 0 ? a : prev + std::remainder(a - prev, 2.0 * M_PI);
-                b[i][p] = prev * to_m;
-                mean += b[i][p];
-            }
+            const history hs = smoothed_history(c, len, h, to_m, b[i]);
             for (double& v : b[i])
-                v -= mean / n;
-            pw /= n;
-            const double sigma2 = std::max(dof > 0.0 ? dev / dof : 0.0, 1e-12 * pw);
-            const double a2 = std::max(pw - sigma2 * inv_len / n, 1e-12 * pw);
-            // A history whose smoothed SNR L A^2 / sigma^2 is below 2 (phase noise above
-            // 0.5 rad) unwraps into a random walk (a noise peak taken for a point): unused.
-            q.w = pw > 0.0 && (2 * h + 1) * a2 >= 2.0 * sigma2 ? a2 / sigma2 : 0.0;
-            q.v = pw > 0.0 ? to_m * to_m * sigma2 / (2.0 * a2) : 0.0;
+                v -= hs.sum / n;
+            q.w = hs.w;
+            q.v = hs.v;
         }
         if (std::none_of(pts.begin(), pts.end(), [](const point& q) { return q.w > 0.0; }))
             break;
@@ -356,7 +563,9 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         res.antenna.assign(antenna, antenna + n);
         res.displacement_m.assign(n, vec3{ 0.0, 0.0, 0.0 });
     }
-    if (!(img_is_nav && !res.accepted))
+    const bool calibrated =
+        !cfg.gcp.empty() && calibrate_gcp(pulses, n, grid, cfg.gcp, one, len, h, res);
+    if (calibrated || !(img_is_nav && !res.accepted))
         image_along(res.antenna);
     std::copy(img.begin(), img.end(), image_out);
 

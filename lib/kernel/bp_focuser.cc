@@ -9,6 +9,7 @@
 #include "bp_focuser_impl.h"
 #include "gaussian_noise_impl.h" // noise_detail::avx2_available
 #include <gnuradio/nrsar/bp_config.h>
+#include <gnuradio/nrsar/kernel/bp_autofocus.h>
 #include <gnuradio/nrsar/kernel/bp_focuser.h>
 #include <algorithm>
 #include <cmath>
@@ -56,6 +57,8 @@ void bp_config::validate() const
           autofocus_tolerance_m < 1.0))
         throw_param("autofocus_tolerance_m", autofocus_tolerance_m, "must be in (0, 1)");
     check_range("autofocus_significance", autofocus_significance, 0.0, 100.0);
+    check_finite_points(
+        "autofocus_gcp", autofocus_gcp, kernel::trajectory_autofocus_config::max_gcp);
 }
 
 namespace kernel {

@@ -38,7 +38,7 @@ from .nrsar_python import (cheby_presum, constellation, doppler_band, focuser_co
                            range_ifft, range_compress, range_compress_config,
                            rd_focuser, scene_echo, tf_filter, bp_config, bp_focuser,
                            moco_order, image_grid, autofocus, autofocus_config)
-from .options import check_out_dir
+from .options import OptionError, check_out_dir, parse_gcps
 from .scenario import fft_size_of
 
 
@@ -98,7 +98,21 @@ def bp_config_of(opts, cfg, autofocus=False):
                      autofocus_iterations=opts.autofocus_iterations,
                      autofocus_points=opts.autofocus_points,
                      autofocus_tolerance_m=opts.autofocus_tolerance_m,
-                     autofocus_significance=opts.autofocus_significance)
+                     autofocus_significance=opts.autofocus_significance,
+                     autofocus_gcp=parse_gcps(opts.autofocus_gcp) if autofocus else [])
+
+
+def check_gcps_in_image(opts, geo, first_range_m, bins, rho):
+    """OptionError naming the --autofocus-gcp that lies off the image: its slant range from
+    the ideal line, sqrt(x^2 + (H - z)^2), outside the focuser's range axis (an aperture's
+    image holds a GCP only where its echo is on the bins)."""
+    last = first_range_m + (bins - 1) * rho
+    for text, (x, _, z) in zip(opts.autofocus_gcp or [], parse_gcps(opts.autofocus_gcp)):
+        r = math.hypot(x, geo.height_m - z)
+        if not first_range_m <= r <= last:
+            raise OptionError(f"--autofocus-gcp = {text!r} lies outside the image: slant "
+                              f"range {r:.1f} m, the image's is [{first_range_m:.1f}, "
+                              f"{last:.1f}] m")
 
 
 def focuser_config_of(opts, sc, guard_bins):
@@ -190,6 +204,9 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=
     if not focuser:
         foc = None
     elif opts.focuser in ("bp", "ffbp"):
+        if autofocus:
+            check_gcps_in_image(opts, geo, rif.range_axis_first_m(), rif.num_bins(),
+                                rif.range_bin_m())
         foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                          rif.range_bin_m(), bp_config_of(opts, cfg, autofocus), nav)
     else:

@@ -253,6 +253,32 @@ def parse_origin(text, flag="--origin"):
     return lat, lon, heading
 
 
+MAX_GCP = 16  # kernel::trajectory_autofocus_config::max_gcp
+
+
+def parse_gcps(texts, flag="--autofocus-gcp"):
+    """['X,Y[,Z]', ...] (metres, scene frame; Z default 0) -> [(x, y, z)]: numbers, finite,
+    at most MAX_GCP of them."""
+    texts = texts or []
+    if len(texts) > MAX_GCP:
+        raise OptionError(f"{flag} given {len(texts)} times must be given at most {MAX_GCP} "
+                          f"times")
+    points = []
+    for text in texts:
+        parts = [p.strip() for p in str(text).split(",")]
+        if len(parts) not in (2, 3):
+            raise OptionError(f"{flag} = {text!r} must be X,Y[,Z] (2 or 3 numbers, got "
+                              f"{len(parts)})")
+        try:
+            values = [float(p) for p in parts]
+        except ValueError:
+            raise OptionError(f"{flag} = {text!r} must be X,Y[,Z] in metres (numbers)") from None
+        if not all(map(math.isfinite, values)):
+            raise OptionError(f"{flag} = {text!r} must be finite")
+        points.append(tuple(values + [0.0] * (3 - len(values))))
+    return points
+
+
 def check_map_options(opts):
     """The rules of --origin and --geotiff (SimOptions and ProcessOptions)."""
     if opts.origin is not None:
@@ -398,6 +424,11 @@ class SimOptions(Options):
                                            "correction only when its rms exceeds this many "
                                            "standard errors of the phase histories' noise "
                                            "(0: always)", at_least=0.0, at_most=100.0)
+    autofocus_gcp: typing.Optional[typing.List[str]] = option(
+        None, "--autofocus trajectory: a ground control point (a surveyed corner reflector) "
+        "at X, Y[, Z] in the scene frame [m] inside the image; repeatable, at most 16: they "
+        "fix the navigation error's constant and drift, which focus cannot see (JSON "
+        "autofocus_gcp_*; docs/blocks/bp_focuser.md)", metavar="X,Y[,Z]")
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "
@@ -528,6 +559,10 @@ class SimOptions(Options):
         if self.autofocus == "trajectory" and self.focuser == "rd":
             raise OptionError("--autofocus = 'trajectory' needs --focuser bp or ffbp (it "
                               "back-projects along the corrected path)")
+        if self.autofocus_gcp and self.autofocus != "trajectory":
+            raise OptionError(f"--autofocus-gcp = {self.autofocus_gcp[0]!r} needs --autofocus "
+                              f"trajectory")
+        parse_gcps(self.autofocus_gcp)
 
     def presum_factor(self):
         """D of the presummer (1 without one)."""

@@ -258,6 +258,19 @@ def image_results(opts, chain, sc, runtime_s):
         # not kept (autofocus_los_rms_m 0)
         se = chain["focuser"].trajectory_se_m()
         result["autofocus_los_se_m"] = se if math.isfinite(se) else None
+        if opts.autofocus_gcp:
+            # the navigation error's constant (at the latest aperture's middle pulse) and
+            # drift the ground control points fixed, (x, y, z); y is not solved (0); None
+            # where no GCP lay in that aperture's image
+            foc = chain["focuser"]
+            result["autofocus_gcp_used"] = foc.trajectory_gcp_used()
+            for key, v in (("offset_m", foc.trajectory_gcp_offset_m()),
+                           ("drift_mps", foc.trajectory_gcp_drift_mps())):
+                result[f"autofocus_gcp_{key}"] = (list(v) if all(map(math.isfinite, v))
+                                                  else None)
+            se = foc.trajectory_gcp_se()
+            result["autofocus_gcp_offset_se_m"] = se[0] if math.isfinite(se[0]) else None
+            result["autofocus_gcp_drift_se_mps"] = se[1] if math.isfinite(se[1]) else None
         af_rms = 4.0 * math.pi * los / sc.geo.wavelength_m()
     result["autofocus_phase_rms_rad"] = af_rms if math.isfinite(af_rms) else None
     # symbols a radio's overflow lost, zeroed by ofdm_demod (docs/recording.md, "Gaps")

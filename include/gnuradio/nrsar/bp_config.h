@@ -9,8 +9,10 @@
 #define INCLUDED_NRSAR_BP_CONFIG_H
 
 #include <gnuradio/nrsar/api.h>
+#include <array>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -80,6 +82,10 @@ struct NRSAR_API bp_config {
     double autofocus_tolerance_m = 1e-4;
     //! It keeps a correction only above this many standard errors ([0, 100]; 0: always).
     double autofocus_significance = 2.0;
+    //! Its ground control points: surveyed (x, y, z) [m] in the scene frame (at most 16, each
+    //! used by the aperture whose image holds it): they fix the navigation error's constant
+    //! and drift (kernel gcp); empty: none.
+    std::vector<std::array<double, 3>> autofocus_gcp;
 
     void validate() const;
 };

@@ -13,6 +13,7 @@
 #include <gnuradio/nrsar/bp_config.h>
 #include <gnuradio/nrsar/params.h>
 #include <gnuradio/nrsar/trajectory.h>
+#include <array>
 #include <cstdint>
 
 namespace gr {
@@ -99,6 +100,16 @@ public:
     //! cfg.trajectory_autofocus: the standard error of the latest aperture's correction,
     //! rms over the pulses, from its phase histories' noise [m] (NaN before, or without).
     virtual double trajectory_se_m() const = 0;
+    //! cfg.autofocus_gcp: the ground control points the latest aperture used (0: none in
+    //! its image with a usable history; then the three below are NaN).
+    virtual unsigned trajectory_gcp_used() const = 0;
+    //! Its navigation error's constant (x, y, z) at the aperture's middle pulse [m], and
+    //! drift (x, y, z) [m/s], from the GCPs (y: 0, not solved).
+    virtual std::array<double, 3> trajectory_gcp_offset_m() const = 0;
+    virtual std::array<double, 3> trajectory_gcp_drift_mps() const = 0;
+    //! Their standard errors from the GCPs' phase noise, rms of x and z: offset [m], drift
+    //! [m/s].
+    virtual std::array<double, 2> trajectory_gcp_se() const = 0;
 };
 
 } // namespace nrsar

@@ -179,6 +179,7 @@ void bind_autofocus(py::module& m)
         .def_readwrite("look_spread_rad", &trajectory_autofocus_config::look_spread_rad)
         .def_readwrite("tolerance_m", &trajectory_autofocus_config::tolerance_m)
         .def_readwrite("significance", &trajectory_autofocus_config::significance)
+        .def_readwrite("gcp", &trajectory_autofocus_config::gcp)
         .def("validate", &trajectory_autofocus_config::validate);
 
     m.def(
@@ -215,6 +216,12 @@ void bind_autofocus(py::module& m)
             d["iterations"] = r.iterations;
             d["standard_error_m"] = r.standard_error_m;
             d["accepted"] = r.accepted;
+            d["gcp_used"] = r.gcp_used;
+            d["gcp_offset_m"] = r.gcp_offset_m;
+            d["gcp_drift_m"] = r.gcp_drift_m;
+            d["gcp_two_dimensional"] = r.gcp_two_dimensional;
+            d["gcp_offset_se_m"] = r.gcp_offset_se_m;
+            d["gcp_drift_se_m"] = r.gcp_drift_se_m;
             return py::make_tuple(img, d);
         },
         py::arg("pulses"),
@@ -224,7 +231,8 @@ void bind_autofocus(py::module& m)
         py::arg("num_threads") = 1u,
         "(image along the corrected path, dict of antenna, displacement_m, los_m, points, "
         "look_spread_rad, two_dimensional, last_update_rms_m, iterations, standard_error_m, "
-        "accepted): autofocus by "
+        "accepted, gcp_used, gcp_offset_m, gcp_drift_m (per pulse), gcp_two_dimensional, "
+        "gcp_offset_se_m, gcp_drift_se_m): autofocus by "
         "trajectory estimation (kernel::trajectory_autofocus) of range-compressed pulses "
         "(pulses x K) back-projected from antenna positions (one (x, y, z) per pulse)");
 }

@@ -55,7 +55,8 @@ void bind_bp_focuser(py::module& m)
                          unsigned autofocus_iterations,
                          unsigned autofocus_points,
                          double autofocus_tolerance_m,
-                         double autofocus_significance) {
+                         double autofocus_significance,
+                         std::vector<std::array<double, 3>> autofocus_gcp) {
                  bp_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -77,6 +78,7 @@ void bind_bp_focuser(py::module& m)
                  c.autofocus_points = autofocus_points;
                  c.autofocus_tolerance_m = autofocus_tolerance_m;
                  c.autofocus_significance = autofocus_significance;
+                 c.autofocus_gcp = autofocus_gcp;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -99,6 +101,7 @@ void bind_bp_focuser(py::module& m)
              py::arg("autofocus_points") = 8u,
              py::arg("autofocus_tolerance_m") = 1e-4,
              py::arg("autofocus_significance") = 2.0,
+             py::arg("autofocus_gcp") = std::vector<std::array<double, 3>>(),
              "bp_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &bp_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &bp_config::lines_per_aperture)
@@ -120,6 +123,7 @@ void bind_bp_focuser(py::module& m)
         .def_readwrite("autofocus_points", &bp_config::autofocus_points)
         .def_readwrite("autofocus_tolerance_m", &bp_config::autofocus_tolerance_m)
         .def_readwrite("autofocus_significance", &bp_config::autofocus_significance)
+        .def_readwrite("autofocus_gcp", &bp_config::autofocus_gcp)
         .def("validate", &bp_config::validate);
 
     py::class_<bp_focuser, gr::block, gr::basic_block, std::shared_ptr<bp_focuser>>(
@@ -150,5 +154,9 @@ void bind_bp_focuser(py::module& m)
         .def("nonfinite_count", &bp_focuser::nonfinite_count)
         .def("stream_first_line", &bp_focuser::stream_first_line)
         .def("trajectory_los_rms_m", &bp_focuser::trajectory_los_rms_m)
-        .def("trajectory_se_m", &bp_focuser::trajectory_se_m);
+        .def("trajectory_se_m", &bp_focuser::trajectory_se_m)
+        .def("trajectory_gcp_used", &bp_focuser::trajectory_gcp_used)
+        .def("trajectory_gcp_offset_m", &bp_focuser::trajectory_gcp_offset_m)
+        .def("trajectory_gcp_drift_mps", &bp_focuser::trajectory_gcp_drift_mps)
+        .def("trajectory_gcp_se", &bp_focuser::trajectory_gcp_se);
 }

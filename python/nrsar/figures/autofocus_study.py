@@ -25,6 +25,9 @@ back-projects again. A position error's constant and linear trend over the apert
 nothing (they move each target in range phase by its own line of sight, and in Doppler), so
 no autofocus can see them: the *_trend_db columns measure against BP of the noise-free echo
 along the truth plus that trend, the *_db columns against the perfectly navigated image.
+Ground control points observe the trend: the gcp1 columns take the first target as one
+(the trend along its line of sight), the gcp2 columns the first two (x and z); their
+estimate of the constant and drift against the true trend's (x, z).
 
 The true phase error at the target, 4 pi (R_nav - R_true) / lambda per pulse, is mapped to
 the image's azimuth DFT bins through the target's Doppler history (bin
@@ -211,6 +214,27 @@ def run(seed, make_plot=None):
     row["trajectory_iterations"] = int(est["iterations"])
     row["trajectory_points"] = len(est["points"])
     row["look_spread_rad"] = float(est["look_spread_rad"])
+    # With ground control points (surveyed corner reflectors): the first target alone (the
+    # reference target, as a campaign surveys its reflector; it fixes the trend along its
+    # line of sight), and the first two (1 degree apart in look angle: x and z). Their
+    # estimate of the navigation error's constant at the middle pulse and drift against
+    # the true trend's (x, z).
+    true_offset = (trend[0] + trend[-1]) / 2
+    true_drift = (trend[-1] - trend[0]) / ((M - 1) * T)
+    for name, gcps in (("gcp1", TARGETS[:1]), ("gcp2", TARGETS[:2])):
+        cfg = trajectory_autofocus_config()
+        cfg.gcp = [(gx, gy, 0.0) for gx, gy, _ in gcps]
+        img, est = trajectory_autofocus(noisy.astype(np.complex64), [tuple(a) for a in nav_ant],
+                                        grid_of(foc), cfg)
+        reg, shift = register(img, ref)
+        row[f"nmse_{name}_db"] = nmse_db(reg, ref)
+        row[f"shift_{name}_lines"] = shift
+        off = np.asarray(est["gcp_offset_m"]) - true_offset
+        drift = np.asarray(est["gcp_drift_m"]) / T - true_drift
+        row[f"{name}_offset_err_m"] = float(np.hypot(off[0], off[2]))
+        row[f"{name}_drift_err_mps"] = float(np.hypot(drift[0], drift[2]))
+        row[f"{name}_offset_se_m"] = float(est["gcp_offset_se_m"])
+        row[f"{name}_used"] = int(est["gcp_used"])
     if make_plot is not None:
         make_plot.append(("los", np.arange(M) * T, los_true, los_est))
     for name, method in (("pga", autofocus_method.PGA), ("entropy", autofocus_method.ENTROPY)):

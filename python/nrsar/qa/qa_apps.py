@@ -48,6 +48,18 @@ BAD_INPUTS = [
      "--autofocus-significance = -1 must be at least 0"),
     ("nrsar-sim", ["--autofocus-tolerance-m", "0"], "--autofocus-tolerance-m = 0 must be above 0"),
     ("nrsar-sim", ["--autofocus-points", "65"], "--autofocus-points = 65 must be at most 64"),
+    ("nrsar-sim", ["--autofocus-gcp", "800,25"],
+     "--autofocus-gcp = '800,25' needs --autofocus trajectory"),
+    ("nrsar-sim", ["--autofocus", "trajectory", "--focuser", "bp", "--autofocus-gcp", "800"],
+     "--autofocus-gcp = '800' must be X,Y[,Z] (2 or 3 numbers, got 1)"),
+    ("nrsar-sim", ["--autofocus", "trajectory", "--focuser", "bp", "--autofocus-gcp",
+                   "800,nan"], "--autofocus-gcp = '800,nan' must be finite"),
+    ("nrsar-sim", ["--autofocus", "trajectory", "--focuser", "bp"] +
+     ["--autofocus-gcp", "300,100"] * 17, "--autofocus-gcp given 17 times must be given at "
+     "most 16 times"),
+    ("nrsar-sim", ["--autofocus", "trajectory", "--focuser", "bp", "--preset", "small",
+                   "--autofocus-gcp", "1e5,0"], "--autofocus-gcp = '1e5,0' lies outside the "
+     "image: slant range 100005.0 m"),
     ("nrsar-sim", ["--filter-threads", "3"], "--filter-threads = 3 must be at most 2"),
     ("nrsar-sim", ["--filter", "zf"], "--filter: invalid choice: 'zf'"),
     ("nrsar-sim", ["--modulation", "qam1024"], "--modulation: invalid choice"),

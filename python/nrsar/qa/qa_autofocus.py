@@ -347,6 +347,24 @@ class qa_autofocus(gr_unittest.TestCase):
         return dict(st=st, nav=nav, ta=ta, na=na, clean=clean, noisy=noisy, ref=ref, foc=foc,
                     floor=floor, los_true=st.detrend_pulses(np.sum(u * err, axis=1)))
 
+    @staticmethod
+    def block_image(c, **af):
+        """The bp_focuser block along gnss_case c's navigation with bp_config(**af) on its
+        noisy echo: (image, block)."""
+        from gnuradio.nrsar.focus_scenario import K, NUM, R_FIRST, RHO, SPP, T
+        st = c["st"]
+        scn = nrsar.make_scene([(x, y) for x, y, _ in st.TARGETS])
+        foc = nrsar.bp_focuser(NUM, st.geometry(st.M * T), scn, K, R_FIRST, RHO,
+                               nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=st.M,
+                                               **af), c["nav"])
+        tb = gr.top_block()
+        src = blocks.vector_source_c(c["noisy"].astype(np.complex64).ravel().tolist(), False,
+                                     K)
+        snk = blocks.vector_sink_c(K)
+        tb.connect(src, foc, snk)
+        tb.run()
+        return np.array(snk.data()).reshape(-1, K), foc
+
     def test_trajectory_autofocus_recovers_a_gnss_navigation_error(self):
         """BP from a `gnss` navigation (seed 1), then autofocus by trajectory estimation:
         its displacement along the target's line of sight against the true navigation error
@@ -378,22 +396,11 @@ class qa_autofocus(gr_unittest.TestCase):
         focus can see, its line-of-sight estimate against the true error (numpy float64,
         trend removed); a significance it cannot reach gives the navigation's image bit for
         bit; each new option refused out of range, by name."""
-        from gnuradio.nrsar.focus_scenario import K, NUM, R_FIRST, RHO, SPP, T
         c = self.gnss_case()
         st, ref = c["st"], c["ref"]
-        scn = nrsar.make_scene([(x, y) for x, y, _ in st.TARGETS])
 
         def run(**af):
-            foc = nrsar.bp_focuser(NUM, st.geometry(st.M * T), scn, K, R_FIRST, RHO,
-                                   nrsar.bp_config(symbols_per_pulse=SPP,
-                                                   lines_per_aperture=st.M, **af), c["nav"])
-            tb = gr.top_block()
-            src = blocks.vector_source_c(c["noisy"].astype(np.complex64).ravel().tolist(),
-                                         False, K)
-            snk = blocks.vector_sink_c(K)
-            tb.connect(src, foc, snk)
-            tb.run()
-            return np.array(snk.data()).reshape(-1, K), foc
+            return self.block_image(c, **af)
 
         plain, _ = run()
         img, foc = run(trajectory_autofocus=True, autofocus_iterations=3, autofocus_points=3,
@@ -426,6 +433,54 @@ class qa_autofocus(gr_unittest.TestCase):
                                         re.escape(limit)):
                 nrsar.bp_config(**{name: value}).validate()
 
+    def test_bp_focuser_block_with_gcps_reaches_the_perfect_image(self):
+        """GNSS seed 2 (0.61 m offset: the study's worst, 6.4 dB above the perfectly
+        navigated image after trajectory autofocus alone): the bp_focuser block with the
+        first two targets as ground control points against the NMSE of the perfectly
+        navigated image (BP of the noisy echo along the truth), computed here; its image
+        sits where the truth's does (registration shift); bad GCPs refused by name."""
+        from gnuradio.nrsar.focus_scenario import T
+        c = self.gnss_case(seed=2)
+        st = c["st"]
+        ref = st.image(c["clean"], st.path(c["ta"]))[0]
+        perfect = st.nmse_db(st.image(c["noisy"], st.path(c["ta"]))[0], ref)
+
+        def run(gcp):
+            img, foc = self.block_image(c, trajectory_autofocus=True, autofocus_gcp=gcp)
+            return st.register(img, ref), foc
+
+        (alone, shift_alone), foc = run([])
+        self.assertEqual(foc.trajectory_gcp_used(), 0)
+        self.assertTrue(all(math.isnan(v) for v in foc.trajectory_gcp_offset_m()))
+        (img, shift), foc = run([(x, y, 0.0) for x, y, _ in st.TARGETS[:2]])
+        alone_db, got = st.nmse_db(alone, ref), st.nmse_db(img, ref)
+        # the constant (at the middle pulse) and drift the GCPs saw against the true
+        # trend's, (x, z), within 3 of their standard errors (the component across the line
+        # of sight, from two GCPs 1 degree apart, dominates them)
+        err = c["na"] - c["ta"]
+        drift, offset = np.polyfit((np.arange(st.M) - (st.M - 1) / 2) * T, err, 1)
+        est = np.asarray(foc.trajectory_gcp_drift_mps())
+        se = foc.trajectory_gcp_se()
+        for got_v, true_v, bound in ((foc.trajectory_gcp_offset_m(), offset, se[0]),
+                                     (est, drift, se[1])):
+            self.assertLess(math.hypot(got_v[0] - true_v[0], got_v[2] - true_v[2]),
+                            3 * bound)
+        print(f"block, seed 2: NMSE perfect navigation {perfect:.2f} dB, autofocus "
+              f"{alone_db:.2f} dB (shift {shift_alone:.2f} lines), with 2 GCPs {got:.2f} dB "
+              f"(shift {shift:.3f}); offset {foc.trajectory_gcp_offset_m()} m, drift "
+              f"{est} m/s (true {drift}), se {foc.trajectory_gcp_se()}")
+        self.assertEqual(foc.trajectory_gcp_used(), 2)
+        self.assertGreater(alone_db, perfect + 3.0)
+        self.assertLess(got, perfect + 1.0)
+        self.assertLess(abs(shift), 0.25)
+        self.assertGreater(abs(shift_alone), 3.0)
+        for name, gcp, limit in (("autofocus_gcp[0]", [(float("nan"), 0.0, 0.0)], "finite"),
+                                 ("autofocus_gcp (count)", [(800.0, 25.0, 0.0)] * 17,
+                                  "at most 16")):
+            with self.assertRaisesRegex(ValueError, re.escape(f"{name} = ") + ".*" +
+                                        re.escape(limit)):
+                nrsar.bp_config(autofocus_gcp=gcp).validate()
+
     def test_sim_option_and_json_keys(self):
         # --autofocus puts the block after the data branch's focuser; the JSON names the
         # method and the estimate's rms. The flight is perfectly navigated, so its image is
@@ -456,6 +511,24 @@ class qa_autofocus(gr_unittest.TestCase):
         self.assertEqual(runs["trajectory"]["nmse_db"], runs["none"]["nmse_db"])
         self.assertAlmostEqual(runs["trajectory"]["autofocus_phase_rms_rad"],
                                4 * math.pi * los / (299792458.0 / 3.5e9), delta=1e-12)
+        # a GNSS navigation with the reference target as ground control point: the image
+        # where the truth's is (peak error within the lambda / 2 periods the range peak may
+        # miss, 4.3 cm each; 1.48 m without), the trend in the JSON
+        gnss = common + ["--autofocus", "trajectory", "--nav-error", "gnss", "--out",
+                         os.path.join(out, "gnss")]
+        alone = chain.simulate(SimOptions.parse(gnss))
+        gcp = chain.simulate(SimOptions.parse(gnss + ["--autofocus-gcp", "600,5"]))
+        print(f"gnss: peak error {alone['peak_error_m']:.3f} m, NMSE {alone['nmse_db']:.2f} dB; "
+              f"with the GCP {gcp['peak_error_m']:.3f} m, {gcp['nmse_db']:.2f} dB, offset "
+              f"{gcp['autofocus_gcp_offset_m']} m, drift {gcp['autofocus_gcp_drift_mps']} m/s")
+        self.assertNotIn("autofocus_gcp_used", alone)
+        self.assertEqual(gcp["autofocus_gcp_used"], 1)
+        self.assertGreater(alone["peak_error_m"], 1.0)
+        self.assertLess(gcp["peak_error_m"], 0.1)
+        self.assertLess(gcp["nmse_db"], alone["nmse_db"])
+        self.assertEqual(len(gcp["autofocus_gcp_offset_m"]), 3)
+        self.assertEqual(gcp["autofocus_gcp_offset_m"][1], 0.0)
+        self.assertGreater(gcp["autofocus_gcp_drift_se_mps"], 0.0)
         self.assertNotIn("autofocus_los_rms_m", runs["pga"])
         self.assertNotIn("autofocus_los_se_m", runs["pga"])
         self.assertIn("autofocus", runs["pga"]["rx_block_s"])

@@ -37,6 +37,12 @@ struct NRSAR_API trajectory_autofocus_config {
     //! error (from the phase histories' noise); else return the navigation and its image
     //! (0: always keep). Under noise alone the ratio is about 1.
     double significance = 2.0;
+    //! Ground control points: surveyed positions (x, y, z) in the scene frame [m], at most
+    //! max_gcp. Those inside the image fix the navigation error's constant and linear trend
+    //! over the pulses (which focus cannot see) from their phase histories (the constant's
+    //! ambiguity of about lambda / 2 from their range peak); empty: none, the trend stays.
+    std::vector<std::array<double, 3>> gcp;
+    static constexpr unsigned max_gcp = 16;
 
     void validate() const;
 };
@@ -61,6 +67,16 @@ struct NRSAR_API trajectory_autofocus_result {
     //! The correction was kept (its rms above significance x standard_error_m); false:
     //! antenna, image and displacement are the navigation's (displacement 0).
     bool accepted = false;
+    //! cfg.gcp: the GCPs in the image whose history was used (0: no calibration).
+    unsigned gcp_used = 0;
+    //! The navigation error's constant (x, 0, z) at the middle pulse [m] and drift per
+    //! pulse (x, 0, z) [m] the GCPs gave, taken off antenna (along their mean line of
+    //! sight unless gcp_two_dimensional); zero without.
+    std::array<double, 3> gcp_offset_m{};
+    std::array<double, 3> gcp_drift_m{};
+    bool gcp_two_dimensional = false; //!< GCPs at spread look angles: x and z solved
+    double gcp_offset_se_m = 0.0;     //!< standard error of gcp_offset_m (rms of x, z)
+    double gcp_drift_se_m = 0.0;      //!< of gcp_drift_m [m / pulse]
 };
 
 /*!
@@ -83,7 +99,11 @@ struct NRSAR_API trajectory_autofocus_result {
  * smoothed SNR is below 2 are not used. Correcting the path (not a phase) fixes every
  * pixel's phase and range: the error a position error makes is space-variant. A
  * correction no larger than cfg.significance times its standard error is noise: the
- * navigation is kept.
+ * navigation is kept. Ground control points (cfg.gcp) then fix the trend: each one's
+ * history along the corrected path, referenced to its surveyed position, is R_nav -
+ * R_true itself; its constant (the integer of ~lambda / 2 from its range peak) and slope over
+ * the pulses, solved for x and z (look angles spread) or along their line of sight, are
+ * taken off the path before the last back-projection.
  * pulses: n x K line-major; image_out: M x K, the image along the corrected path.
  */
 NRSAR_API trajectory_autofocus_result
