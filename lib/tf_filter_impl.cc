@@ -26,7 +26,8 @@ tf_filter::make(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool 
 
 std::vector<std::vector<double>> tf_filter::snr_histories(unsigned vlen,
                                                          const std::vector<float>& sums,
-                                                         const std::vector<std::uint64_t>& items)
+                                                         const std::vector<std::uint64_t>& items,
+                                                         const std::vector<double>& history)
 {
     check_at_least("vlen", vlen, 1u);
     if (sums.size() % 4 != 0)
@@ -35,7 +36,7 @@ std::vector<std::vector<double>> tf_filter::snr_histories(unsigned vlen,
     std::vector<kernel::snr_estimator::sums> all(sums.size() / 4);
     for (std::size_t i = 0; i < all.size(); i++)
         std::copy_n(sums.begin() + 4 * i, 4, all[i].begin());
-    return kernel::snr_estimator::histories(all, vlen, items);
+    return kernel::snr_estimator::histories(all, vlen, items, history);
 }
 
 tf_filter_impl::tf_filter_impl(unsigned vlen,

@@ -322,7 +322,7 @@ TEST(SnrEstimator, HistoryFromPrepassEqualsTheWholeStream)
     EXPECT_EQ(est[gap1 - 1], est[gap0 + 190]);
     EXPECT_TRUE(std::isnan(pre.estimated_snr_db())); // the pre-pass does not estimate
     const std::vector<std::uint64_t> starts{ 0, 1, 100, 182, 183, 299, 300, 301, 512, 590, 699 };
-    const auto hist = kernel::snr_estimator::histories(sums, n, starts, window);
+    const auto hist = kernel::snr_estimator::histories(sums, n, starts, {}, window);
     ASSERT_EQ(hist.size(), starts.size());
     for (std::size_t k = 0; k < starts.size(); k++) {
         const std::uint64_t t0 = starts[k];
@@ -357,10 +357,16 @@ TEST(SnrEstimator, HistoryFromPrepassEqualsTheWholeStream)
     h = hist[8];
     h[4] = 21.0; // a partial bucket that is full
     EXPECT_THROW(b.set_history(h), std::invalid_argument);
-    EXPECT_THROW(kernel::snr_estimator::histories(sums, n, { 5, 4 }, window),
+    EXPECT_THROW(kernel::snr_estimator::histories(sums, n, { 5, 4 }, {}, window),
                  std::invalid_argument);
-    EXPECT_THROW(kernel::snr_estimator::histories(sums, n, { vectors + 1 }, window),
+    EXPECT_THROW(kernel::snr_estimator::histories(sums, n, { vectors + 1 }, {}, window),
                  std::invalid_argument);
+    // replayed a part at a time (the client's pre-pass): the same histories
+    const std::vector<kernel::snr_estimator::sums> head(sums.begin(), sums.begin() + 300),
+        tail(sums.begin() + 300, sums.end());
+    const auto at300 = kernel::snr_estimator::histories(head, n, { 300 }, {}, window);
+    EXPECT_EQ(kernel::snr_estimator::histories(tail, n, { 0, 1, 212, 290 }, at300[0], window),
+              (std::vector<std::vector<double>>{ hist[6], hist[7], hist[8], hist[9] }));
 }
 
 // ------------------------------------------------ constant-modulus shortcut

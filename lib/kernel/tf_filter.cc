@@ -267,10 +267,13 @@ void snr_estimator::set_history(const std::vector<double>& h)
 std::vector<std::vector<double>> snr_estimator::histories(const std::vector<sums>& all,
                                                           std::size_t n,
                                                           const std::vector<std::uint64_t>& items,
+                                                          const std::vector<double>& start,
                                                           std::size_t window_res)
 {
     std::vector<std::vector<double>> out;
     snr_estimator est(window_res);
+    if (!start.empty())
+        est.set_history(start);
     std::uint64_t v = 0;
     for (const std::uint64_t item : items) {
         if (item < v || item > all.size())

@@ -252,24 +252,33 @@ def prepass_sums(opts, meta_path, first, symbols):
 def prepass(opts, rec, lay, client=None):
     """The Layout's slices with the SNR estimator's history at each one's first symbol, as
     one graph over the whole recording has it (--estimate-snr; unchanged without): the sums
-    of symbols [0, prepass_symbols()) taken by one pre-pass task per aperture's worth of
-    symbols (on the client's cluster, in parallel), then replayed in stream order
-    (tf_filter.snr_histories: the estimator's own float and double sums in its own order, so
-    the estimate is one graph's bit for bit). Returns (slices, pre-pass seconds)."""
+    of symbols [0, prepass_symbols()) taken by pre-pass tasks, one part per worker of the
+    client's cluster (in parallel; one part in this process: each part pays a graph and
+    nr_isac_tx's grid from symbol 0, docs/scale.md), replayed in stream order, a part at a
+    time (tf_filter.snr_histories: the estimator's own float and double sums in its own
+    order, so the estimate is one graph's bit for bit; the client holds one part's sums).
+    Returns (slices, pre-pass seconds)."""
     end = prepass_symbols(opts, rec, lay)
     if end == 0:
         return lay.slices, 0.0
     start = time.perf_counter()
-    size = lay.lines * lay.step
+    workers = len(client.scheduler_info()["workers"]) if client else 1
+    size = -(-end // workers)
     parts = [(a, min(size, end - a)) for a in range(0, end, size)]
     if client is None:
-        sums = [prepass_sums(opts, rec.meta_path, a, k) for a, k in parts]
+        sums = (prepass_sums(opts, rec.meta_path, a, k) for a, k in parts)
     else:
-        sums = client.gather(client.map(prepass_sums, [opts] * len(parts),
-                                        [rec.meta_path] * len(parts), *zip(*parts),
-                                        pure=False, retries=1))
+        futures = client.map(prepass_sums, [opts] * len(parts), [rec.meta_path] * len(parts),
+                             *zip(*parts), pure=False, retries=1)
+        sums = (f.result() for f in futures)
     starts = [sl.first for sl in lay.slices if sl.symbols]
-    hist = iter(tf_filter.snr_histories(rec.num.num_subcarriers, np.concatenate(sums), starts))
+    hist, state = [], []
+    for (a, k), part in zip(parts, sums):
+        items = [t - a for t in starts if a <= t < a + k] + [k]
+        *found, state = tf_filter.snr_histories(rec.num.num_subcarriers, part, items, state)
+        hist += found
+    hist += [state] * (len(starts) - len(hist))  # the last task starts at `end`
+    hist = iter(hist)
     slices = [dataclasses.replace(sl, history=tuple(next(hist))) if sl.symbols else sl
               for sl in lay.slices]
     return slices, time.perf_counter() - start

@@ -111,13 +111,16 @@ public:
     virtual void set_snr_history(const std::vector<double>& history) = 0;
     /*!
      * The SNR estimator's history before each of `items` (nondecreasing, at most the
-     * number of items in sums) of a stream of vlen-RE items whose pre-pass sums are
-     * `sums` (snr_sums(), item 0 first, those of several pre-pass blocks concatenated
-     * in stream order): the items replayed through the estimator in order.
+     * number of items in sums, counted from the first) of vlen-RE items whose pre-pass
+     * sums are `sums` (snr_sums(), in stream order): the items replayed through the
+     * estimator in order, from `history` (that of the stream before them; empty: the
+     * stream's start). A stream's sums can so be replayed a part at a time.
      */
-    static std::vector<std::vector<double>> snr_histories(unsigned vlen,
-                                                          const std::vector<float>& sums,
-                                                          const std::vector<std::uint64_t>& items);
+    static std::vector<std::vector<double>>
+    snr_histories(unsigned vlen,
+                  const std::vector<float>& sums,
+                  const std::vector<std::uint64_t>& items,
+                  const std::vector<double>& history = {});
 };
 
 } // namespace nrsar

@@ -100,6 +100,8 @@ void bind_tf_filter(py::module& m)
                     py::arg("vlen"),
                     py::arg("sums"),
                     py::arg("items"),
+                    py::arg("history") = std::vector<double>(),
                     "The SNR estimator's history before each of `items` of a stream whose "
-                    "pre-pass sums are `sums` (a strip task's start, docs/scale.md).");
+                    "pre-pass sums are `sums`, replayed from `history` (empty: the "
+                    "stream's start; a strip task's start, docs/scale.md).");
 }

@@ -169,12 +169,14 @@ public:
     /*!
      * history() before each of `items` (nondecreasing, <= all.size()) of a stream of
      * vectors of n REs whose sums_of() are `all` (vector 0 first): the vectors replayed
-     * through update() in order, so each history is the streaming estimator's.
+     * through update() in order, from `start` (a history() of the vectors before `all`;
+     * empty: a fresh estimator), so each history is the streaming estimator's.
      */
     static std::vector<std::vector<double>>
     histories(const std::vector<sums>& all,
               std::size_t n,
               const std::vector<std::uint64_t>& items,
+              const std::vector<double>& start = {},
               std::size_t window_res = default_window_res);
 
 private:
