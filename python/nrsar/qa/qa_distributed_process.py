@@ -10,8 +10,8 @@ over TLS equals one graph focusing the whole recording (each task reads its aper
 focuser's overlap by offset); a worker killed mid-run costs a retry; a slice with non-finite
 samples is reported with its aperture index while the others complete; with --estimate-snr
 each task starts its SNR estimator from the history a pre-pass gives and the strip still
-equals one graph (a recording whose SNR falls along the track); a client without the certificate is refused by
-the scheduler; --dask-make-certs writes a set."""
+equals one graph (a recording whose SNR falls along the track); a client without the
+certificate is refused by the scheduler; --dask-make-certs writes a set."""
 
 import contextlib
 import faulthandler
