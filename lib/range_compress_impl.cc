@@ -56,6 +56,12 @@ void range_compress_impl::set_estimate_snr(bool estimate)
     d_kernel.filter().set_estimate_snr(estimate);
 }
 
+void range_compress_impl::set_snr_history(const std::vector<double>& history)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_kernel.filter().set_snr_history(history);
+}
+
 void range_compress_impl::set_constant_modulus_path(bool on)
 {
     gr::thread::scoped_lock guard(d_setlock);

@@ -34,6 +34,8 @@ public:
     void set_filter_type(gr::nrsar::filter_type type) override;
     void set_snr_db(double snr_db) override;
     void set_estimate_snr(bool estimate) override;
+    void set_snr_history(const std::vector<double>& history) override;
+    std::vector<double> snr_history() const override { return filt().snr_history(); }
     void set_constant_modulus_path(bool on) override;
     void set_window(gr::fft::window::win_type window, double window_param) override;
     //! Re-arms the range-axis tag: every run starts a new stream for the blocks

@@ -9,6 +9,9 @@
 #include "nonfinite_reporter.h"
 #include "param_check.h"
 #include <gnuradio/io_signature.h>
+#include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace gr {
 namespace nrsar {
@@ -21,10 +24,19 @@ tf_filter::make(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool 
     return gnuradio::make_block_sptr<tf_filter_impl>(vlen, type, snr_db, estimate_snr);
 }
 
-std::uint64_t tf_filter::snr_window_start(unsigned vlen, std::uint64_t item)
+std::vector<std::vector<double>> tf_filter::snr_histories(unsigned vlen,
+                                                         const std::vector<float>& sums,
+                                                         const std::vector<std::uint64_t>& items,
+                                                         const std::vector<double>& history)
 {
     check_at_least("vlen", vlen, 1u);
-    return kernel::snr_estimator().window_start(item, vlen);
+    if (sums.size() % 4 != 0)
+        throw std::invalid_argument("sums: " + std::to_string(sums.size()) +
+                                    " values, expected four per item");
+    std::vector<kernel::snr_estimator::sums> all(sums.size() / 4);
+    for (std::size_t i = 0; i < all.size(); i++)
+        std::copy_n(sums.begin() + 4 * i, 4, all[i].begin());
+    return kernel::snr_estimator::histories(all, vlen, items, history);
 }
 
 tf_filter_impl::tf_filter_impl(unsigned vlen,
@@ -59,6 +71,21 @@ void tf_filter_impl::set_estimate_snr(bool estimate)
 {
     gr::thread::scoped_lock guard(d_setlock);
     d_kernel.set_estimate_snr(estimate);
+}
+
+void tf_filter_impl::set_snr_prepass(bool on)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_prepass = on;
+}
+
+std::vector<float> tf_filter_impl::snr_sums() const { return d_sums; }
+std::vector<double> tf_filter_impl::snr_history() const { return d_kernel.snr_history(); }
+
+void tf_filter_impl::set_snr_history(const std::vector<double>& history)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_kernel.set_snr_history(history);
 }
 
 void tf_filter_impl::set_constant_modulus_path(bool on)
@@ -113,7 +140,14 @@ int tf_filter_impl::work(int noutput_items,
         for (std::size_t i = begin; i < end; i++)
             d_bad[i] = kern.process(y + i * vlen, s + i * vlen, out + i * vlen);
     };
-    if (d_threads == 2 && noutput_items >= 4 && !d_kernel.estimate_snr()) {
+    if (d_prepass) {
+        kernel::snr_estimator::sums v;
+        for (int i = 0; i < noutput_items; i++) {
+            d_bad[i] = d_kernel.snr_sums(y + i * vlen, s + i * vlen, v);
+            d_sums.insert(d_sums.end(), v.begin(), v.end());
+        }
+        std::fill_n(out, std::size_t(noutput_items) * vlen, gr_complex(0, 0));
+    } else if (d_threads == 2 && noutput_items >= 4 && !d_kernel.estimate_snr()) {
         // second kernel, same settings (WF's SNR_in as the first kernel uses it now)
         if (!d_helper)
             d_helper = std::make_unique<kernel::tf_filter>(

@@ -29,7 +29,9 @@ private:
     unsigned d_threads = 1;
     std::unique_ptr<kernel::tf_filter> d_helper;
     std::vector<std::size_t> d_bad; // non-finite count per item of the current call
-    kernel::split_worker d_split;   // last: joined before the kernels go
+    bool d_prepass = false;
+    std::vector<float> d_sums; // the pre-pass's sums, four per item
+    kernel::split_worker d_split; // last: joined before the kernels go
 
 public:
     tf_filter_impl(unsigned vlen, gr::nrsar::filter_type type, double snr_db, bool estimate_snr);
@@ -38,6 +40,10 @@ public:
     void set_snr_db(double snr_db) override;
     void set_estimate_snr(bool estimate) override;
     void set_constant_modulus_path(bool on) override;
+    void set_snr_prepass(bool on) override;
+    std::vector<float> snr_sums() const override;
+    std::vector<double> snr_history() const override;
+    void set_snr_history(const std::vector<double>& history) override;
     bool constant_modulus_path() const override;
     std::uint64_t constant_modulus_items() const override;
     void set_threads(unsigned threads) override;

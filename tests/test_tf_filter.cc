@@ -283,70 +283,90 @@ TEST(SnrEstimator, WindowForgetsOldData)
     }
 }
 
-TEST(SnrEstimator, WarmUpFromWindowStartEqualsTheWholeStream)
+TEST(SnrEstimator, HistoryFromPrepassEqualsTheWholeStream)
 {
-    // A strip's task starts its stream at window_start(t0) instead of 0 (docs/scale.md):
-    // from vector t0 on its estimate must equal the whole stream's bit for bit, while the
-    // SNR falls from 10 to -5 dB along the stream (so the window's position matters).
+    // A strip's task starts its stream at vector t0 with the history the pre-pass's sums
+    // give (docs/scale.md): from t0 on its estimate and output must equal the whole
+    // stream's bit for bit, while the SNR falls from 10 to -5 dB along the stream (so the
+    // window's content matters) and vectors [400, 600) carry no echo (y = 0, a zero-filled
+    // gap longer than the window: the whole stream keeps its last estimate through it).
     // Window 1280 REs of 7-RE vectors: buckets of 20 REs -> 3 vectors (21 REs).
-    const std::size_t n = 7, vectors = 700, window = 1280, per_bucket = 3;
+    const std::size_t n = 7, vectors = 700, window = 1280, gap0 = 400, gap1 = 600;
     std::mt19937 rng(11);
     std::uniform_int_distribution<int> pick(0, 255);
     std::uniform_real_distribution<double> ph(0, 2 * M_PI);
     std::normal_distribution<double> g(0.0, 1.0);
     const auto pts = qam256_points();
-    std::vector<gr_complex> y(n * vectors);
-    std::vector<float> m(n * vectors);
+    std::vector<gr_complex> y(n * vectors), s(n * vectors), whole_out(n * vectors);
     for (std::size_t v = 0; v < vectors; v++) {
         const double sigma = std::sqrt(std::pow(10.0, -(10.0 - 15.0 * v / vectors) / 10) / 2);
+        const bool gap = v >= gap0 && v < gap1;
         for (std::size_t i = v * n; i < v * n + n; i++) {
-            const gr_complex s = pts[pick(rng)];
-            m[i] = std::norm(s);
-            y[i] = gr_complex(std::polar(1.0, ph(rng)) * cd(s) +
-                              sigma * cd(g(rng), g(rng)));
+            s[i] = pts[pick(rng)];
+            const cd echo = std::polar(1.0, ph(rng)) * cd(s[i]) + sigma * cd(g(rng), g(rng));
+            y[i] = gap ? gr_complex(0, 0) : gr_complex(echo);
         }
     }
-    kernel::snr_estimator whole(window);
-    std::vector<double> est(vectors), p(vectors), s2(vectors);
+    kernel::tf_filter whole(n, filter_type::WF, 0.0, true, window), pre(n, filter_type::WF,
+                                                                        0.0, true, window);
+    std::vector<double> est(vectors);
+    std::vector<kernel::snr_estimator::sums> sums(vectors);
     for (std::size_t v = 0; v < vectors; v++) {
-        whole.update(&y[v * n], &m[v * n], n);
-        est[v] = whole.snr_db();
-        p[v] = whole.signal_power();
-        s2[v] = whole.noise_power();
+        whole.process(&y[v * n], &s[v * n], &whole_out[v * n]);
+        est[v] = whole.estimated_snr_db();
+        pre.snr_sums(&y[v * n], &s[v * n], sums[v]);
     }
-    // the window (1280 REs = 183 vectors) in whole buckets: 61 buckets of 21 REs cover it
-    // with no partial bucket, so t0 = 299 (300 vectors = 100 buckets) starts at bucket 39
-    EXPECT_EQ(whole.window_start(299, n), 39u * per_bucket);
-    EXPECT_EQ(whole.window_start(0, n), 0u);
-    EXPECT_EQ(whole.window_start(150, n), 0u); // the window not yet full
-    for (std::uint64_t t0 : { 0, 1, 100, 182, 183, 299, 300, 301, 512, 699 }) {
-        const std::uint64_t start = whole.window_start(t0, n);
-        ASSERT_EQ(start % per_bucket, 0u) << t0;
-        ASSERT_LE(start, t0);
-        // once the window is full, [start, t0] covers it and one bucket less would not
-        if (start > 0) {
-            EXPECT_GE((t0 - start + 1) * n, window) << t0;
-            EXPECT_LT((t0 - start + 1 - per_bucket) * n, window) << t0;
+    // the last estimate with echo energy in the window (the gap's start pulls it to the
+    // -60 dB clamp), kept while the window holds none
+    ASSERT_FALSE(std::isnan(est[gap1 - 1]));
+    EXPECT_EQ(est[gap1 - 1], est[gap0 + 190]);
+    EXPECT_TRUE(std::isnan(pre.estimated_snr_db())); // the pre-pass does not estimate
+    const std::vector<std::uint64_t> starts{ 0, 1, 100, 182, 183, 299, 300, 301, 512, 590, 699 };
+    const auto hist = kernel::snr_estimator::histories(sums, n, starts, {}, window);
+    ASSERT_EQ(hist.size(), starts.size());
+    for (std::size_t k = 0; k < starts.size(); k++) {
+        const std::uint64_t t0 = starts[k];
+        kernel::tf_filter task(n, filter_type::WF, 0.0, true, window),
+            cold(n, filter_type::WF, 0.0, true, window);
+        task.set_snr_history(hist[k]);
+        std::vector<gr_complex> out(n), cold_out(n);
+        for (std::uint64_t v = t0; v < vectors; v++) {
+            task.process(&y[v * n], &s[v * n], out.data());
+            cold.process(&y[v * n], &s[v * n], cold_out.data());
+            const double e = task.estimated_snr_db(); // NaN before the first estimate
+            ASSERT_TRUE(e == est[v] || (std::isnan(e) && std::isnan(est[v]))) << t0 << " " << v;
+            ASSERT_TRUE(std::equal(out.begin(), out.end(), &whole_out[v * n])) << t0 << " " << v;
+            if (v == t0 && t0 == 512) // without the history: its own vectors only
+                EXPECT_NE(cold.estimated_snr_db(), est[v]);
+            if (v == t0 && t0 == 590) // inside the gap: no estimate of its own
+                EXPECT_TRUE(std::isnan(cold.estimated_snr_db()));
         }
-        kernel::snr_estimator task(window), late(window);
-        for (std::uint64_t v = start; v < vectors; v++) {
-            task.update(&y[v * n], &m[v * n], n);
-            if (v >= start + per_bucket)  // one bucket less of warm-up
-                late.update(&y[v * n], &m[v * n], n);
-            if (v < t0)
-                continue;
-            ASSERT_EQ(task.snr_db(), est[v]) << t0 << " " << v;
-            ASSERT_EQ(task.signal_power(), p[v]) << t0 << " " << v;
-            ASSERT_EQ(task.noise_power(), s2[v]) << t0 << " " << v;
-            if (v == t0 && start > 0) { // the warm-up is the least that reproduces t0
-                EXPECT_NE(late.snr_db(), est[v]) << t0;
-            }
-        }
+        EXPECT_EQ(task.snr_history(), whole.snr_history()) << t0; // P, sigma^2, buckets
     }
-    // the default window at paper (3333 REs, buckets of 79 vectors): 5102 vectors of
-    // warm-up before vector 10000 (62 buckets from the start)
-    kernel::snr_estimator paper;
-    EXPECT_EQ(paper.window_start(10000, 3333), 62u * 79u);
+    // a history round trip, and malformed ones named
+    kernel::snr_estimator a(window), b(window);
+    a.set_history(hist[8]);
+    EXPECT_EQ(a.history(), hist[8]);
+    EXPECT_EQ(hist[8].size(), 9u + 5u * 61u); // the window's 61 full buckets of 21 REs
+    std::vector<double> h = hist[8];
+    h.pop_back();
+    EXPECT_THROW(b.set_history(h), std::invalid_argument);
+    h = hist[8];
+    h[9] = 14.0; // a bucket of fewer than 1280 / 64 REs
+    EXPECT_THROW(b.set_history(h), std::invalid_argument);
+    h = hist[8];
+    h[4] = 21.0; // a partial bucket that is full
+    EXPECT_THROW(b.set_history(h), std::invalid_argument);
+    EXPECT_THROW(kernel::snr_estimator::histories(sums, n, { 5, 4 }, {}, window),
+                 std::invalid_argument);
+    EXPECT_THROW(kernel::snr_estimator::histories(sums, n, { vectors + 1 }, {}, window),
+                 std::invalid_argument);
+    // replayed a part at a time (the client's pre-pass): the same histories
+    const std::vector<kernel::snr_estimator::sums> head(sums.begin(), sums.begin() + 300),
+        tail(sums.begin() + 300, sums.end());
+    const auto at300 = kernel::snr_estimator::histories(head, n, { 300 }, {}, window);
+    EXPECT_EQ(kernel::snr_estimator::histories(tail, n, { 0, 1, 212, 290 }, at300[0], window),
+              (std::vector<std::vector<double>>{ hist[6], hist[7], hist[8], hist[9] }));
 }
 
 // ------------------------------------------------ constant-modulus shortcut

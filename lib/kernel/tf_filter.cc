@@ -13,6 +13,8 @@
 #include <cstring>
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace gr {
 namespace nrsar {
@@ -159,35 +161,28 @@ void snr_estimator::reset()
     d_valid = false;
 }
 
-std::uint64_t snr_estimator::window_start(std::uint64_t t, std::size_t n) const
+snr_estimator::sums snr_estimator::sums_of(const gr_complex* y, const float* s_mag2, std::size_t n)
 {
-    // update()'s bookkeeping replayed: full buckets of `per_bucket` vectors from the
-    // stream's start, the vectors since the last one, and the fewest newest buckets that
-    // cover the window together with them (update() drops the oldest while the rest does).
-    n = std::max<std::size_t>(n, 1);
-    const std::uint64_t per_bucket = (d_bucket_res + n - 1) / n;
-    const std::uint64_t bucket = per_bucket * n; // REs
-    const std::uint64_t full = (t + 1) / per_bucket;
-    const std::uint64_t partial = (t + 1 - full * per_bucket) * n;
-    const std::uint64_t kept =
-        partial >= d_window ? 0
-                            : std::min<std::uint64_t>(
-                                  full, (d_window - partial + bucket - 1) / bucket);
-    return (full - kept) * per_bucket;
+    ensure(d_y2, n);
+    volk_32fc_magnitude_squared_32f(d_y2.data(), y, n);
+    sums v{ 0.0f, 0.0f, 0.0f, 0.0f };
+    volk_32f_accumulator_s32f(&v[0], d_y2.data(), n);
+    volk_32f_accumulator_s32f(&v[1], s_mag2, n);
+    volk_32f_x2_dot_prod_32f(&v[2], s_mag2, s_mag2, n);
+    volk_32f_x2_dot_prod_32f(&v[3], d_y2.data(), s_mag2, n);
+    return v;
 }
 
 bool snr_estimator::update(const gr_complex* y, const float* s_mag2, std::size_t n)
 {
+    return n != 0 && update(sums_of(y, s_mag2, n), n);
+}
+
+bool snr_estimator::update(const sums& v, std::size_t n)
+{
     if (n == 0)
         return false;
-    ensure(d_y2, n);
-    volk_32fc_magnitude_squared_32f(d_y2.data(), y, n);
-    float y2 = 0.0f, s2 = 0.0f, s4 = 0.0f, y2s2 = 0.0f;
-    volk_32f_accumulator_s32f(&y2, d_y2.data(), n);
-    volk_32f_accumulator_s32f(&s2, s_mag2, n);
-    volk_32f_x2_dot_prod_32f(&s4, s_mag2, s_mag2, n);
-    volk_32f_x2_dot_prod_32f(&y2s2, d_y2.data(), s_mag2, n);
-    add(d_partial, { double(n), y2, s2, s4, y2s2 });
+    add(d_partial, { double(n), v[0], v[1], v[2], v[3] });
     // Vectors are pooled into buckets of window/64 REs, so the history holds about 64
     // entries whatever the vector length (one entry per vector would take 670 MB for
     // vlen 1), at the price of a window that moves in steps of 1/64 of its length.
@@ -225,6 +220,71 @@ bool snr_estimator::update(const gr_complex* y, const float* s_mag2, std::size_t
     d_snr_db = db;
     d_valid = true;
     return true;
+}
+
+std::vector<double> snr_estimator::history() const
+{
+    const moments& m0 = d_partial;
+    std::vector<double> h{ double(d_valid), d_snr_db, d_p, d_sigma2, m0.n, m0.y2, m0.s2,
+                           m0.s4, m0.y2s2 };
+    for (const auto& m : d_hist)
+        h.insert(h.end(), { m.n, m.y2, m.s2, m.s4, m.y2s2 });
+    return h;
+}
+
+void snr_estimator::set_history(const std::vector<double>& h)
+{
+    if (h.size() < 9 || (h.size() - 9) % 5 != 0)
+        throw std::invalid_argument("history: " + std::to_string(h.size()) +
+                                    " values, expected 9 + 5 k (snr_estimator::history())");
+    auto at = [&](std::size_t i) {
+        return moments{ h[i], h[i + 1], h[i + 2], h[i + 3], h[i + 4] };
+    };
+    std::deque<moments> hist;
+    std::size_t res = 0;
+    for (std::size_t i = 9; i < h.size(); i += 5) {
+        if (!(h[i] >= double(d_bucket_res)))
+            throw std::invalid_argument("history: bucket " + std::to_string((i - 9) / 5) +
+                                        " holds " + std::to_string(h[i]) +
+                                        " REs, a full bucket at least " +
+                                        std::to_string(d_bucket_res));
+        hist.push_back(at(i));
+        res += std::size_t(h[i]);
+    }
+    if (!(h[4] >= 0.0 && h[4] < double(d_bucket_res)))
+        throw std::invalid_argument("history: the partial bucket holds " +
+                                    std::to_string(h[4]) + " REs, fewer than " +
+                                    std::to_string(d_bucket_res) + " expected");
+    d_valid = h[0] != 0.0;
+    d_snr_db = h[1];
+    d_p = h[2];
+    d_sigma2 = h[3];
+    d_partial = at(4);
+    d_hist = std::move(hist);
+    d_hist_res = res;
+}
+
+std::vector<std::vector<double>> snr_estimator::histories(const std::vector<sums>& all,
+                                                          std::size_t n,
+                                                          const std::vector<std::uint64_t>& items,
+                                                          const std::vector<double>& start,
+                                                          std::size_t window_res)
+{
+    std::vector<std::vector<double>> out;
+    snr_estimator est(window_res);
+    if (!start.empty())
+        est.set_history(start);
+    std::uint64_t v = 0;
+    for (const std::uint64_t item : items) {
+        if (item < v || item > all.size())
+            throw std::invalid_argument("items: " + std::to_string(item) +
+                                        " out of order or past the " +
+                                        std::to_string(all.size()) + " vectors' sums");
+        for (; v < item; v++)
+            est.update(all[v], n);
+        out.push_back(est.history());
+    }
+    return out;
 }
 
 // ---------------------------------------------------------------- the TF filter
@@ -333,16 +393,10 @@ std::size_t tf_filter::process(const gr_complex* y,
             return 0;
         }
     }
-    std::size_t bad_y = 0, bad_s = 0;
-    const gr_complex* yy = d_guard.guard(y, n, bad_y, 0);
-    const gr_complex* ss = d_guard.guard(s, n, bad_s, 1);
-
-    float* m = d_s_mag2.data();
-    volk_32fc_magnitude_squared_32f(m, ss, n);
+    const gr_complex *yy = y, *ss = s;
     std::size_t empty = 0;
-    for (std::size_t i = 0; i < n; i++)
-        empty += std::size_t(m[i] < empty_mag2);
-    d_empty += empty;
+    const std::size_t bad = guard(yy, ss, empty);
+    const float* m = d_s_mag2.data();
 
     if (d_estimate && d_estimator.update(yy, m, n))
         push_snr();
@@ -364,8 +418,37 @@ std::size_t tf_filter::process(const gr_complex* y,
     }
     if (taps2) // the same product as range_ifft's window pass
         rx_front::window_pass(out, taps2, out, n);
+    return bad;
+}
+
+std::size_t tf_filter::guard(const gr_complex*& y, const gr_complex*& s, std::size_t& empty)
+{
+    const std::size_t n = d_vlen;
+    std::size_t bad_y = 0, bad_s = 0;
+    y = d_guard.guard(y, n, bad_y, 0);
+    s = d_guard.guard(s, n, bad_s, 1);
+    float* m = d_s_mag2.data();
+    volk_32fc_magnitude_squared_32f(m, s, n);
+    empty = 0;
+    for (std::size_t i = 0; i < n; i++)
+        empty += std::size_t(m[i] < empty_mag2);
+    d_empty += empty;
     d_nonfinite += bad_y + bad_s;
     return bad_y + bad_s;
+}
+
+std::size_t tf_filter::snr_sums(const gr_complex* y, const gr_complex* s, snr_estimator::sums& v)
+{
+    std::size_t empty = 0;
+    const std::size_t bad = guard(y, s, empty);
+    v = d_estimator.sums_of(y, d_s_mag2.data(), d_vlen);
+    return bad;
+}
+
+void tf_filter::set_snr_history(const std::vector<double>& h)
+{
+    d_estimator.set_history(h);
+    push_snr();
 }
 
 } // namespace kernel

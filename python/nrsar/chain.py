@@ -194,13 +194,11 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=
     decim = opts.presum_factor()
     if fused is None:
         rif = range_ifft(num, nfft, fft.window.WIN_RECTANGULAR, -1.0, *crop)
-        lead = (rif,)
     else:
         rif = range_compress(num, range_compress_config(
             filter=params.make_filter(opts.filter), snr_db=opts.snr_db,
             estimate_snr=fused[0], fft_size=nfft, r_min_m=crop[0], r_max_m=crop[1]))
         rif.set_constant_modulus_path(fused[1])
-        lead = (rif,) + warmup_skip(sc, rif.num_bins())  # range_compress is the filter
     if not focuser:
         foc = None
     elif opts.focuser in ("bp", "ffbp"):
@@ -214,7 +212,7 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=
                          rif.range_bin_m(), cfg, nav)
     tail = (foc,) if focuser else ()
     if decim == 1:
-        return rif, rif, foc, None, [lead + tail]
+        return rif, rif, foc, None, [(rif,) + tail]
     method = params.PRESUM_METHODS[opts.presum]
     # a strip's task: the presummer's first output is the focuser's first line
     first = foc.stream_first_line() if focuser else 0
@@ -227,7 +225,7 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=
                        rif.range_bin_m(), presum_config(
                            method=method, decim=decim, domain=presum_domain.RANGE,
                            symbols_per_pulse=sc.pulse_symbols, first_output=first), nav)
-    return rif, rif, foc, pre, [lead + (pre,) + tail]
+    return rif, rif, foc, pre, [(rif, pre) + tail]
 
 
 def data_filter(opts, n):
@@ -247,26 +245,20 @@ def reference_filter(opts, n):
             blocks.vector_source_c([1.0 + 0.0j] * n, True, n))
 
 
-def warmup_skip(sc, vlen):
-    """(skiphead,) dropping the sc.warmup items a strip task's filter saw only to warm its
-    SNR estimate up (docs/scale.md, "The SNR estimate"), or () without a warm-up; vlen:
-    complex samples per item."""
-    return (blocks.skiphead(gr.sizeof_gr_complex * vlen, sc.warmup),) if sc.warmup else ()
-
-
 def connect_pulses(graph, source, sink, sc):
-    """source (the filter) -> sink, after its warm-up (warmup_skip), keeping only the
-    pulse symbols in pilot-only imaging."""
-    n = sc.num.num_subcarriers
-    path = (source,) + warmup_skip(sc, n)
-    if sc.pulse_symbols > 1:
+    """source -> sink, keeping only the pulse symbols in pilot-only imaging."""
+    if sc.pulse_symbols == 1:
+        graph.connect(source, sink)
+    else:
         # Pilot-only imaging: the pulses are the SRS symbols, one every spp symbols at
         # symbol_in_slot of every SRS slot; both branches keep exactly those. (The focuser
         # takes pulse p at p spp Tsym: the symbol_in_slot Tsym offset, 13 x 41.7 us = 2.7 cm
         # of track, is below a tenth of a resolution cell.)
-        path += (blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, sc.pulse_symbols,
-                                    sc.srs.symbol_in_slot),)
-    graph.connect(*path, sink)
+        n = sc.num.num_subcarriers
+        graph.connect(source,
+                      blocks.keep_m_in_n(gr.sizeof_gr_complex * n, 1, sc.pulse_symbols,
+                                         sc.srs.symbol_in_slot),
+                      sink)
 
 
 def make_probe(opts, sc, foc, cfg, reference):
@@ -382,8 +374,7 @@ class imaging_chain(gr.hier_block2):
         else:
             self.connect(foc, af)
         self.connect(image, (self, 0))
-        # fused: the range-compressed data after the warm-up's skiphead (receive_path)
-        self.connect(paths[0][1] if fuse and sc.warmup else rif, (self, 1))
+        self.connect(rif, (self, 1))
         self.connect(image, (probe, 0))
         if reference:
             self.connect(foc_ref, (self, 2))
@@ -497,7 +488,7 @@ def build(tb, opts, sc, tx=None, echo_front=scene_echo_front, keep_reference=Fal
     keep = opts.images != "none"
     if tx is None:
         tx = make_transmitter(opts, sc)
-    head = blocks.head(gr.sizeof_gr_complex * n, sc.warmup + sc.symbols)
+    head = blocks.head(gr.sizeof_gr_complex * n, sc.symbols)
     tb.connect(tx, head)
     echo, echo_out, ref_out = echo_front(tb, opts, sc, head)
     chain = imaging_chain(opts, sc, keep, reference)

@@ -19,8 +19,10 @@ The focuser's block for aperture a (rd_focuser: overlap-save, its history `befor
 look-ahead `after` of the scene band's azimuth extent, or --strip-overlap-s; bp_focuser: the
 aperture's own pulses) is what the task reads, so the stitched strip equals one graph
 focusing the whole recording (whole(); qa_distributed_process asserts identical arrays).
-With the Wiener filter's --estimate-snr a task also reads the estimator's window before its
-block (Slice.warmup: through the filter only), so its SNR estimate is one graph's too. A
+With the Wiener filter's --estimate-snr a pre-pass (prepass(): tasks of their own, in
+parallel) takes the SNR estimator's sums of every symbol before the last task's block, and
+each task starts its filter's estimator from the history one graph has at its first symbol
+(Slice.history, tf_filter.set_snr_history), so its SNR estimate is one graph's too. A
 task receives the options, the meta's path and its Slice, and reads its samples from the
 SigMF data file by offset: no samples go through the scheduler (each worker needs the
 recording's folder: a shared file system).
@@ -65,7 +67,7 @@ class Slice:
     lines: int      # image lines per aperture M
     first: int      # the first symbol the chain after the filter takes
     symbols: int    # symbols it takes
-    warmup: int = 0  # symbols read before `first` only to warm the SNR estimate up
+    history: tuple = ()  # the SNR estimator's before `first` (prepass); (): a fresh one
 
 
 @dataclasses.dataclass(frozen=True)
@@ -80,10 +82,9 @@ class Layout:
     bins: int         # the image's range bins
 
     def read_factor(self):
-        """Lines a task reads per line it keeps (the overlap's and the SNR estimate's
-        warm-up's cost, docs/scale.md)."""
-        return (sum(s.symbols + s.warmup for s in self.slices) /
-                (len(self.slices) * self.lines * self.step))
+        """Lines a task reads per line it keeps (the overlap's cost, docs/scale.md; the
+        --estimate-snr pre-pass reads prepass_symbols() more, through the filter only)."""
+        return sum(s.symbols for s in self.slices) / (len(self.slices) * self.lines * self.step)
 
 
 def _scenario(opts, rec, lines=0, first=0, apertures=0):
@@ -104,9 +105,7 @@ def layout(opts, rec):
     after the last whole aperture are only look-ahead). Task a reads the lines its
     aperture's processing block needs, as the whole flight's focuser would hold them
     (overlap-save history and look-ahead for rd_focuser, the aperture's own pulses for
-    bp_focuser), from the first line of that block (stream_first_line()). With the Wiener
-    filter's --estimate-snr it also reads the estimator's window before that line
-    (warmup_of)."""
+    bp_focuser), from the first line of that block (stream_first_line())."""
     sim_opts, sc = _scenario(opts, rec)
     if sim_opts.presum == "lms":
         raise OptionError("--presum = 'lms' with --strip-aperture-s: its filter adapts from "
@@ -140,20 +139,8 @@ def layout(opts, rec):
         first = max(0, lo * d - history)  # pulses
         end = min(total * d, (hi - 1) * d + lookahead + 1) if hi > lo else first
         first, symbols = first * sc.pulse_symbols, (end - first) * sc.pulse_symbols
-        slices.append(Slice(a, 1, m, first, symbols,
-                            warmup_of(sim_opts, rec, first) if symbols else 0))
+        slices.append(Slice(a, 1, m, first, symbols))
     return Layout(m, step, total, before, after, shift, slices, foc.num_output_bins())
-
-
-def warmup_of(sim_opts, rec, first):
-    """Symbols a task starting at symbol `first` reads before it so that the Wiener
-    filter's SNR estimate (--estimate-snr) from `first` on equals one graph's bit for bit:
-    the estimator's window behind `first` (2^24 REs in buckets of 2^18 from the stream's
-    start: about 5100 symbols at paper; tf_filter.snr_window_start). 0 without the estimate
-    (RF and MF do not use it)."""
-    if not (sim_opts.estimate_snr and sim_opts.filter == "wf"):
-        return 0
-    return first - tf_filter.snr_window_start(rec.num.num_subcarriers, first)
 
 
 def whole(opts, rec, lay):
@@ -200,13 +187,14 @@ def focus_slice(opts, meta_path, sl, reference=False):
     start = time.perf_counter()
     rec = recording.read(meta_path)
     sim_opts, sc = _scenario(opts, rec, sl.lines, sl.index, sl.apertures)
-    sc = dataclasses.replace(sc, symbols=sl.symbols, warmup=sl.warmup)
-    read = sl.first - sl.warmup  # the filter's first symbol
-    part = part_of(rec, read, sl.warmup + sl.symbols)  # file_source's offset, its overflows
+    sc = dataclasses.replace(sc, symbols=sl.symbols)
+    part = part_of(rec, sl.first, sl.symbols)  # file_source's offset, its overflows
     tb = gr.top_block("nrsar-strip")
-    tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, read)
+    tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
     graph = chain.build(tb, sim_opts, sc, tx=tx, reference=reference,
                         echo_front=process.recording_front(part, reference))
+    if sl.history:
+        graph["filter"].set_snr_history(list(sl.history))
     pre = graph["presum"]  # its first output is the focuser's first line
     first = pre.first_pulse() if pre else graph["focuser"].stream_first_line()
     if first * sc.pulse_symbols != sl.first:
@@ -220,7 +208,7 @@ def focus_slice(opts, meta_path, sl, reference=False):
     bad = graph["echo"].nonfinite_count()
     if bad:
         raise SliceError(f"aperture {sl.index}: {bad} non-finite samples in symbols "
-                         f"[{read}, {sl.first + sl.symbols}) of {rec.data_path}")
+                         f"[{sl.first}, {sl.first + sl.symbols}) of {rec.data_path}")
     image = np.asarray(graph["image_sink"].data(), np.complex64).reshape(-1, k)
     if image.shape[0] != sl.apertures * sl.lines:
         raise RuntimeError(f"aperture {sl.index}: {image.shape[0]} image lines, expected "
@@ -228,6 +216,72 @@ def focus_slice(opts, meta_path, sl, reference=False):
     snr = graph["filter"].estimated_snr_db() if sim_opts.estimate_snr else None
     return {"index": sl.index, "image": image, "compute_s": time.perf_counter() - start,
             "snr_db": snr}
+
+
+def prepass_symbols(opts, rec, lay):
+    """The symbols [0, end) whose SNR estimator sums the tasks' histories need: up to the
+    last task's first symbol (0 without --estimate-snr with the Wiener filter: RF and MF do
+    not use the estimate)."""
+    sim_opts = process.sim_options_of(opts, rec)
+    if not (sim_opts.estimate_snr and sim_opts.filter == "wf"):
+        return 0
+    return max((sl.first for sl in lay.slices if sl.symbols), default=0)
+
+
+def prepass_sums(opts, meta_path, first, symbols):
+    """A pre-pass task: the SNR estimator's sums of symbols [first, first + symbols)
+    (float32, four per symbol, tf_filter.snr_sums): file_source, ofdm_demod and the data
+    filter in pre-pass mode, nothing after it."""
+    rec = recording.read(meta_path)
+    sim_opts, sc = _scenario(opts, rec)
+    n = rec.num.num_subcarriers
+    tb = gr.top_block("nrsar-prepass")
+    head = blocks.head(gr.sizeof_gr_complex * n, symbols)
+    tb.connect(_grid_from(chain.make_transmitter(sim_opts, sc), n, first), head)
+    _, echo, _ = process.recording_front(part_of(rec, first, symbols), False)(
+        tb, sim_opts, sc, head)
+    tff = chain.data_filter(sim_opts, n)
+    tff.set_snr_prepass(True)
+    tb.connect(echo, (tff, 0))
+    tb.connect(head, (tff, 1))
+    tb.connect(tff, blocks.null_sink(gr.sizeof_gr_complex * n))
+    tb.run()
+    return np.asarray(tff.snr_sums(), np.float32)
+
+
+def prepass(opts, rec, lay, client=None):
+    """The Layout's slices with the SNR estimator's history at each one's first symbol, as
+    one graph over the whole recording has it (--estimate-snr; unchanged without): the sums
+    of symbols [0, prepass_symbols()) taken by pre-pass tasks, one part per worker of the
+    client's cluster (in parallel; one part in this process: each part pays a graph and
+    nr_isac_tx's grid from symbol 0, docs/scale.md), replayed in stream order, a part at a
+    time (tf_filter.snr_histories: the estimator's own float and double sums in its own
+    order, so the estimate is one graph's bit for bit; the client holds one part's sums).
+    Returns (slices, pre-pass seconds)."""
+    end = prepass_symbols(opts, rec, lay)
+    if end == 0:
+        return lay.slices, 0.0
+    start = time.perf_counter()
+    workers = len(client.scheduler_info()["workers"]) if client else 1
+    size = -(-end // workers)
+    parts = [(a, min(size, end - a)) for a in range(0, end, size)]
+    if client is None:
+        sums = (prepass_sums(opts, rec.meta_path, a, k) for a, k in parts)
+    else:
+        futures = client.map(prepass_sums, [opts] * len(parts), [rec.meta_path] * len(parts),
+                             *zip(*parts), pure=False, retries=1)
+        sums = (f.result() for f in futures)
+    starts = [sl.first for sl in lay.slices if sl.symbols]
+    hist, state = [], []
+    for (a, k), part in zip(parts, sums):
+        items = [t - a for t in starts if a <= t < a + k] + [k]
+        *found, state = tf_filter.snr_histories(rec.num.num_subcarriers, part, items, state)
+        hist += found
+    hist += [state] * (len(starts) - len(hist))  # the last task starts at `end`
+    hist = iter(hist)
+    slices = [dataclasses.replace(sl, history=tuple(next(hist))) if sl.symbols else sl
+              for sl in lay.slices]
+    return slices, time.perf_counter() - start
 
 
 def security_of(opts):
@@ -343,21 +397,21 @@ def run(opts, client=None):
     connected distributed.Client to use instead)."""
     rec = recording.read(opts.recording)
     lay = layout(opts, rec)
-    slices = lay.slices
     os.makedirs(opts.out, exist_ok=True)
     path = os.path.abspath(os.path.join(opts.out, "strip_image.npy"))
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
         if client is None and opts.dask:
             client = stack.enter_context(connect(opts))
+        slices, prepass_s = prepass(opts, rec, lay, client)
         failed, times, peak, snrs = write_strip(path, lay, in_order(
             opts, rec.meta_path, slices, client, opts.strip_window))
         workers = len(client.scheduler_info()["workers"]) if client else 1
     return {"recording_meta": rec.meta_path, "strip_apertures": len(slices),
             "strip_aperture_lines": lay.lines, "strip_slices":
             [[s.first, s.symbols] for s in slices], "strip_overlap_lines": [lay.before, lay.after],
-            "strip_line_shift": lay.shift, "strip_warmup_symbols": [s.warmup for s in slices],
-            "strip_snr_db": snrs,
+            "strip_line_shift": lay.shift, "strip_prepass_symbols": prepass_symbols(opts, rec, lay),
+            "strip_prepass_s": prepass_s, "strip_snr_db": snrs,
             "strip_read_factor": lay.read_factor(), "strip_image_npy": path,
             "strip_lines": len(slices) * lay.lines, "strip_failed": failed,
             "strip_task_s": times, "strip_held_peak": peak, "overflows": len(rec.gaps),

@@ -45,9 +45,6 @@ class Scenario:
     # a strip's task (distributed_process): the focuser's (lines per aperture, first
     # aperture, apertures, overlap lines) of the flight; None: one aperture of `symbols`
     strip: typing.Any = None
-    # and the symbols before its stream that only warm the data filter's SNR estimate up
-    # (--estimate-snr): the filter sees warmup + symbols, the blocks after it `symbols`
-    warmup: int = 0
 
     def __post_init__(self):
         ideal = None

@@ -13,6 +13,7 @@
 #include <gnuradio/nrsar/params.h>
 #include <gnuradio/sync_block.h>
 #include <cstdint>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -63,6 +64,10 @@ public:
     virtual void set_filter_type(gr::nrsar::filter_type type) = 0;
     virtual void set_snr_db(double snr_db) = 0;
     virtual void set_estimate_snr(bool estimate) = 0;
+    //! tf_filter::set_snr_history: a strip task's start (docs/scale.md).
+    virtual void set_snr_history(const std::vector<double>& history) = 0;
+    //! tf_filter::snr_history.
+    virtual std::vector<double> snr_history() const = 0;
     //! tf_filter::set_constant_modulus_path (default on).
     virtual void set_constant_modulus_path(bool on) = 0;
     //! Changes the window at run time (re-tags the range axis on the next item).

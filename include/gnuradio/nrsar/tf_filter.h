@@ -12,6 +12,7 @@
 #include <gnuradio/nrsar/params.h>
 #include <gnuradio/sync_block.h>
 #include <cstdint>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -89,12 +90,37 @@ public:
     virtual std::uint64_t constant_modulus_items() const = 0;
 
     /*!
-     * The first item of the window behind the SNR estimate that filters item `item` (items
-     * of vlen REs counted from the stream's start; kernel::snr_estimator::window_start): a
-     * stream of the same items started there estimates as this one, bit for bit, from
-     * `item` on. A strip's task starting mid-flight warms up from there (docs/scale.md).
+     * A strip's pre-pass (docs/scale.md, "The SNR estimate"): with on, each item is not
+     * filtered (the output is zeros) but its SNR-estimator sums are kept (snr_sums()), the
+     * inputs guarded and counted as filtering guards them.
      */
-    static std::uint64_t snr_window_start(unsigned vlen, std::uint64_t item);
+    virtual void set_snr_prepass(bool on) = 0;
+    /*!
+     * The pre-pass's sums, four floats per item in stream order: sum |y|^2, sum |s|^2,
+     * sum |s|^4, sum |y|^2 |s|^2 (kernel::snr_estimator::sums_of).
+     */
+    virtual std::vector<float> snr_sums() const = 0;
+    //! The SNR estimator's state (kernel::snr_estimator::history()).
+    virtual std::vector<double> snr_history() const = 0;
+    /*!
+     * Starts the SNR estimator from a history (snr_histories()): a stream started at item
+     * t with the whole stream's history before t estimates, and filters, as the whole
+     * stream does from t on, bit for bit. Set it before the first item. ValueError for a
+     * malformed one.
+     */
+    virtual void set_snr_history(const std::vector<double>& history) = 0;
+    /*!
+     * The SNR estimator's history before each of `items` (nondecreasing, at most the
+     * number of items in sums, counted from the first) of vlen-RE items whose pre-pass
+     * sums are `sums` (snr_sums(), in stream order): the items replayed through the
+     * estimator in order, from `history` (that of the stream before them; empty: the
+     * stream's start). A stream's sums can so be replayed a part at a time.
+     */
+    static std::vector<std::vector<double>>
+    snr_histories(unsigned vlen,
+                  const std::vector<float>& sums,
+                  const std::vector<std::uint64_t>& items,
+                  const std::vector<double>& history = {});
 };
 
 } // namespace nrsar

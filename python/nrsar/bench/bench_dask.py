@@ -16,8 +16,10 @@ apertures per second of wall time, the cluster already started (its start-up is 
 its own); TLS on, as nrsar-process runs it. Each rate, the one graph's and each cluster's,
 is the median of 3 runs of the whole strip. Per-task overhead: the wall time of 200 empty
 tasks through the same cluster, divided by 200 (a mean over 200 already). A row of its own: a task without the
-reference branch against one with it (median of 5 alternating runs). docs/scale.md turns
-these into a projection for 100 workers.
+reference branch against one with it (median of 5 alternating runs). The bounded overlap
+again with --estimate-snr: the strip's rate includes its pre-pass (the SNR estimator's sums,
+prepass_s: the median of 3 on its own), read_factor counts the pre-pass's symbols too.
+docs/scale.md turns these into a projection for 100 workers.
 """
 
 import os
@@ -67,26 +69,33 @@ def run(quick=False):
         meta = os.path.join(folder, "rec", "flight.sigmf-meta")
         rec = recording.read(meta)
         rows = []
-        for overlap in (None, 0.0125):
+        for overlap, estimate in ((None, False), (0.0125, False), (0.0125, True)):
             opts = ProcessOptions(recording=meta, strip_aperture_s=0.05, strip_overlap_s=overlap,
+                                  estimate_snr=estimate,
                                   out=os.path.join(folder, "out")).validate()
             lay = dp.layout(opts, rec)
             slices = lay.slices
+            kept = len(slices) * lay.lines * lay.step
+            read_factor = lay.read_factor() + dp.prepass_symbols(opts, rec, lay) / kept
             warm = slices[len(slices) // 2]  # one that reads symbols (the first may not)
             dp.focus_slice(opts, meta, warm)  # FFT plans, imports: not part of the rate
+            with_history, _ = dp.prepass(opts, rec, lay)
             compute = statistics.median(r["compute_s"] for r in
-                                        dp.run_slices(opts, meta, slices).values())
+                                        dp.run_slices(opts, meta, with_history).values())
             # the peer: one graph focusing the whole recording (it reads every line once)
             serial_rate = _median_rate(len(slices), lambda: dp.focus_slice(
                 opts, meta, dp.whole(opts, rec, lay)))
             name = "automatic overlap" if overlap is None else f"overlap {overlap:g} s"
+            name += ", --estimate-snr" if estimate else ""
             for workers in (1, 2, 4):
                 start = time.perf_counter()
                 with dp.connect(opts.replace(dask=f"local:{workers}")) as client:
                     startup = time.perf_counter() - start
                     client.run(dp.focus_slice, opts, meta, warm)  # on every worker
                     rate = _median_rate(len(slices), lambda: dp.run_slices(
-                        opts, meta, slices, client))
+                        opts, meta, dp.prepass(opts, rec, lay, client)[0], client))
+                    prepass = statistics.median(
+                        dp.prepass(opts, rec, lay, client)[1] for _ in range(3))
                     n = 200
                     start = time.perf_counter()
                     client.gather(client.map(_noop, range(n), pure=False))
@@ -95,8 +104,8 @@ def run(quick=False):
                     f"strip of {len(slices)} apertures, {name}, dask local:{workers} (TLS)",
                     rate, "one process", serial_rate, unit="apertures/s", workers=workers,
                     cluster_start_s=startup, task_overhead_s=overhead, task_compute_s=compute,
-                    read_factor=lay.read_factor()))
-            if overlap is not None:
+                    read_factor=read_factor, prepass_s=prepass))
+            if overlap is not None and not estimate:
                 rows.append(_reference_row(opts, meta, slices[len(slices) // 2]))
         return rows
     finally:

@@ -82,6 +82,11 @@ void bind_range_compress(py::module& m)
         .def("set_filter_type", &range_compress::set_filter_type, py::arg("type"))
         .def("set_snr_db", &range_compress::set_snr_db, py::arg("snr_db"))
         .def("set_estimate_snr", &range_compress::set_estimate_snr, py::arg("estimate"))
+        .def("set_snr_history",
+             &range_compress::set_snr_history,
+             py::arg("history"),
+             "tf_filter.set_snr_history: starts the SNR estimator from a history.")
+        .def("snr_history", &range_compress::snr_history, "The SNR estimator's state.")
         .def("set_constant_modulus_path",
              &range_compress::set_constant_modulus_path,
              py::arg("on"),

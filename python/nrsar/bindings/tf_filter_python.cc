@@ -80,11 +80,28 @@ void bind_tf_filter(py::module& m)
         .def("nonfinite_count",
              &tf_filter::nonfinite_count,
              "Non-finite input samples replaced by 0 so far.")
-        .def_static("snr_window_start",
-                    &tf_filter::snr_window_start,
+        .def("set_snr_prepass",
+             &tf_filter::set_snr_prepass,
+             py::arg("on"),
+             "A strip's pre-pass: keep each item's SNR-estimator sums (snr_sums()) instead "
+             "of filtering it (the output is zeros).")
+        .def("snr_sums",
+             &tf_filter::snr_sums,
+             "The pre-pass's sums, four per item: sum |y|^2, sum |s|^2, sum |s|^4, "
+             "sum |y|^2 |s|^2.")
+        .def("snr_history", &tf_filter::snr_history, "The SNR estimator's state.")
+        .def("set_snr_history",
+             &tf_filter::set_snr_history,
+             py::arg("history"),
+             "Starts the SNR estimator from a history (snr_histories()), before the first "
+             "item.")
+        .def_static("snr_histories",
+                    &tf_filter::snr_histories,
                     py::arg("vlen"),
-                    py::arg("item"),
-                    "The first item of the window behind the SNR estimate that filters item "
-                    "`item` (counted from the stream's start): a stream started there "
-                    "estimates as this one from `item` on (a strip task's warm-up).");
+                    py::arg("sums"),
+                    py::arg("items"),
+                    py::arg("history") = std::vector<double>(),
+                    "The SNR estimator's history before each of `items` of a stream whose "
+                    "pre-pass sums are `sums`, replayed from `history` (empty: the "
+                    "stream's start; a strip task's start, docs/scale.md).");
 }

@@ -9,12 +9,11 @@ apertures, a target on the boundary between two, processed as a strip on a local
 over TLS equals one graph focusing the whole recording (each task reads its aperture and the
 focuser's overlap by offset); a worker killed mid-run costs a retry; a slice with non-finite
 samples is reported with its aperture index while the others complete; with --estimate-snr
-each task first reads the SNR estimator's window and the strip still equals one graph (a
-recording whose SNR falls along the track); a client without the certificate is refused by
-the scheduler; --dask-make-certs writes a set."""
+each task starts its SNR estimator from the history a pre-pass gives and the strip still
+equals one graph (a recording whose SNR falls along the track); a client without the
+certificate is refused by the scheduler; --dask-make-certs writes a set."""
 
 import contextlib
-import dataclasses
 import faulthandler
 import gc
 import os
@@ -259,14 +258,14 @@ class qa_distributed_process(gr_unittest.TestCase):
     def test_003f_estimated_snr(self):
         # --estimate-snr: the Wiener filter's SNR estimate at a symbol sums the estimator's
         # window before it (2^24 REs, pooled in buckets of 2^18 from the stream's start), so
-        # each task first reads that window (bucket-aligned, tf_filter.snr_window_start) and
-        # its estimate, and image, equal one graph's bit for bit. paper (3333 REs: a window
-        # of 5034 symbols, 0.21 s; buckets of 79 symbols), srs2, 0.4 s = 9600 symbols cut
-        # into 6 apertures of 56 lines (1568 symbols), 10 lines of overlap (a task reads
-        # from line 56 a - 13 - 10): tasks 4 and 5 start past the first window, at symbols
-        # 5628 and 7196. The SNR falls along the track (noise added to
-        # the recording from symbol 4000 on, rising to 4x the recording's power), so where a
-        # task's window starts matters.
+        # a pre-pass takes the estimator's sums of every symbol before the last task's block
+        # and each task starts from the history one graph has at its first symbol: its
+        # estimate, and image, equal one graph's bit for bit. paper (3333 REs: a window of
+        # 5034 symbols, 0.21 s; buckets of 79 symbols), srs2, 0.4 s = 9600 symbols cut into 6
+        # apertures of 56 lines (1568 symbols), 10 lines of overlap (a task reads from line
+        # 56 a - 13 - 10): tasks 4 and 5 start past the first window, at symbols 5628 and
+        # 7196. The SNR falls along the track (noise added to the recording from symbol 4000
+        # on, rising to 4x the recording's power), so where a task's window starts matters.
         meta = self._recording("snr", ["--preset", "paper", "--aperture-s", "0.4"])
         rec = recording.read(meta)
         sym = rec.symbol_samples
@@ -288,48 +287,55 @@ class qa_distributed_process(gr_unittest.TestCase):
                               out=os.path.join(self.dir, "snr_out")).validate()
         lay = dp.layout(opts, rec)
         whole = self.whole(opts)
-        window, bucket = (1 << 24) / 3333, 79  # symbols
-        for sl in lay.slices:
-            start = sl.first - sl.warmup
-            self.assertEqual(start % bucket, 0)
-            if start:  # the window behind the first symbol, and not one bucket more
-                self.assertGreaterEqual(sl.warmup + 1, window)
-                self.assertLess(sl.warmup + 1 - bucket, window)
         self.assertEqual([sl.first for sl in lay.slices],
                          [0] + [28 * (56 * a - 13 - 10) for a in range(1, 6)])
-        self.assertEqual([sl.first - sl.warmup > 0 for sl in lay.slices], [False] * 4 + [True] * 2)
+        self.assertEqual(dp.prepass_symbols(opts, rec, lay), lay.slices[-1].first)
+        # each history's window: whole buckets of 79 symbols (263307 REs) from the stream's
+        # start and the symbols since the last, the fewest newest that cover 2^24 REs
+        slices, _ = dp.prepass(opts, rec, lay)
+        for sl in slices:
+            h = np.asarray(sl.history)
+            full, partial = h[9::5], h[4]
+            self.assertTrue(np.all(full == 79 * 3333))
+            self.assertEqual(partial, (sl.first % 79) * 3333)
+            res_kept = full.sum() + partial
+            if sl.first * 3333 >= 1 << 24:
+                self.assertGreaterEqual(res_kept, 1 << 24)
+                self.assertLess(res_kept - full[0], 1 << 24)
+            else:
+                self.assertEqual(res_kept, sl.first * 3333)
         for client in (None, self.client):
             res = dp.run(opts.replace(out=os.path.join(self.dir, f"snr_{client is None}")),
                          client)
             self.assertEqual(res["strip_failed"], [])
             np.testing.assert_array_equal(np.load(res["strip_image_npy"]), whole)
-            self.assertEqual(res["strip_warmup_symbols"], [sl.warmup for sl in lay.slices])
+            self.assertEqual(res["strip_prepass_symbols"], 7196)
         # each task's last estimate: the recorded 5 dB at the start (measured 4.89), falling
         # along the track with the added noise (measured 4.85, 4.72, 4.05, 2.61, 1.00 dB)
         snr = res["strip_snr_db"]
         self.assertAlmostEqual(snr[0], 5.0, delta=0.25)
         self.assertTrue(all(a > b for a, b in zip(snr[1:], snr[2:])), snr)
         self.assertLess(snr[-1], snr[0] - 3.0)
-        # without the warm-up the last task differs from one graph (what the warm-up is
+        # without the history the last task differs from one graph (what the pre-pass is
         # for): measured 25 % of the image's peak at most, the estimate -0.57 dB
-        cold = dp.focus_slice(opts, meta, dataclasses.replace(lay.slices[-1], warmup=0))
+        cold = dp.focus_slice(opts, meta, lay.slices[-1])
         rows = slice(5 * lay.lines, 6 * lay.lines)
         self.assertGreater(np.abs(cold["image"] - whole[rows]).max(), 0.05 * np.abs(whole).max())
         self.assertLess(cold["snr_db"], snr[-1] - 1.0)
-        # the warm-up's skiphead before a presummer in the TF domain (cheby, D = 2), and
-        # bp_focuser's tasks (each its own aperture): one graph's strip too
+        # a presummer in the TF domain (cheby, D = 2), and bp_focuser's tasks (each its
+        # own aperture): one graph's strip too
         for kw in (dict(presum="cheby", decim=2, presum_domain="tf"), dict(focuser="bp")):
             o = opts.replace(out=os.path.join(self.dir, "snr_" + kw.get("presum", "bp")), **kw)
             res = dp.run(o)
             self.assertEqual(res["strip_failed"], [])
-            self.assertGreater(res["strip_warmup_symbols"][-1], 5000)
+            self.assertGreater(res["strip_prepass_symbols"], 5000)
             np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(o))
 
     def test_003g_estimated_snr_fused(self):
         # the same with --rx-fuse on (range_compress filters and range-compresses in one
-        # block, so the warm-up's skiphead follows it): paper, every symbol a pulse, 0.3 s
-        # cut into 6 apertures of 1200 lines, 60 lines of overlap (line shift +831): tasks 4
-        # and 5 start past the first window (warm-ups of 5097 and 5033 symbols)
+        # block: it takes the history): paper, every symbol a pulse, 0.3 s cut into 6
+        # apertures of 1200 lines, 60 lines of overlap (line shift +831): tasks 4 and 5
+        # start past the first window (5034 symbols)
         meta = self._recording("fused", ["--preset", "paper", "--mode", "data",
                                          "--aperture-s", "0.3"])
         rec = recording.read(meta)
@@ -337,7 +343,7 @@ class qa_distributed_process(gr_unittest.TestCase):
                               strip_overlap_s=60 * rec.num.symbol_s(), estimate_snr=True,
                               rx_fuse="on", out=os.path.join(self.dir, "fused_out")).validate()
         lay = dp.layout(opts, rec)
-        self.assertEqual([sl.first - sl.warmup > 0 for sl in lay.slices], [False] * 4 + [True] * 2)
+        self.assertEqual([sl.first > 5034 for sl in lay.slices], [False] * 4 + [True] * 2)
         res = dp.run(opts)
         self.assertEqual(res["strip_failed"], [])
         np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))

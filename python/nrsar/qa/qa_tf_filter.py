@@ -326,6 +326,52 @@ class qa_tf_filter(gr_unittest.TestCase):
             blk.set_threads(3)
         self.assertEqual(blk.threads(), 1)
 
+    def test_015_prepass_history_continues_the_stream(self):
+        # A strip's pre-pass (docs/scale.md): each item's estimator sums against numpy
+        # float64; a block started at item t0 from the history those sums give filters
+        # items t0.. as the block that saw the whole stream did, bit for bit (the SNR
+        # falling along the stream, every 8th RE empty); without it, it differs.
+        rng = np.random.default_rng(15)
+        vlen, m, t0 = 64, 300, 170
+        s = qam256(rng, vlen * m).reshape(m, vlen)
+        s[:, ::8] = 0
+        sigma = np.linspace(0.1, 1.0, m)[:, None]
+        y = (np.exp(2j * np.pi * rng.random((m, vlen))) * s +
+             sigma * (rng.normal(size=(m, vlen)) + 1j * rng.normal(size=(m, vlen))))
+        wf = nrsar.filter_type.WF
+        whole = nrsar.tf_filter(vlen, wf, 0.0, True)
+        out_whole, _ = self.run_block(whole, y, s, vlen)
+        self.tb = gr.top_block()
+        pre = nrsar.tf_filter(vlen, wf, 0.0, True)
+        pre.set_snr_prepass(True)
+        out_pre, _ = self.run_block(pre, y, s, vlen)
+        self.assertTrue(np.all(out_pre == 0))
+        self.assertTrue(math.isnan(pre.estimated_snr_db()))  # it does not estimate
+        y2 = np.abs(y.astype(np.complex64).astype(complex)) ** 2
+        s2 = np.abs(s.astype(np.complex64).astype(complex)) ** 2
+        ref = np.stack([y2.sum(1), s2.sum(1), (s2 ** 2).sum(1), (y2 * s2).sum(1)], 1)
+        sums = pre.snr_sums()
+        np.testing.assert_allclose(np.reshape(sums, (m, 4)), ref, rtol=1e-5)
+        hist = nrsar.tf_filter.snr_histories(vlen, sums, [t0, m])
+        self.assertEqual(hist[1], whole.snr_history())
+        outs = []
+        for history in (hist[0], None):
+            self.tb = gr.top_block()
+            task = nrsar.tf_filter(vlen, wf, 0.0, True)
+            if history:
+                task.set_snr_history(history)
+            outs.append(self.run_block(task, y[t0:], s[t0:], vlen)[0])
+            if history:
+                self.assertEqual(task.estimated_snr_db(), whole.estimated_snr_db())
+        np.testing.assert_array_equal(outs[0], out_whole[t0:])
+        self.assertFalse(np.array_equal(outs[1], out_whole[t0:]))
+        with self.assertRaisesRegex(ValueError, r"history: 8 values"):
+            task.set_snr_history([0.0] * 8)
+        with self.assertRaisesRegex(ValueError, r"sums: 7 values"):
+            nrsar.tf_filter.snr_histories(vlen, [0.0] * 7, [0])
+        with self.assertRaisesRegex(ValueError, r"items: 2 out of order or past"):
+            nrsar.tf_filter.snr_histories(vlen, [0.0] * 4, [2])
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_tf_filter)

@@ -13,10 +13,12 @@
 #include <gnuradio/nrsar/kernel/finite_guard.h>
 #include <gnuradio/nrsar/params.h>
 #include <volk/volk_alloc.hh>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <vector>
 
 namespace gr {
 namespace nrsar {
@@ -143,20 +145,39 @@ public:
      * (false while the system is singular or the data carry no information).
      */
     bool update(const gr_complex* y, const float* s_mag2, std::size_t n);
+    //! One vector's sums {sum |y|^2, sum |s|^2, sum |s|^4, sum |y|^2 |s|^2}, in float.
+    using sums = std::array<float, 4>;
+    //! The sums update() takes of one vector (a strip's pre-pass keeps them, docs/scale.md).
+    sums sums_of(const gr_complex* y, const float* s_mag2, std::size_t n);
+    //! update() of a vector of n REs from its sums_of(): the same estimate, bit for bit.
+    bool update(const sums& v, std::size_t n);
     bool valid() const { return d_valid; }
     double snr_db() const { return d_snr_db; }
     double signal_power() const { return d_p; }
     double noise_power() const { return d_sigma2; }
     void reset();
     /*!
-     * The first vector of the window behind the estimate made at vector t (vectors of n
-     * REs, counted from the stream's start, each passed to update()). It is a bucket
-     * boundary, so a stream of the same vectors started there pools the same buckets and
-     * has the same estimate, bit for bit, at t and after: the warm-up of a strip's task
-     * that starts at t mid-flight (docs/scale.md). About window / n + bucket / n vectors
-     * before t once the window is full, else 0.
+     * The whole state as doubles: {valid, snr_db, P, sigma^2, the partial bucket's n and
+     * four sums, then each full bucket's n and four sums, oldest first} (9 + 5 k values).
+     * A strip's task that starts at vector t sets the history of the whole stream before t
+     * (histories()) and then estimates as the whole stream does from t on, bit for bit,
+     * with no vector before t read (docs/scale.md).
      */
-    std::uint64_t window_start(std::uint64_t t, std::size_t n) const;
+    std::vector<double> history() const;
+    //! Restores a history(); std::invalid_argument names a malformed one.
+    void set_history(const std::vector<double>& h);
+    /*!
+     * history() before each of `items` (nondecreasing, <= all.size()) of a stream of
+     * vectors of n REs whose sums_of() are `all` (vector 0 first): the vectors replayed
+     * through update() in order, from `start` (a history() of the vectors before `all`;
+     * empty: a fresh estimator), so each history is the streaming estimator's.
+     */
+    static std::vector<std::vector<double>>
+    histories(const std::vector<sums>& all,
+              std::size_t n,
+              const std::vector<std::uint64_t>& items,
+              const std::vector<double>& start = {},
+              std::size_t window_res = default_window_res);
 
 private:
     struct moments {
@@ -237,10 +258,24 @@ public:
     std::uint64_t empty_re_count() const { return d_empty; }
     std::uint64_t nonfinite_count() const { return d_nonfinite; }
 
+    /*!
+     * The estimator's sums of one vector (y and s guarded as process() guards them, the
+     * empty REs and non-finite samples counted) without filtering it: a strip's pre-pass
+     * (docs/scale.md). Returns the non-finite input samples replaced by 0.
+     */
+    std::size_t snr_sums(const gr_complex* y, const gr_complex* s, snr_estimator::sums& v);
+    //! snr_estimator::history() of the estimate.
+    std::vector<double> snr_history() const { return d_estimator.history(); }
+    //! snr_estimator::set_history(); WF then uses its estimate (if valid and estimating).
+    void set_snr_history(const std::vector<double>& h);
+
 private:
     //! False when the first REs of s already fail the constant-modulus check; m0: their
     //! common |s|^2 (0 when they are all empty).
     bool may_be_constant_modulus(const gr_complex* s, float& m0);
+    //! process()'s guard: y and s replaced by their finite copies, |s|^2 into d_s_mag2,
+    //! the empty REs (empty) and non-finite samples counted; returns the latter.
+    std::size_t guard(const gr_complex*& y, const gr_complex*& s, std::size_t& empty);
 
     unsigned d_vlen;
     double d_snr_db;
