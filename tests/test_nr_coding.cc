@@ -244,6 +244,18 @@ std::vector<std::size_t> reference_positions(int bg, unsigned zc, unsigned kp, s
     return f;
 }
 
+nr_rate_match_params rm_params(int bg, unsigned zc, unsigned kp, std::size_t n_ref, unsigned qm, unsigned rv = 0)
+{
+    nr_rate_match_params p;
+    p.base_graph = bg;
+    p.zc = zc;
+    p.k_prime = kp;
+    p.n_ref = n_ref;
+    p.qm = qm;
+    p.rv = rv;
+    return p;
+}
+
 } // namespace
 
 TEST(NrRateMatch, PositionsOfEveryRv)
@@ -266,13 +278,7 @@ TEST(NrRateMatch, PositionsOfEveryRv)
     };
     for (const rc& c : cases)
         for (unsigned rv = 0; rv < 4; rv++) {
-            nr_rate_match_params p;
-            p.base_graph = c.bg;
-            p.zc = c.zc;
-            p.k_prime = c.kp;
-            p.n_ref = c.n_ref;
-            p.rv = rv;
-            p.qm = c.qm;
+            const nr_rate_match_params p = rm_params(c.bg, c.zc, c.kp, c.n_ref, c.qm, rv);
             const std::size_t N = nr_ldpc_n(c.bg, c.zc);
             const std::size_t ncb = c.n_ref ? std::min(N, c.n_ref) : N;
             EXPECT_EQ(p.n_cb(), ncb);
@@ -310,11 +316,7 @@ TEST(NrRateMatch, PositionsOfEveryRv)
 
 TEST(NrRateMatch, HarqCombiningAddsRedundancyVersions)
 {
-    nr_rate_match_params p;
-    p.base_graph = 1;
-    p.zc = 384;
-    p.k_prime = 8448;
-    p.qm = 2;
+    nr_rate_match_params p = rm_params(1, 384, 8448, 0, 2);
     const std::size_t N = p.n(), E = 10000;
     std::vector<float> llr0(E, 1.0f), llr2(E, 2.0f), acc(N, 0.0f);
     p.rv = 0;
@@ -361,12 +363,7 @@ TEST(NrRateMatch, ColumnRecordClearsOnlyWhatMayBeNonZero)
         { 2, 72, 600, 0, 2, { { 0, 1200, false }, { 2, 1200, true }, { 0, 600, false } } },
     };
     for (const rc& c : cases) {
-        nr_rate_match_params p;
-        p.base_graph = c.bg;
-        p.zc = c.zc;
-        p.k_prime = c.kp;
-        p.n_ref = c.n_ref;
-        p.qm = c.qm;
+        nr_rate_match_params p = rm_params(c.bg, c.zc, c.kp, c.n_ref, c.qm);
         const std::size_t N = p.n(), cols = N / c.zc, K = nr_ldpc_k(c.bg, c.zc);
         std::vector<float> soft(N, 0.0f), want(N, 0.0f);
         std::vector<std::uint8_t> columns(cols, 0);
