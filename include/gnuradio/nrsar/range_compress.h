@@ -31,6 +31,9 @@ struct NRSAR_API range_compress_config {
     double window_param = gr::fft::window::INVALID_WIN_PARAM;
     double r_min_m = 0.0; //!< first slant range of the crop [m]
     double r_max_m = 0.0; //!< last slant range of the crop [m]; <= 0: the last bin
+    //! S = 1 on every RE: no `reference` input (a reference branch's all-ones grid, not
+    //! streamed); the same output as that input fed with ones
+    bool unit_grid = false;
 };
 
 /*!
@@ -39,7 +42,7 @@ struct NRSAR_API range_compress_config {
  * \ingroup nrsar
  *
  * Inputs: 0 (`echo`) the received grid Y, 1 (`reference`) the transmitted symbols S, both
- * N = num.num_subcarriers REs per item. Output (`out`): K = num_bins() range bins per
+ * N = num.num_subcarriers REs per item; with cfg.unit_grid input 0 only, S = 1. Output (`out`): K = num_bins() range bins per
  * item, exactly tf_filter followed by range_ifft with the same parameters (the same
  * roundings in the same order), without the N-wide stream between them: the filter writes
  * each windowed product straight into the transform's padded input, so every symbol is
