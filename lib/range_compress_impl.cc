@@ -30,7 +30,8 @@ range_compress_impl::range_compress_impl(const numerology& num,
                                          kernel::range_compress&& kern,
                                          bool unit_grid)
     : gr::sync_block("range_compress",
-                     gr::io_signature::make(unit_grid ? 1 : 2, unit_grid ? 1 : 2, sizeof(gr_complex) * kern.n()),
+                     gr::io_signature::make(
+                         unit_grid ? 1 : 2, unit_grid ? 1 : 2, sizeof(gr_complex) * kern.n()),
                      gr::io_signature::make(1, 1, sizeof(gr_complex) * kern.num_bins())),
       d_kernel(std::move(kern)),
       d_bin_m(num.range_bin_m(d_kernel.ifft().fft_size())),

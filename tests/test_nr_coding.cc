@@ -244,7 +244,8 @@ std::vector<std::size_t> reference_positions(int bg, unsigned zc, unsigned kp, s
     return f;
 }
 
-nr_rate_match_params rm_params(int bg, unsigned zc, unsigned kp, std::size_t n_ref, unsigned qm, unsigned rv = 0)
+nr_rate_match_params
+rm_params(int bg, unsigned zc, unsigned kp, std::size_t n_ref, unsigned qm, unsigned rv = 0)
 {
     nr_rate_match_params p;
     p.base_graph = bg;
@@ -359,7 +360,8 @@ TEST(NrRateMatch, ColumnRecordClearsOnlyWhatMayBeNonZero)
         { 1, 384, 8400, 0, 8,
           { { 0, 30000, false }, { 2, 9336, false }, { 3, 2000, true }, { 1, 0, false },
             { 0, 9336, false }, { 0, 9336, false }, { 3, 4000, false } } },
-        { 2, 26, 200, 900, 4, { { 2, 2000, false }, { 0, 100, false }, { 1, 300, true }, { 3, 40, false } } },
+        { 2, 26, 200, 900, 4,
+          { { 2, 2000, false }, { 0, 100, false }, { 1, 300, true }, { 3, 40, false } } },
         { 2, 72, 600, 0, 2, { { 0, 1200, false }, { 2, 1200, true }, { 0, 600, false } } },
     };
     for (const rc& c : cases) {
@@ -387,10 +389,12 @@ TEST(NrRateMatch, ColumnRecordClearsOnlyWhatMayBeNonZero)
                 ASSERT_EQ(soft[k], filler ? INFINITY : want[k])
                     << "BG" << c.bg << " rv " << t.rv << " E " << t.E << " position " << k;
             }
-            for (std::size_t j = 0; j < cols; j++)
-                if (!columns[j])
+            for (std::size_t j = 0; j < cols; j++) {
+                if (!columns[j]) {
                     for (std::size_t k = j * c.zc; k < (j + 1) * c.zc; k++)
                         ASSERT_EQ(soft[k], 0.0f) << "unflagged column " << j << " rv " << t.rv;
+                }
+            }
             std::vector<std::uint8_t> a(K), b(K);
             const auto ra = told.decode(soft.data(), a.data(), columns.data());
             const auto rb = reads_all.decode(soft.data(), b.data());

@@ -151,7 +151,9 @@ void nr_rate_recover(const float* f_llr,
             }
             for (std::size_t c = begin / zc; c < (end + zc - 1) / zc; c++)
                 if (nonzero_columns[c])
-                    std::fill(d_llr + std::max(begin, c * zc), d_llr + std::min(end, (c + 1) * zc), 0.0f);
+                    std::fill(d_llr + std::max(begin, c * zc),
+                              d_llr + std::min(end, (c + 1) * zc),
+                              0.0f);
         };
         // not read: from where the walk stopped round to k0 (fillers included, set below),
         // and the bits beyond a limited buffer
