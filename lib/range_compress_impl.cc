@@ -23,16 +23,19 @@ range_compress::sptr range_compress::make(const numerology& num,
     kernel::tf_filter filter(
         num.num_subcarriers, cfg.filter, cfg.snr_db, cfg.estimate_snr);
     return gnuradio::make_block_sptr<range_compress_impl>(
-        num, kernel::range_compress(std::move(filter), std::move(ifft)));
+        num, kernel::range_compress(std::move(filter), std::move(ifft)), cfg.unit_grid);
 }
 
 range_compress_impl::range_compress_impl(const numerology& num,
-                                         kernel::range_compress&& kern)
+                                         kernel::range_compress&& kern,
+                                         bool unit_grid)
     : gr::sync_block("range_compress",
-                     gr::io_signature::make(2, 2, sizeof(gr_complex) * kern.n()),
+                     gr::io_signature::make(
+                         unit_grid ? 1 : 2, unit_grid ? 1 : 2, sizeof(gr_complex) * kern.n()),
                      gr::io_signature::make(1, 1, sizeof(gr_complex) * kern.num_bins())),
       d_kernel(std::move(kern)),
-      d_bin_m(num.range_bin_m(d_kernel.ifft().fft_size()))
+      d_bin_m(num.range_bin_m(d_kernel.ifft().fft_size())),
+      d_ones(unit_grid ? d_kernel.n() : 0, gr_complex(1.0f, 0.0f))
 {
     // The echo's tags only (as tf_filter: the reference usually carries the same ones).
     set_tag_propagation_policy(TPP_CUSTOM);
@@ -90,7 +93,9 @@ int range_compress_impl::work(int noutput_items,
 {
     gr::thread::scoped_lock guard(d_setlock);
     const auto y = static_cast<const gr_complex*>(input_items[0]);
-    const auto s = static_cast<const gr_complex*>(input_items[1]);
+    // unit grid: every item reads the same ones
+    const auto s = d_ones.empty() ? static_cast<const gr_complex*>(input_items[1]) : d_ones.data();
+    const std::size_t s_step = d_ones.empty() ? d_kernel.n() : 0;
     auto out = static_cast<gr_complex*>(output_items[0]);
     const std::size_t n = d_kernel.n();
     const std::size_t k = d_kernel.num_bins();
@@ -109,7 +114,7 @@ int range_compress_impl::work(int noutput_items,
         d_tag_pending = false;
     }
     for (int i = 0; i < noutput_items; i++) {
-        const std::size_t bad = d_kernel.process(y + i * n, s + i * n, out + i * k);
+        const std::size_t bad = d_kernel.process(y + i * n, s + i * s_step, out + i * k);
         if (bad > 0) {
             const std::uint64_t item = nitems_written(0) + i;
             add_item_tag(0, d_nonfinite.tag(d_logger, bad, item, item, alias_pmt()));

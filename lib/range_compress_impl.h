@@ -24,12 +24,13 @@ private:
     bool d_tag_pending = true;
     nonfinite_reporter d_nonfinite;
     std::vector<tag_t> d_tags;
+    std::vector<gr_complex> d_ones; // S of cfg.unit_grid (empty: the reference input)
 
     const kernel::tf_filter& filt() const { return d_kernel.filter(); }
     const kernel::range_ifft& ifft() const { return d_kernel.ifft(); }
 
 public:
-    range_compress_impl(const numerology& num, kernel::range_compress&& kern);
+    range_compress_impl(const numerology& num, kernel::range_compress&& kern, bool unit_grid);
 
     void set_filter_type(gr::nrsar::filter_type type) override;
     void set_snr_db(double snr_db) override;

@@ -83,6 +83,21 @@ void scene_echo_impl::set_threads(unsigned threads)
 
 unsigned scene_echo_impl::threads() const { return d_threads; }
 
+void scene_echo_impl::set_reference_only(bool on)
+{
+    gr::thread::scoped_lock guard(d_setlock);
+    d_reference_only = on;
+}
+
+bool scene_echo_impl::reference_only() const { return d_reference_only; }
+
+bool scene_echo_impl::check_topology(int /*ninputs*/, int noutputs)
+{
+    if (d_reference_only && noutputs > 1)
+        throw_param("noutputs", noutputs, "must be 1 with reference_only (out0 is the reference)");
+    return true;
+}
+
 void scene_echo_impl::process(kernel::scene_echo& k,
                               const gr_complex* in,
                               gr_complex* out,
@@ -96,8 +111,8 @@ void scene_echo_impl::process(kernel::scene_echo& k,
         // eq. (7), (8) with the noise and the non-finite test in one pass; m is the
         // absolute slow-time index.
         bad[i] = k.echo(m0 + i,
-                        in + i * n,
-                        out + i * n,
+                        in ? in + i * n : nullptr, // null: reference only (no Y, no noise)
+                        out ? out + i * n : nullptr,
                         ref ? ref + i * n : nullptr,
                         d_noise.generator(),
                         d_noise.sigma());
@@ -121,14 +136,19 @@ int scene_echo_impl::work(int noutput_items,
     const auto* in = static_cast<const gr_complex*>(input_items[0]);
     auto* out = static_cast<gr_complex*>(output_items[0]);
     auto* ref = output_items.size() > 1 ? static_cast<gr_complex*>(output_items[1]) : nullptr;
+    if (d_reference_only) { // H into out0 (check_topology: no out1)
+        ref = out;
+        in = nullptr;
+        out = nullptr;
+    }
     const std::uint64_t m0 = nitems_read(0);
     d_bad.resize(noutput_items);
 
     if (d_threads > 1 && noutput_items >= 4) {
         d_split.run(noutput_items, [&](std::size_t begin, std::size_t end, unsigned p) {
             process(p == 0 ? d_echo : d_echo2,
-                    in + begin * n,
-                    out + begin * n,
+                    in ? in + begin * n : nullptr,
+                    out ? out + begin * n : nullptr,
                     ref ? ref + begin * n : nullptr,
                     m0 + begin,
                     static_cast<int>(end - begin),

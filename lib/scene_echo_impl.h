@@ -32,6 +32,7 @@ private:
 
     // Optional second thread: takes the second half of the items of a work() call.
     unsigned d_threads = 1;
+    bool d_reference_only = false;
     kernel::split_worker d_split; // joined in stop() and before the kernels go
 
     void check_and_log(const scene& scn) const;
@@ -61,6 +62,9 @@ public:
     std::uint64_t nonfinite_count() const override;
     void set_threads(unsigned threads) override;
     unsigned threads() const override;
+    void set_reference_only(bool on) override;
+    bool reference_only() const override;
+    bool check_topology(int ninputs, int noutputs) override;
 
     bool stop() override;
     ~scene_echo_impl() override;

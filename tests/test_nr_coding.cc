@@ -11,6 +11,7 @@
 #include <gnuradio/nrsar/kernel/gold_sequence.h>
 #include <gnuradio/nrsar/kernel/nr_crc.h>
 #include <gnuradio/nrsar/kernel/nr_ldpc.h>
+#include <gnuradio/nrsar/kernel/nr_ldpc_decoder.h>
 #include <gnuradio/nrsar/kernel/nr_rate_match.h>
 #include <gnuradio/nrsar/kernel/nr_segmentation.h>
 #include <gnuradio/nrsar/kernel/nr_tbs.h>
@@ -243,6 +244,19 @@ std::vector<std::size_t> reference_positions(int bg, unsigned zc, unsigned kp, s
     return f;
 }
 
+nr_rate_match_params
+rm_params(int bg, unsigned zc, unsigned kp, std::size_t n_ref, unsigned qm, unsigned rv = 0)
+{
+    nr_rate_match_params p;
+    p.base_graph = bg;
+    p.zc = zc;
+    p.k_prime = kp;
+    p.n_ref = n_ref;
+    p.qm = qm;
+    p.rv = rv;
+    return p;
+}
+
 } // namespace
 
 TEST(NrRateMatch, PositionsOfEveryRv)
@@ -265,13 +279,7 @@ TEST(NrRateMatch, PositionsOfEveryRv)
     };
     for (const rc& c : cases)
         for (unsigned rv = 0; rv < 4; rv++) {
-            nr_rate_match_params p;
-            p.base_graph = c.bg;
-            p.zc = c.zc;
-            p.k_prime = c.kp;
-            p.n_ref = c.n_ref;
-            p.rv = rv;
-            p.qm = c.qm;
+            const nr_rate_match_params p = rm_params(c.bg, c.zc, c.kp, c.n_ref, c.qm, rv);
             const std::size_t N = nr_ldpc_n(c.bg, c.zc);
             const std::size_t ncb = c.n_ref ? std::min(N, c.n_ref) : N;
             EXPECT_EQ(p.n_cb(), ncb);
@@ -309,11 +317,7 @@ TEST(NrRateMatch, PositionsOfEveryRv)
 
 TEST(NrRateMatch, HarqCombiningAddsRedundancyVersions)
 {
-    nr_rate_match_params p;
-    p.base_graph = 1;
-    p.zc = 384;
-    p.k_prime = 8448;
-    p.qm = 2;
+    nr_rate_match_params p = rm_params(1, 384, 8448, 0, 2);
     const std::size_t N = p.n(), E = 10000;
     std::vector<float> llr0(E, 1.0f), llr2(E, 2.0f), acc(N, 0.0f);
     p.rv = 0;
@@ -330,6 +334,75 @@ TEST(NrRateMatch, HarqCombiningAddsRedundancyVersions)
     EXPECT_EQ(acc, want);
     // rv 2 starts at k0 = floor(33 N / (66 Zc)) Zc = 33 Zc (Table 5.4.2.1-2 with N_cb = N).
     EXPECT_EQ(p.k0(), 33u * 384);
+}
+
+TEST(NrRateMatch, ColumnRecordClearsOnlyWhatMayBeNonZero)
+{
+    // A receiver's soft buffer across transport blocks with nr_rate_recover's column record
+    // (nonzero_columns): after each call it holds the sum of the reference positions' LLRs
+    // of the transmissions since the last new TB, exactly; every unflagged column is all
+    // 0; and the decoder told the record decodes the same bits as the decoder reading it all.
+    struct tx {
+        unsigned rv;
+        std::size_t E;
+        bool combine;
+    };
+    struct rc {
+        int bg;
+        unsigned zc, kp;
+        std::size_t n_ref;
+        unsigned qm;
+        std::vector<tx> seq;
+    };
+    const rc cases[] = {
+        // wraps, then a short new TB whose unread columns held the first one's LLRs,
+        // HARQ on it, nothing sent, the same rv and E twice (nothing left to clear)
+        { 1, 384, 8400, 0, 8,
+          { { 0, 30000, false }, { 2, 9336, false }, { 3, 2000, true }, { 1, 0, false },
+            { 0, 9336, false }, { 0, 9336, false }, { 3, 4000, false } } },
+        { 2, 26, 200, 900, 4,
+          { { 2, 2000, false }, { 0, 100, false }, { 1, 300, true }, { 3, 40, false } } },
+        { 2, 72, 600, 0, 2, { { 0, 1200, false }, { 2, 1200, true }, { 0, 600, false } } },
+    };
+    for (const rc& c : cases) {
+        nr_rate_match_params p = rm_params(c.bg, c.zc, c.kp, c.n_ref, c.qm);
+        const std::size_t N = p.n(), cols = N / c.zc, K = nr_ldpc_k(c.bg, c.zc);
+        std::vector<float> soft(N, 0.0f), want(N, 0.0f);
+        std::vector<std::uint8_t> columns(cols, 0);
+        nr_ldpc_decoder told(c.bg, c.zc, 4), reads_all(c.bg, c.zc, 4);
+        unsigned seed = 1;
+        for (const tx& t : c.seq) {
+            p.rv = t.rv;
+            const auto ref = reference_positions(c.bg, c.zc, c.kp, p.n_cb(), t.rv, t.E, c.qm);
+            // integer LLRs of both signs: every sum is exact in any order
+            std::vector<float> llr(t.E);
+            std::mt19937 rng(seed++);
+            if (!t.combine)
+                std::fill(want.begin(), want.end(), 0.0f);
+            for (std::size_t k = 0; k < t.E; k++) {
+                llr[k] = static_cast<float>(static_cast<int>(rng() % 41) - 20);
+                want[ref[k]] += llr[k];
+            }
+            nr_rate_recover(llr.data(), p, t.E, soft.data(), t.combine, columns.data());
+            for (std::size_t k = 0; k < N; k++) {
+                const bool filler = k >= c.kp - 2 * c.zc && k < K - 2 * c.zc;
+                ASSERT_EQ(soft[k], filler ? INFINITY : want[k])
+                    << "BG" << c.bg << " rv " << t.rv << " E " << t.E << " position " << k;
+            }
+            for (std::size_t j = 0; j < cols; j++) {
+                if (!columns[j]) {
+                    for (std::size_t k = j * c.zc; k < (j + 1) * c.zc; k++)
+                        ASSERT_EQ(soft[k], 0.0f) << "unflagged column " << j << " rv " << t.rv;
+                }
+            }
+            std::vector<std::uint8_t> a(K), b(K);
+            const auto ra = told.decode(soft.data(), a.data(), columns.data());
+            const auto rb = reads_all.decode(soft.data(), b.data());
+            EXPECT_EQ(a, b) << "BG" << c.bg << " rv " << t.rv << " E " << t.E;
+            EXPECT_EQ(ra.iterations, rb.iterations);
+            EXPECT_EQ(ra.parity_ok, rb.parity_ok);
+        }
+    }
 }
 
 TEST(NrRateMatch, CodeBlockSizesE)

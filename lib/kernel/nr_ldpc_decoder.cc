@@ -152,14 +152,18 @@ void nr_ldpc_decoder::set_max_iterations(unsigned max_iterations)
 
 void nr_ldpc_decoder::set_simd(bool allow) { d_simd = allow && avx2_available(); }
 
-nr_ldpc_decode_result nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c)
+nr_ldpc_decode_result
+nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c, const std::uint8_t* nonzero_columns)
 {
     const std::size_t n = this->n();
     // Columns that received nothing (at a high rate most parity columns) are neither summed
     // nor quantised: their fixed-point LLRs are 0.
     for (std::size_t j = 2; j < d_cols; j++) {
         const float* in = llr + (j - 2) * d_zc;
-        d_received[j] = d_simd ? any_received_avx2(in, d_zc) : any_received_generic(in, d_zc);
+        if (nonzero_columns && !nonzero_columns[j - 2])
+            d_received[j] = 0;
+        else
+            d_received[j] = d_simd ? any_received_avx2(in, d_zc) : any_received_generic(in, d_zc);
     }
     // The scale maps (mean sqrt|L|)^2 over the finite non-zero LLRs to a target. For one
     // Gaussian cluster (BPSK, QPSK) that is about the mean magnitude; for the bit levels of

@@ -109,10 +109,22 @@ void nr_rate_match(const std::uint8_t* d, const nr_rate_match_params& p, std::si
     });
 }
 
-void nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::size_t e, float* d_llr, bool combine)
+void nr_rate_recover(const float* f_llr,
+                     const nr_rate_match_params& p,
+                     std::size_t e,
+                     float* d_llr,
+                     bool combine,
+                     std::uint8_t* nonzero_columns)
 {
     p.validate(); // before the sizes below are read
     const std::size_t qm = p.qm, ncb = p.n_cb(), fb = p.filler_begin(), fe = p.filler_end();
+    const std::size_t zc = p.zc, cols = p.n() / zc;
+    // The columns this call writes (fillers included), for nonzero_columns.
+    std::uint8_t written[nr_max_columns] = {};
+    const auto mark = [&](std::size_t begin, std::size_t end) {
+        for (std::size_t c = begin / zc; begin < end && c < (end + zc - 1) / zc; c++)
+            written[c] = 1;
+    };
     // The walk visits the circular buffer in order: its first `distinct` reads are the
     // positions outside the fillers once each, the later ones wrap onto them again.
     const std::size_t distinct = ncb - (std::min(fe, ncb) - std::min(fb, ncb));
@@ -126,25 +138,45 @@ void nr_rate_recover(const float* f_llr, const nr_rate_match_params& p, std::siz
             d_llr[j + t] += f_llr[in + t * qm];
         visited += n;
         next = j + n;
+        mark(j, j + n);
     });
     if (!combine) {
+        // Zeros where nothing was read; with nonzero_columns only in the columns that may
+        // hold something else (a receiver's soft buffer written by the same rv at the same
+        // E each time has nothing to clear).
+        const auto clear = [&](std::size_t begin, std::size_t end) {
+            if (!nonzero_columns) {
+                std::fill(d_llr + begin, d_llr + end, 0.0f);
+                return;
+            }
+            for (std::size_t c = begin / zc; c < (end + zc - 1) / zc; c++)
+                if (nonzero_columns[c])
+                    std::fill(d_llr + std::max(begin, c * zc),
+                              d_llr + std::min(end, (c + 1) * zc),
+                              0.0f);
+        };
         // not read: from where the walk stopped round to k0 (fillers included, set below),
         // and the bits beyond a limited buffer
         const std::size_t k0 = p.k0();
         if (visited == 0)
-            std::fill(d_llr, d_llr + ncb, 0.0f);
+            clear(0, ncb);
         else if (visited < distinct) {
             next = next >= ncb ? 0 : next;
             if (next <= k0)
-                std::fill(d_llr + next, d_llr + k0, 0.0f);
+                clear(next, k0);
             else {
-                std::fill(d_llr + next, d_llr + ncb, 0.0f);
-                std::fill(d_llr, d_llr + k0, 0.0f);
+                clear(next, ncb);
+                clear(0, k0);
             }
         }
-        std::fill(d_llr + ncb, d_llr + p.n(), 0.0f);
+        clear(ncb, p.n());
     }
-    std::fill(d_llr + p.filler_begin(), d_llr + p.filler_end(), std::numeric_limits<float>::infinity());
+    std::fill(d_llr + fb, d_llr + fe, std::numeric_limits<float>::infinity());
+    if (nonzero_columns) {
+        mark(fb, fe);
+        for (std::size_t c = 0; c < cols; c++)
+            nonzero_columns[c] = written[c] || (combine && nonzero_columns[c]);
+    }
 }
 
 } // namespace kernel

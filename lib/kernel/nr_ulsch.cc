@@ -93,6 +93,7 @@ nr_ulsch::nr_ulsch(std::size_t tbs,
     d_d.resize(d_enc.n());
     d_c.resize(d_seg.K);
     d_soft.assign(std::size_t{ d_seg.C } * d_enc.n(), 0.0f);
+    d_soft_columns.assign(std::size_t{ d_seg.C } * (d_enc.n() / d_seg.Zc), 0);
     d_llr.emplace_back(*std::max_element(d_E.begin(), d_E.end()));
     d_e_begin.assign(d_seg.C, 0);
     for (unsigned r = 1; r < d_seg.C; r++)
@@ -168,8 +169,9 @@ nr_ulsch::decode(const float* llr, unsigned rv, std::uint32_t c_init, bool combi
             const std::size_t pos = d_e_begin[r];
             descramble(llr + pos, d_scr.data() + pos, d_E[r], e_llr);
             float* soft = d_soft.data() + r * N;
-            nr_rate_recover(e_llr, p, d_E[r], soft, combine); // !combine: a new TB
-            const auto dr = d_dec[part].decode(soft, d_cb.data() + r * d_seg.K);
+            std::uint8_t* columns = d_soft_columns.data() + r * (N / d_seg.Zc);
+            nr_rate_recover(e_llr, p, d_E[r], soft, combine, columns); // !combine: a new TB
+            const auto dr = d_dec[part].decode(soft, d_cb.data() + r * d_seg.K, columns);
             d_cb_iterations[r] = dr.iterations;
             d_cb_parity[r] = dr.parity_ok ? 1 : 0;
         }

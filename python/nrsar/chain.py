@@ -186,8 +186,9 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=
     path the presummer compensates and the focuser images along (the data branch: the
     navigation; the reference branch: the truth). focuser=False: the path ends before the
     focuser (None; the split UAV's graph). autofocus: the data branch (bp_config_of).
-    fused = (estimate_snr, constant-modulus path): the range IFFT is a range_compress with
-    the branch's filter, taking echo and grid."""
+    fused = (estimate_snr, constant-modulus path, unit grid): the range IFFT is a
+    range_compress with the branch's filter, taking echo and grid (unit grid: the echo
+    only, S = 1)."""
     num, geo, scn = sc.num, sc.geo, sc.scene
     n = num.num_subcarriers
     nfft = fft_size_of(opts, n)
@@ -197,7 +198,8 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=
     else:
         rif = range_compress(num, range_compress_config(
             filter=params.make_filter(opts.filter), snr_db=opts.snr_db,
-            estimate_snr=fused[0], fft_size=nfft, r_min_m=crop[0], r_max_m=crop[1]))
+            estimate_snr=fused[0], fft_size=nfft, r_min_m=crop[0], r_max_m=crop[1],
+            unit_grid=fused[2]))
         rif.set_constant_modulus_path(fused[1])
     if not focuser:
         foc = None
@@ -330,11 +332,11 @@ class imaging_chain(gr.hier_block2):
         fuse = fusable(opts, sc)
         entry, rif, foc, pre, paths = receive_path(
             opts, sc, crop, cfg, sc.navigation, autofocus=True,
-            fused=(opts.estimate_snr, opts.cm_path == "on") if fuse else None)
+            fused=(opts.estimate_snr, opts.cm_path == "on", False) if fuse else None)
         branches = [(entry, paths)]
         if reference:
             entry_ref, rif_ref, foc_ref, _, paths_ref = receive_path(
-                opts, sc, crop, cfg, sc.trajectory, fused=(False, True) if fuse else None)
+                opts, sc, crop, cfg, sc.trajectory, fused=(False, True, True) if fuse else None)
             branches.append((entry_ref, paths_ref))
         k = foc.num_output_bins()  # the image's bins (the crop minus the guard bins)
         vec = gr.sizeof_gr_complex
@@ -355,11 +357,12 @@ class imaging_chain(gr.hier_block2):
         self.connect((self, 1), (tff, 1))
         filters = [tff]
         if reference:
-            tff_ref, ones = reference_filter(opts, n)
-            if fuse:
+            if fuse:  # range_compress's unit grid: S = 1 without an all-ones stream
                 tff_ref = rif_ref
+            else:
+                tff_ref, ones = reference_filter(opts, n)
+                self.connect(ones, (tff_ref, 1))
             self.connect((self, 2), (tff_ref, 0))
-            self.connect(ones, (tff_ref, 1))
             filters.append(tff_ref)
         if not fuse:
             for source, (sink, _) in zip(filters, branches):

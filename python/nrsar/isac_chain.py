@@ -39,8 +39,9 @@ from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_en
 def time_domain_front(ofdm_source, record_path=None):
     """echo_front for chain.build: the radar echo through the time domain,
     ofdm_source (ofdm_mod of the grid) -> td_echo -> ofdm_demod (FFT window after the CP:
-    the TF model of SPEC 3 exactly); the reference echo (S = 1, no noise) is scene_echo's
-    second output, as in nrsar-sim (its noisy output goes to a null sink). record_path:
+    the TF model of SPEC 3 exactly); the reference echo (S = 1, no noise) is scene_echo's,
+    as in nrsar-sim, from a reference-only scene_echo (its echo would be thrown away; the
+    grid paces it and brings its tags). record_path:
     the received samples (td_echo's output) also go to this file (--record)."""
     def front(tb, opts, sc, grid):
         num, geo, scn = sc.num, sc.geo, sc.scene
@@ -53,10 +54,10 @@ def time_domain_front(ofdm_source, record_path=None):
             front.sink = recording.file_sink_of(record_path)
             tb.connect(echo, front.sink)
         ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1, sc.trajectory)
+        ref.set_reference_only(True)
         tb.connect(grid, ref)
-        tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * num.num_subcarriers))
         front.demod = demod
-        return echo, demod, (ref, 1)
+        return echo, demod, (ref, 0)
     return front
 
 
@@ -71,19 +72,19 @@ def common_noise_front(domain, noise_seed):
         ref = scene_echo(num, geo, scn, math.inf, opts.seed + 1, sc.trajectory)
         tb.connect(grid, ref)
         if domain == "time":
+            ref.set_reference_only(True)  # td_echo makes the echo
             echo, demod = td_echo(num, geo, scn, math.inf, opts.seed + 1, opts.echo_taps,
                                   path=sc.trajectory), ofdm_demod(num)
             tb.connect(grid, ofdm_mod(num), echo, demod)
-            clean = demod
-            tb.connect((ref, 0), blocks.null_sink(gr.sizeof_gr_complex * n))
+            clean, ref_out = demod, (ref, 0)
         else:
-            echo, clean = ref, (ref, 0)
+            echo, clean, ref_out = ref, (ref, 0), (ref, 1)
         sigma = math.sqrt(sum(t.rcs for t in scn.targets) / 10.0 ** (opts.snr_db / 10.0))
         noise = analog.noise_source_c(analog.GR_GAUSSIAN, sigma, noise_seed)
         add = blocks.add_vcc(n)
         tb.connect(clean, (add, 0))
         tb.connect(noise, blocks.stream_to_vector(gr.sizeof_gr_complex, n), (add, 1))
-        return echo, add, (ref, 1)
+        return echo, add, ref_out
     return front
 
 

@@ -32,6 +32,9 @@ struct NRSAR_API range_compress_config {
     double window_param = gr::fft::window::INVALID_WIN_PARAM;
     double r_min_m = 0.0; //!< first slant range of the crop [m]
     double r_max_m = 0.0; //!< last slant range of the crop [m]; <= 0: the last bin
+    //! S = 1 on every RE: no `reference` input (a reference branch's all-ones grid, not
+    //! streamed); the same output as that input fed with ones
+    bool unit_grid = false;
 };
 
 /*!
@@ -40,13 +43,13 @@ struct NRSAR_API range_compress_config {
  * \ingroup nrsar
  *
  * Inputs: 0 (`echo`) the received grid Y, 1 (`reference`) the transmitted symbols S, both
- * N = num.num_subcarriers REs per item. Output (`out`): K = num_bins() range bins per
- * item, exactly tf_filter followed by range_ifft with the same parameters (the same
- * roundings in the same order), without the N-wide stream between them: the filter writes
- * each windowed product straight into the transform's padded input, so every symbol is
- * read once and stays in the cache (docs/blocks/range_compress.md). The separate blocks
- * stay for graphs that need the filtered grid itself (TF-domain presumming, pilot-only
- * imaging).
+ * N = num.num_subcarriers REs per item; with cfg.unit_grid input 0 only, S = 1.
+ * Output (`out`): K = num_bins() range bins per item, exactly tf_filter followed by
+ * range_ifft with the same parameters (the same roundings in the same order), without the
+ * N-wide stream between them: the filter writes each windowed product straight into the
+ * transform's padded input, so every symbol is read once and stays in the cache
+ * (docs/blocks/range_compress.md). The separate blocks stay for graphs that need the
+ * filtered grid itself (TF-domain presumming, pilot-only imaging).
  *
  * Tags: those of input 0 propagate (as tf_filter); tags::range_axis_key() (first bin
  * range [m], bin spacing [m], K) on the first output item and after set_window();

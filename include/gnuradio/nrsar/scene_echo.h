@@ -93,6 +93,16 @@ public:
      */
     virtual void set_threads(unsigned threads) = 0;
     virtual unsigned threads() const = 0;
+
+    /*!
+     * Reference only (set before the graph starts): out0 carries H[n,m], the `reference`
+     * port's values, and out1 must stay unconnected. Y is not computed: the input paces the
+     * block (m = nitems_read) and brings its tags, its samples are not read (no non-finite
+     * count). For a graph that needs only the noise-free reference (nrsar-isac's reference
+     * branch, whose echo comes from td_echo): no Y to compute, store and throw away.
+     */
+    virtual void set_reference_only(bool on) = 0;
+    virtual bool reference_only() const = 0;
 };
 
 } // namespace nrsar

@@ -38,7 +38,8 @@ void bind_range_compress(py::module& m)
                          win::win_type window,
                          double window_param,
                          double r_min_m,
-                         double r_max_m) {
+                         double r_max_m,
+                         bool unit_grid) {
                  range_compress_config c;
                  c.filter = filter;
                  c.snr_db = snr_db;
@@ -48,6 +49,7 @@ void bind_range_compress(py::module& m)
                  c.window_param = window_param;
                  c.r_min_m = r_min_m;
                  c.r_max_m = r_max_m;
+                 c.unit_grid = unit_grid;
                  return c;
              }),
              py::arg("filter") = filter_type::WF,
@@ -58,6 +60,7 @@ void bind_range_compress(py::module& m)
              py::arg("window_param") = win::INVALID_WIN_PARAM,
              py::arg("r_min_m") = 0.0,
              py::arg("r_max_m") = 0.0,
+             py::arg("unit_grid") = false,
              "range_compress_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("filter", &range_compress_config::filter)
         .def_readwrite("snr_db", &range_compress_config::snr_db)
@@ -66,7 +69,8 @@ void bind_range_compress(py::module& m)
         .def_readwrite("window", &range_compress_config::window)
         .def_readwrite("window_param", &range_compress_config::window_param)
         .def_readwrite("r_min_m", &range_compress_config::r_min_m)
-        .def_readwrite("r_max_m", &range_compress_config::r_max_m);
+        .def_readwrite("r_max_m", &range_compress_config::r_max_m)
+        .def_readwrite("unit_grid", &range_compress_config::unit_grid);
 
     py::class_<range_compress,
                gr::sync_block,

@@ -62,5 +62,10 @@ void bind_scene_echo(py::module& m)
              &scene_echo::set_threads,
              py::arg("threads"),
              "Threads computing the echo: 1 (default) or 2.")
-        .def("threads", &scene_echo::threads, "Threads computing the echo.");
+        .def("threads", &scene_echo::threads, "Threads computing the echo.")
+        .def("set_reference_only",
+             &scene_echo::set_reference_only,
+             py::arg("on"),
+             "out0 carries the reference H (S = 1, no noise), out1 unconnected; Y not computed.")
+        .def("reference_only", &scene_echo::reference_only, "Whether out0 is the reference.");
 }

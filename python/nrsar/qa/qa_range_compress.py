@@ -216,6 +216,40 @@ class qa_range_compress(gr_unittest.TestCase):
         with self.assertRaises(ValueError):
             blk.set_snr_db(float("nan"))
 
+    def test_009_unit_grid_is_the_all_ones_reference(self):
+        # unit_grid: one input, S = 1: bit for bit the block fed an all-ones grid (every
+        # filter, constant-modulus path on and off), the float64 reference within rounding,
+        # the echo's tags kept.
+        y, _ = self.grid(30, 9)
+        ones = np.ones_like(y)
+        tag = gr.tag_utils.python_to_tag((4, pmt.intern("marker"), pmt.from_long(4)))
+        bin_m = C / (2 * 80 * 30e3)
+        first, last = math.ceil(500.0 / bin_m), math.floor(3000.0 / bin_m)
+        for name, ftype in FILTERS.items():
+            for cm in (True, False):
+                cfg = nrsar.range_compress_config(filter=ftype, snr_db=-20.0, fft_size=80,
+                                                  r_min_m=500.0, r_max_m=3000.0)
+                self.tb = gr.top_block()
+                two = nrsar.range_compress(self.num, cfg)
+                two.set_constant_modulus_path(cm)
+                want, _ = self.run_block(two, y, ones)
+                cfg.unit_grid = True
+                one = nrsar.range_compress(self.num, cfg)
+                one.set_constant_modulus_path(cm)
+                self.assertEqual(one.input_signature().max_streams(), 1)
+                self.tb = gr.top_block()
+                snk = blocks.vector_sink_c(one.num_bins())
+                self.tb.connect(blocks.vector_source_c(y.ravel().tolist(), False, N, [tag]),
+                                one, snk)
+                self.tb.run()
+                got = np.array(snk.data()).reshape(-1, one.num_bins())
+                np.testing.assert_array_equal(got, want, err_msg=f"{name} cm {cm}")
+                ref = reference(y, ones, name, -20.0, 80, first, last - first + 1)
+                rms = np.sqrt(np.mean(np.abs(ref) ** 2))
+                np.testing.assert_allclose(got, ref, rtol=0, atol=1e-5 * rms)
+                self.assertEqual([t.offset for t in snk.tags()
+                                  if pmt.eq(t.key, pmt.intern("marker"))], [4])
+
     def test_007_chain_rx_fuse_same_image(self):
         # nrsar-sim's chain with --rx-fuse on (range_compress in both branches) against the
         # separate blocks: the same range-compressed data and image within float rounding,

@@ -212,6 +212,38 @@ class qa_scene_echo(gr_unittest.TestCase):
         self.assertEqual(outs[1][2], [(150, 1)])
         self.assertEqual(outs[0][2:], outs[1][2:])
 
+    def test_020_reference_only(self):
+        # out0 of a reference-only block is H: eq. (7) with S = 1 and no noise whatever
+        # the input (NaN included: not read, not counted), the input's tags on it, and
+        # bit for bit the reference output of the block computing both (1 and 2 threads).
+        rng = np.random.default_rng(20)
+        s = qam256(rng, (300, self.N))
+        s[40, 3] = np.nan
+        tag = gr.tag_utils.python_to_tag((7, pmt.intern("marker"), pmt.from_long(1)))
+        both = nrsar.scene_echo(self.num, self.geo, nrsar.make_scene("paper3"), 5.0, 3)
+        _, h_both, _ = self.run_block(both, s, with_reference=True)
+        for threads in (1, 2):
+            self.tb = gr.top_block()
+            blk = nrsar.scene_echo(self.num, self.geo, nrsar.make_scene("paper3"), 5.0, 3)
+            blk.set_reference_only(True)
+            blk.set_threads(threads)
+            blk.set_min_output_buffer(64)
+            self.assertTrue(blk.reference_only())
+            h, _, tags = self.run_block(blk, s, tags=[tag])
+            ref = echo_reference(self.num, self.geo, PAPER3, np.ones_like(s))
+            self.assertLess(rel_error_db(h, ref), -80.0)
+            np.testing.assert_array_equal(h, h_both)
+            self.assertEqual(blk.nonfinite_count(), 0)
+            self.assertEqual([t.offset for t in tags if pmt.eq(t.key, pmt.intern("marker"))], [7])
+
+    def test_021_reference_only_refuses_a_second_output(self):
+        blk = nrsar.scene_echo(self.num, self.geo, nrsar.make_scene("paper3"))
+        blk.set_reference_only(True)
+        s = np.ones((4, self.N), dtype=np.complex64)
+        with self.assertRaises(Exception) as ctx:
+            self.run_block(blk, s, with_reference=True)
+        self.assertIn("noutputs", str(ctx.exception))
+
     # One test per invalid-parameter rule.
     def assert_refused(self, text, make):
         with self.assertRaises(ValueError) as ctx:

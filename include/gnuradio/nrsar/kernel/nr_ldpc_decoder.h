@@ -74,8 +74,11 @@ public:
     /*!
      * \brief Decodes N LLRs of d_0 .. d_{N-1} (positive = bit 0; 0 = not received;
      * +inf = known 0, e.g. fillers; NaN counts as 0) into the K bits c_0 .. c_{K-1}.
+     * nonzero_columns (optional, N / Zc flags): the columns of Zc LLRs flagged 0 hold only
+     * zeros and are not read (nr_rate_recover's record); the same result as without.
      */
-    nr_ldpc_decode_result decode(const float* llr, std::uint8_t* c);
+    nr_ldpc_decode_result
+    decode(const float* llr, std::uint8_t* c, const std::uint8_t* nonzero_columns = nullptr);
 
     //! The same from int8 LLRs (clamped to +-127), e.g. from a fixed-point demapper, not
     //! rescaled (in int16 the sums do not saturate); offset: beta in their units (negative

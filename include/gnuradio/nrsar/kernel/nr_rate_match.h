@@ -54,6 +54,9 @@ nr_code_block_e(std::size_t G, unsigned C, unsigned qm, unsigned n_layers = 1);
 //! d (N bits, one per byte) -> f (E bits). E must be a multiple of Qm.
 NRSAR_API void nr_rate_match(const std::uint8_t* d, const nr_rate_match_params& p, std::size_t e, std::uint8_t* f);
 
+//! Columns of Zc bits of a circular buffer at most (N / Zc: 66 in BG1, 50 in BG2).
+constexpr std::size_t nr_max_columns = 66;
+
 /*!
  * \brief Rate recovery with soft combining: the E LLRs of f are de-interleaved and added to
  * the circular-buffer positions they were read from, into d_llr (N values, accumulated:
@@ -61,12 +64,20 @@ NRSAR_API void nr_rate_match(const std::uint8_t* d, const nr_rate_match_params& 
  * combining). Filler positions are set to +infinity (known 0 bits). combine = false starts
  * a new buffer (the first transmission): d_llr need not be initialised, the positions not
  * read are set to 0 (the same values as zeroing it first, in one pass).
+ *
+ * nonzero_columns (optional, N / Zc flags, one per column d_{c Zc} .. d_{(c+1) Zc - 1}):
+ * the caller's record of which columns of d_llr may hold anything but 0, kept across calls
+ * on the same buffer (all 0 for a zeroed buffer). combine = false then clears only the
+ * flagged columns' unread positions (the others hold zeros already) and leaves exactly the
+ * columns it wrote (fillers included) flagged; combine = true adds them to the flags. The
+ * same values as without; nr_ldpc_decoder::decode() need not read an unflagged column.
  */
 NRSAR_API void nr_rate_recover(const float* f_llr,
                                const nr_rate_match_params& p,
                                std::size_t e,
                                float* d_llr,
-                               bool combine = true);
+                               bool combine = true,
+                               std::uint8_t* nonzero_columns = nullptr);
 
 } // namespace kernel
 } // namespace nrsar

@@ -104,6 +104,9 @@ private:
     std::vector<nr_ldpc_decoder> d_dec; // one per thread
     std::vector<std::uint8_t> d_tb, d_cb, d_d, d_c, d_scr;
     std::vector<float> d_soft;            // C x N soft buffers
+    // per block, N / Zc flags: the columns of its soft buffer that may hold non-zero LLRs
+    // (nr_rate_recover's record: the unread columns are neither cleared nor decoded again)
+    std::vector<std::uint8_t> d_soft_columns;
     std::vector<std::vector<float>> d_llr; // per thread: one descrambled block's E LLRs
     std::vector<std::size_t> d_e_begin;    // first LLR of each block in the slot
     std::vector<unsigned> d_cb_iterations;  // per block, of the last decode
