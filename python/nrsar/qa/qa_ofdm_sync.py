@@ -29,13 +29,17 @@ DMRS = (2, 11)  # the pusch2 preset
 
 
 def make_grid(num, slots, seed, dmrs=DMRS):
-    """QPSK data on every RE; DMRS symbols: QPSK on even subcarriers, odd ones empty."""
+    """QPSK data on every RE; DMRS symbols: the 38.211 DMRS of their slot and symbol
+    (scrambling id 0) on even subcarriers, odd ones empty (ofdm_sync's lock check tests the
+    sequence)."""
     rng = np.random.default_rng(seed)
     m, n = slots * num.symbols_per_slot, num.num_subcarriers
     grid = ((2 * rng.integers(0, 2, (m, n)) - 1) + 1j * (2 * rng.integers(0, 2, (m, n)) - 1))
     grid /= np.sqrt(2)
     for s in range(m):
-        if s % num.symbols_per_slot in dmrs:
+        slot, l = divmod(s, num.symbols_per_slot)
+        if l in dmrs:
+            grid[s, 0::2] = nrsar.dmrs_values(0, slot % num.slots_per_frame, l, (n + 1) // 2)
             grid[s, 1::2] = 0
     return grid
 
