@@ -25,6 +25,7 @@ private:
 
     numerology d_num;
     unsigned d_first_dmrs;
+    unsigned d_num_dmrs;
     double d_backoff;
     std::int64_t d_backoff_samples;
     kernel::sc_acquirer d_acq;

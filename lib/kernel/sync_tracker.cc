@@ -137,7 +137,7 @@ sync_tracker::relock sync_tracker::relock_at(std::int64_t g,
     if (slots_per_frame < 1 || slot_in_frame >= int(slots_per_frame))
         throw_param("slot_in_frame", slot_in_frame, "must be below slots_per_frame = " + std::to_string(slots_per_frame));
     const std::int64_t L = std::int64_t(d_slot);
-    const std::int64_t first = g - (dmrs_index == 0 ? 0 : d_repeats[dmrs_index - 1]);
+    const std::int64_t first = g - repeat_offset(dmrs_index);
     std::int64_t s = ((std::int64_t(d_dmrs) - first) % L + L) % L; // in [0, L)
     if (s > L / 2)
         s -= L;
@@ -175,9 +175,8 @@ unsigned sync_tracker::found_dmrs(const gr_complex* buf,
     for (; j < d_repeats.size(); j++) {
         bool all = true;
         for (std::size_t k = j; k < d_repeats.size() && all; k++) {
-            const std::int64_t at = symbol_start + d_repeats[k] -
-                                    (j == 0 ? 0 : d_repeats[j - 1]) + std::int64_t(d_cp / 2) -
-                                    buf_start;
+            const std::int64_t at = symbol_start + d_repeats[k] - repeat_offset(j) +
+                                    std::int64_t(d_cp / 2) - buf_start;
             if (at >= 0 && at + 2 * std::int64_t(d_half) <= std::int64_t(buffered))
                 all = metric_at(buf + at) >= threshold;
         }

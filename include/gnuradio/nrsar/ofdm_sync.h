@@ -51,10 +51,9 @@ namespace nrsar {
  * double, "timing" int64 = input sample index of d0_hat, "start" int64 = input sample index
  * of output sample 0, "metric" double = Mmax); tags::symbol_key() (uint64 symbol index) and
  * tags::slot_key() (uint64 slot index) on the first sample of every slot, tags::frame_key()
- * (uint64) on every slots_per_frame-th slot. Slot numbering restarts at 0 at each acquisition:
- * the burst's first slot is slot 0 (unlike NR, where the base station knows the frame timing
- * from its own downlink); a re-acquisition after a lost lock takes the slot number whose DMRS
- * sequence the found symbol carries (modulo slots_per_frame). Input tags are not propagated: they belong to the transmitter's
+ * (uint64) on every slots_per_frame-th slot. An acquisition numbers its slot by the DMRS
+ * sequence the found symbol carries (modulo slots_per_frame; a burst starting at slot 0 is
+ * numbered from 0; NR's base station would know the frame timing from its own downlink). Input tags are not propagated: they belong to the transmitter's
  * timeline, which the base station does not know. Non-finite input samples are zeroed and
  * counted (after lock also tagged with tags::nonfinite_key()).
  *
@@ -69,12 +68,12 @@ namespace nrsar {
  * its timing and the whole slots from its sequence's slot number (a gap known modulo a frame).
  * The CFO is kept. Counted: lost_samples(), rx_time_gaps(), lock_losses(), reacquisitions(),
  * skipped_slots(), skipped_symbols(). reset() or any message on the `reset` port starts a
- * fresh acquisition at the next input sample (output continues; the new slot 0 starts where
+ * fresh acquisition at the next input sample (output continues; the new first slot starts where
  * the new acquisition's output begins). Memory is bounded: before lock the block keeps
  * dmrs.symbols[0] (cp + fft_size) + cp + fft_size / 2 + backoff samples of history plus
  * the search span (up to the slot's last DMRS symbol while the CFO is refined).
- * The first detected DMRS symbol must be the first DMRS symbol of a slot (bursts start at
- * slot boundaries).
+ * Without a DMRS sequence that fits, the first detected DMRS symbol is taken as the first
+ * DMRS symbol of slot 0.
  */
 class NRSAR_API ofdm_sync : virtual public gr::block
 {

@@ -301,6 +301,25 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         self.assertEqual([int(m["transmissions"]) for m, _ in msgs],
                          [1, 1, 1, 0, 1, 1, 1, 1])
         self.assertEqual((rx.blocks_lost(), rx.blocks_failed(), rx.blocks_ok()), (2, 2, ntb - 2))
+    def test_013_first_lock_numbers_its_slot_by_the_dmrs(self):
+        # A base station that starts inside the burst: the first lock's slot number is the
+        # one its DMRS sequence carries. Slot 0 silent: the lock is in slot 1 (its first DMRS
+        # symbol), numbered 1. The stream starting 5 symbols into slot 2: the lock is on slot
+        # 2's second DMRS symbol, whose slot began before the stream: output starts at slot 3.
+        sym = self.num.cp_samples + self.num.fft_size
+        o = DELAY - self.b
+        silent = self.x.copy()
+        silent[:o + self.L] = 0
+        for x, first in ((silent, 1), (self.x[o + 2 * self.L + 5 * sym:], 3)):
+            with self.subTest(first=first):
+                sync, rx, pdus = self.run_gaps([], stamped=False, x=x)
+                self.assertEqual((sync.lock_losses(), sync.reacquisitions()), (0, 0))
+                self.assertEqual(sorted(pdus), list(range(first, NSLOTS)))
+                for s in range(first, NSLOTS):
+                    crc_ok, lost, data = pdus[s]
+                    self.assertTrue(crc_ok and not lost, s)
+                    self.assertEqual(data, self.chunks[s], s)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_base_station_gaps)

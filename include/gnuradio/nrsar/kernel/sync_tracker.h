@@ -159,6 +159,8 @@ public:
                         double threshold) const;
     //! Offsets (samples, > 0) of the slot's further DMRS symbols after its first.
     void set_repeats(const std::vector<std::int64_t>& offsets) { d_repeats = offsets; }
+    //! Samples from the slot's first DMRS symbol to its DMRS symbol j (0 for j = 0).
+    std::int64_t repeat_offset(unsigned j) const { return j == 0 ? 0 : d_repeats.at(j - 1); }
 
     //! Grid sample where slot k's check window starts (d0_hat + cp/2).
     std::int64_t check_start(std::uint64_t slot) const;
