@@ -182,11 +182,13 @@ void ofdm_sync_impl::on_lock(std::uint64_t out_item)
             }
         }
     }
-    const std::int64_t symbol_start = r.symbol_start + (frame_slot >= 0 ? std::llround(m.offset) : 0);
+    const std::int64_t symbol_start =
+        r.symbol_start + (frame_slot >= 0 ? std::llround(m.offset) : 0);
     d_timing = std::int64_t(d_in_origin) + symbol_start;
     // acquirer index of the found DMRS's slot start
     const std::int64_t found_slot_start =
-        symbol_start - d_tracker.repeat_offset(j) - std::int64_t(d_first_dmrs) * len - d_backoff_samples;
+        symbol_start - d_tracker.repeat_offset(j) - std::int64_t(d_first_dmrs) * len -
+        d_backoff_samples;
     std::uint64_t slot0 = 0;
     if (d_fresh) {
         slot0 = frame_slot >= 0 ? std::uint64_t(frame_slot) : 0;
@@ -208,7 +210,8 @@ void ofdm_sync_impl::on_lock(std::uint64_t out_item)
         if (r2.shift > 0)
             d_lost_samples += std::uint64_t(r2.shift);
         slot0 = r2.slot;
-        if (std::int64_t(slot0) * L + d_grid_start - std::int64_t(d_in_origin) < d_acq.buffer_start())
+        if (std::int64_t(slot0) * L + d_grid_start - std::int64_t(d_in_origin) <
+            d_acq.buffer_start())
             slot0++;
         d_skipped_slots += slot0 - d_grid_out / std::uint64_t(L);
         d_skipped_symbols += slot0 * d_num.symbols_per_slot - d_grid_out / std::uint64_t(len);
@@ -481,7 +484,9 @@ int ofdm_sync_impl::general_work(int noutput_items,
         d_rot.rotate(x, out + produced, std::size_t(n));
         const std::int64_t c0 = std::max(g, cs), c1 = std::min(g + n, ce);
         if (c0 < c1) // derotated: the DMRS test needs the CFO removed
-            std::copy(out + produced + (c0 - g), out + produced + (c1 - g), d_check.begin() + (c0 - cs));
+            std::copy(out + produced + (c0 - g),
+                      out + produced + (c1 - g),
+                      d_check.begin() + (c0 - cs));
         if (bad > 0) {
             const std::uint64_t item = w0 + produced;
             add_item_tag(0, d_nonfinite.tag(d_logger, bad, item, item, alias_pmt()));

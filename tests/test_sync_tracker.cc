@@ -157,7 +157,8 @@ TEST(sync_tracker, check_windows)
             EXPECT_LT(t.check_start(k - 1), std::int64_t(g));
         }
     }
-    auto x = noise(2 * F, *std::make_unique<std::mt19937>(1));
+    std::mt19937 rng(1);
+    const auto x = noise(2 * F, rng);
     for (std::size_t d : { std::size_t(0), std::size_t(3), std::size_t(F - 1) })
         EXPECT_NEAR(t.metric_at(x.data() + d), metric(x.data(), d), 1e-9);
 }
@@ -260,7 +261,8 @@ TEST(dmrs_matcher, timing_scatter_at_3_db)
     const int trials = 400;
     double rho = 0.0, e2 = 0.0;
     for (int i = 0; i < trials; i++) {
-        std::vector<gr_complex> w(x.begin() + num.cp_samples / 2, x.begin() + num.cp_samples / 2 + num.fft_size);
+        const auto w0 = x.begin() + num.cp_samples / 2;
+        std::vector<gr_complex> w(w0, w0 + num.fft_size);
         for (auto& s : w)
             s += gr_complex(g(rng), g(rng));
         const auto r = m.test(w.data(), 4, 0);

@@ -60,7 +60,9 @@ dmrs_matcher::match
 dmrs_matcher::test(const gr_complex* x, unsigned slot_in_frame, unsigned dmrs_index)
 {
     if (dmrs_index >= d_symbols)
-        throw_param("dmrs_index", dmrs_index, "must be below the DMRS symbols, " + std::to_string(d_symbols));
+        throw_param("dmrs_index",
+                    dmrs_index,
+                    "must be below the DMRS symbols, " + std::to_string(d_symbols));
     d_demod.execute(x, d_y.data());
     return correlate(slot_in_frame % (d_values.size() / d_symbols), dmrs_index);
 }
@@ -68,7 +70,9 @@ dmrs_matcher::test(const gr_complex* x, unsigned slot_in_frame, unsigned dmrs_in
 unsigned dmrs_matcher::identify(const gr_complex* x, unsigned dmrs_index, match& best)
 {
     if (dmrs_index >= d_symbols)
-        throw_param("dmrs_index", dmrs_index, "must be below the DMRS symbols, " + std::to_string(d_symbols));
+        throw_param("dmrs_index",
+                    dmrs_index,
+                    "must be below the DMRS symbols, " + std::to_string(d_symbols));
     d_demod.execute(x, d_y.data());
     unsigned slot = 0;
     best = match();
@@ -135,7 +139,9 @@ sync_tracker::relock sync_tracker::relock_at(std::int64_t g,
     if (dmrs_index > d_repeats.size())
         throw_param("dmrs_index", dmrs_index, "must be at most the repeats, " + std::to_string(d_repeats.size()));
     if (slots_per_frame < 1 || slot_in_frame >= int(slots_per_frame))
-        throw_param("slot_in_frame", slot_in_frame, "must be below slots_per_frame = " + std::to_string(slots_per_frame));
+        throw_param("slot_in_frame",
+                    slot_in_frame,
+                    "must be below slots_per_frame = " + std::to_string(slots_per_frame));
     const std::int64_t L = std::int64_t(d_slot);
     const std::int64_t first = g - repeat_offset(dmrs_index);
     std::int64_t s = ((std::int64_t(d_dmrs) - first) % L + L) % L; // in [0, L)
@@ -150,7 +156,9 @@ sync_tracker::relock sync_tracker::relock_at(std::int64_t g,
         slot += std::int64_t(whole);
     }
     slot = std::max<std::int64_t>(slot, 0);
-    return { s, std::max(std::uint64_t(slot), (out_grid + d_slot - 1) / d_slot), dmrs_index, whole };
+    return {
+        s, std::max(std::uint64_t(slot), (out_grid + d_slot - 1) / d_slot), dmrs_index, whole
+    };
 }
 
 double sync_tracker::metric_at(const gr_complex* x) const

@@ -53,7 +53,8 @@ namespace nrsar {
  * tags::slot_key() (uint64 slot index) on the first sample of every slot, tags::frame_key()
  * (uint64) on every slots_per_frame-th slot. An acquisition numbers its slot by the DMRS
  * sequence the found symbol carries (modulo slots_per_frame; a burst starting at slot 0 is
- * numbered from 0; NR's base station would know the frame timing from its own downlink). Input tags are not propagated: they belong to the transmitter's
+ * numbered from 0; NR's base station would know the frame timing from its own downlink).
+ * Input tags are not propagated: they belong to the transmitter's
  * timeline, which the base station does not know. Non-finite input samples are zeroed and
  * counted (after lock also tagged with tags::nonfinite_key()).
  *

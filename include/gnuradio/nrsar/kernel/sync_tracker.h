@@ -32,7 +32,8 @@ namespace kernel {
  * the expected start) give rho ~ snr / (1 + snr) (per-RE SNR) and angle(C) = -4 pi (cp/2 + e) /
  * fft_size, so e = -angle(C) fft_size / (4 pi) - cp/2 (unambiguous for e in (-fft_size/4 - cp/2,
  * fft_size/4 - cp/2)); its noise: std sqrt((n - 1) v^2 / 2 + v) / (n - 1) x fft_size / (4 pi)
- * for v = 1 / snr (1.7 samples at 3 dB, sdr20: the first-order terms telescope). Noise, data or another slot's or symbol's sequence give Z_i independent
+ * for v = 1 / snr (1.7 samples at 3 dB, sdr20: the first-order terms telescope). Noise,
+ * data or another slot's or symbol's sequence give Z_i independent
  * with random phases: C is about complex Gaussian with variance (n - 1) s^4 for n = ceil(N/2)
  * DMRS REs, so P(rho > t) = exp(-t^2 n^2 / (n - 1)); threshold() is the t where that is
  * false_alarm (1e-9: 0.26 at sdr20's n = 306, 0.11 at paper's 1667).
