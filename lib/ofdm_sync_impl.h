@@ -25,11 +25,13 @@ private:
 
     numerology d_num;
     unsigned d_first_dmrs;
+    unsigned d_num_dmrs;
     double d_backoff;
     std::int64_t d_backoff_samples;
     kernel::sc_acquirer d_acq;
     kernel::phase_rotator d_rot;
     kernel::sync_tracker d_tracker;
+    kernel::dmrs_matcher d_matcher;
     kernel::finite_guard d_guard;
     nonfinite_reporter d_nonfinite;
     pmt::pmt_t d_rx_time_key;
@@ -54,7 +56,7 @@ private:
     bool d_resume = false;
     std::uint64_t d_resume_slot = 0;
     bool d_search_pending = false;
-    // The lock check: one window per slot.
+    // The lock check: one window per slot (derotated; at a lock: from the acquirer's buffer).
     std::vector<gr_complex> d_check;
     std::uint64_t d_check_slot = 0;
     // The last rx_time stamp: input item and time.
@@ -74,6 +76,7 @@ private:
     std::uint64_t d_gaps = 0;
 
     void on_lock(std::uint64_t out_item);
+    const gr_complex* lock_window(std::int64_t symbol_start, double cfo);
     void tag_slots(std::uint64_t out_begin, std::uint64_t out_end);
     void jump_grid(std::uint64_t to);
     void handle_stamp(const gr::tag_t& tag, std::uint64_t out_item);

@@ -101,6 +101,10 @@ void pusch_receiver_impl::finish_slot()
     } else {
         d_failed++;
     }
+    // A TB that failed after a gap cut one of its repetitions is lost, not a channel failure.
+    const bool lost = !ok && res.tb_index == d_cut_tb;
+    if (lost)
+        d_lost++;
     const bool data = ok && !filler;
     const long payload_len = data ? static_cast<long>(tb.sdu.data.size()) : 0;
     pdu_meta m;
@@ -119,6 +123,7 @@ void pusch_receiver_impl::finish_slot()
     m.cb_crc_ok = tb.cb_crc_ok;
     m.snr_db = res.snr_db;
     m.evm_db = res.evm_db;
+    m.lost = lost;
     const pmt::pmt_t bytes = data ? pmt::init_u8vector(tb.sdu.data.size(), tb.sdu.data)
                                   : pmt::make_u8vector(0, 0);
     publish(m, bytes, res.tb_index);
@@ -154,8 +159,10 @@ void pusch_receiver_impl::publish(const pdu_meta& m, const pmt::pmt_t& bytes, st
 
 void pusch_receiver_impl::report_lost(std::uint64_t slot)
 {
-    // A TB is lost when its last transmission is and it has not been reported (decoded) yet.
+    // A TB is lost when its last transmission is and it has not been reported (decoded) yet;
+    // one whose earlier repetition is cut is lost if the rest do not decode (finish_slot).
     const std::uint64_t tb = slot / d_repetitions;
+    d_cut_tb = tb;
     if (slot % d_repetitions != d_repetitions - 1 || tb == d_reported_tb)
         return;
     d_failed++;

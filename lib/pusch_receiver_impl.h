@@ -41,6 +41,7 @@ private:
     bool d_seen_slot_tag = false; // slot numbers are known (a jump in them can be seen)
     bool d_cut = false;           // a gap tag in the slot being buffered
     std::uint64_t d_reported_tb = ~std::uint64_t{ 0 }; // last TB reported on the PDU port
+    std::uint64_t d_cut_tb = ~std::uint64_t{ 0 };      // TB of the last slot a gap cut
     std::atomic<std::uint64_t> d_filler{ 0 };
     std::atomic<std::uint64_t> d_bytes{ 0 };
     std::atomic<std::uint64_t> d_partial{ 0 };

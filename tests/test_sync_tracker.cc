@@ -6,16 +6,20 @@
  */
 
 // sync_tracker (ofdm_sync's gaps and lock check) against sample-by-sample bookkeeping done in
-// the test and against the Schmidl & Cox metric computed directly from its definition.
+// the test and against the Schmidl & Cox metric computed directly from its definition;
+// dmrs_matcher against OFDM symbols of the 38.211 DMRS made here and its noise model.
 
+#include <gnuradio/nrsar/kernel/dmrs.h>
 #include <gnuradio/nrsar/kernel/sync_tracker.h>
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <cmath>
 #include <complex>
 #include <random>
 #include <stdexcept>
 #include <vector>
 
+using gr::nrsar::kernel::dmrs_matcher;
 using gr::nrsar::kernel::sync_tracker;
 
 namespace {
@@ -125,11 +129,27 @@ TEST(sync_tracker, found_dmrs_is_told_by_the_later_dmrs_symbols_in_the_buffer)
     EXPECT_EQ(t.found_dmrs(x.data(), b0, std::size_t(at(s + r2 - r1)), s, 0.5), 0u);
 }
 
+TEST(sync_tracker, relock_counts_whole_slots_by_the_slot_number)
+{
+    sync_tracker t(F, CP, SPS, DMRS, EARLY);
+    for (std::uint64_t m = 0; m < 20; m++) {
+        for (std::int64_t gap = -std::int64_t(L / 2) + 1; gap <= std::int64_t(L / 2); gap += 97) {
+            // slot 10 + m's first DMRS arrives gap + m L early; its DMRS names slot (10 + m) % 20
+            const std::int64_t g = 10 * std::int64_t(L) + std::int64_t(DMRS) - gap;
+            const auto r = t.relock_at(g, 9 * L, 0, int((10 + m) % 20), 20);
+            EXPECT_EQ(r.shift, gap + std::int64_t(m * L)) << m << " " << gap;
+            EXPECT_EQ(r.slot, 10 + m) << m << " " << gap;
+            EXPECT_EQ(r.whole_slots, m);
+        }
+    }
+    EXPECT_THROW(t.relock_at(0, 0, 0, 20, 20), std::invalid_argument);
+}
+
 TEST(sync_tracker, check_windows)
 {
     sync_tracker t(F, CP, SPS, DMRS, EARLY);
-    EXPECT_EQ(t.check_length(), 3 * CP + F);
-    EXPECT_EQ(t.check_start(4), std::int64_t(4 * L + DMRS - CP));
+    EXPECT_EQ(t.check_length(), F);
+    EXPECT_EQ(t.check_start(4), std::int64_t(4 * L + DMRS + CP / 2));
     for (std::uint64_t g = 0; g < 5 * L; g += 13) {
         const auto k = t.first_checkable_slot(g);
         EXPECT_GE(t.check_start(k), std::int64_t(g));
@@ -137,81 +157,122 @@ TEST(sync_tracker, check_windows)
             EXPECT_LT(t.check_start(k - 1), std::int64_t(g));
         }
     }
-}
-
-TEST(sync_tracker, measure_finds_the_plateau_and_its_metric)
-{
-    sync_tracker t(F, CP, SPS, DMRS, EARLY);
-    std::mt19937 rng(3);
-    for (int e = -int(CP); e <= int(CP); e++) {
-        // window = [d0_hat - cp, ...): a half-periodic symbol with its CP at d0_hat + e
-        auto x = noise(t.check_length() + F, rng);
-        const auto half = noise(F / 2, rng);
-        const std::size_t d0 = std::size_t(int(CP) + e);
-        for (std::size_t m = 0; m < CP + F; m++)
-            x[d0 + m] = half[(m + F - CP) % (F / 2)];
-        const auto c = t.measure(x.data());
-        EXPECT_EQ(c.offset, e);
-        EXPECT_NEAR(c.mmax, 1.0, 1e-9);
-        double direct = 0.0;
-        for (std::size_t d = d0; d <= d0 + CP; d++)
-            direct = std::max(direct, metric(x.data(), d));
-        EXPECT_NEAR(c.mmax, direct, 1e-9);
-        for (std::size_t d : { std::size_t(0), d0, d0 + CP / 2, d0 + CP + 1 })
-            EXPECT_NEAR(t.metric_at(x.data() + d), metric(x.data(), d), 1e-9);
-    }
-    // noise only: M ~ Exp(mean 2/F) far below 1
-    auto x = noise(t.check_length(), rng);
-    const auto c = t.measure(x.data());
-    EXPECT_LT(c.mmax, 0.5);
+    std::mt19937 rng(1);
+    const auto x = noise(2 * F, rng);
+    for (std::size_t d : { std::size_t(0), std::size_t(3), std::size_t(F - 1) })
+        EXPECT_NEAR(t.metric_at(x.data() + d), metric(x.data(), d), 1e-9);
 }
 
 TEST(sync_tracker, lock_lost_after_consecutive_misses)
 {
     sync_tracker t(F, CP, SPS, DMRS, EARLY, 2);
-    const sync_tracker::check good{ 0.9, 1 }, weak{ 0.05, 0 };
-    EXPECT_FALSE(t.score(weak, 0.1)); // the peak below the threshold: a miss
+    const dmrs_matcher::match good{ 0.9, 1.0 }, weak{ 0.05, 0.0 };
+    EXPECT_FALSE(t.score(weak, 0.1)); // rho below the threshold: a miss
     EXPECT_EQ(t.misses(), 1u);
     EXPECT_FALSE(t.score(good, 0.1)); // a good slot in between clears it
     EXPECT_EQ(t.misses(), 0u);
     EXPECT_FALSE(t.score(weak, 0.1));
     EXPECT_TRUE(t.score(weak, 0.1)); // two in a row: the lock is lost
+    // the timing limits: max_early early, cp / 2 late
+    const auto at = [](double offset) { return dmrs_matcher::match{ 0.9, offset }; };
+    for (double e : { -double(EARLY), 0.0, double(CP / 2) }) {
+        t.clear_misses();
+        EXPECT_FALSE(t.score(at(e), 0.1));
+        EXPECT_EQ(t.misses(), 0u) << e;
+    }
+    for (double e : { -double(EARLY) - 0.5, double(CP / 2) + 0.5 }) {
+        t.clear_misses();
+        EXPECT_FALSE(t.score(at(e), 0.1));
+        EXPECT_EQ(t.misses(), 1u) << e;
+    }
 }
 
-TEST(sync_tracker, timing_tests_read_the_mean_offset_of_three_slots)
+namespace {
+// One OFDM symbol (cp + F samples) of the 38.211 DMRS of a slot and symbol, unit power per RE.
+std::vector<gr_complex> dmrs_symbol(const gr::nrsar::numerology& num, unsigned slot, unsigned l)
 {
-    const std::int64_t early = EARLY, late = CP / 2;
-    const auto at = [](std::int64_t offset) { return sync_tracker::check{ 0.9, offset }; };
-    sync_tracker t(F, CP, SPS, DMRS, EARLY, 2);
-    // after a new lock the first slot's offset is the mean: the limits themselves pass
-    EXPECT_FALSE(t.score(at(-early), 0.1));
-    EXPECT_EQ(t.misses(), 0u);
-    t.clear_misses();
-    EXPECT_FALSE(t.score(at(-early - 1), 0.1));
-    EXPECT_EQ(t.misses(), 1u);
-    t.clear_misses();
-    EXPECT_FALSE(t.score(at(late + 1), 0.1));
-    EXPECT_EQ(t.misses(), 1u);
-    // one slot's plateau far early among good ones (noise) is not a miss: mean -EARLY
-    t.clear_misses();
-    t.score(at(0), 0.1);
-    t.score(at(0), 0.1);
-    EXPECT_FALSE(t.score(at(-3 * early), 0.1));
-    EXPECT_EQ(t.misses(), 0u);
-    // a gap moves every later slot: more than 3 EARLY is a miss at once, lost at the second
-    t.clear_misses();
-    t.score(at(0), 0.1);
-    t.score(at(0), 0.1);
-    EXPECT_FALSE(t.score(at(-3 * early - 3), 0.1)); // mean -EARLY - 1
-    EXPECT_EQ(t.misses(), 1u);
-    EXPECT_TRUE(t.score(at(-3 * early - 3), 0.1));
-    // a weak slot's offset is not counted in the mean
-    t.clear_misses();
-    t.score(at(0), 0.1);
-    t.score(sync_tracker::check{ 0.05, -100 }, 0.1);
-    EXPECT_EQ(t.misses(), 1u);
-    EXPECT_FALSE(t.score(at(-2 * early), 0.1)); // mean of 0 and -2 EARLY: -EARLY, passes
-    EXPECT_EQ(t.misses(), 0u);
+    const unsigned n = num.num_subcarriers;
+    const auto r = gr::nrsar::kernel::dmrs_values(0, slot, l, gr::nrsar::kernel::dmrs_count(n));
+    std::vector<gr_complex> grid(n, 0.0f), x(num.cp_samples + num.fft_size);
+    for (std::size_t i = 0; i < r.size(); i++)
+        grid[2 * i] = r[i];
+    gr::nrsar::kernel::ofdm_modulator mod(n, num.fft_size, num.cp_samples, num.dc_subcarrier());
+    mod.execute(grid.data(), x.data());
+    return x;
+}
+} // namespace
+
+TEST(dmrs_matcher, finds_the_slot_and_the_timing_noise_free)
+{
+    const auto num = gr::nrsar::numerology::preset("sdr20");
+    const auto dmrs = gr::nrsar::dmrs_config::preset("pusch2");
+    dmrs_matcher m(num, dmrs);
+    const unsigned cp = num.cp_samples, nd = (num.num_subcarriers + 1) / 2;
+    for (unsigned slot : { 0u, 7u, 19u }) {
+        for (unsigned k = 0; k < 2; k++) {
+            const auto x = dmrs_symbol(num, slot, dmrs.symbols[k]);
+            for (int e : { -int(cp) / 2, -17, 0, 5, int(cp) / 2 - 1 }) {
+                // the symbol starts e samples after the expected start: the window begins
+                // cp/2 - e samples into it, inside the cyclic symbol
+                const gr_complex* w = x.data() + (int(cp) / 2 - e);
+                dmrs_matcher::match best;
+                EXPECT_EQ(m.identify(w, k, best), slot) << slot << " " << e;
+                EXPECT_NEAR(best.rho, double(nd - 1) / nd, 1e-5); // |Z| equal: (n - 1) / n
+                EXPECT_NEAR(best.offset, e, 1e-3);
+                const auto other = m.test(w, slot + 1, k); // another slot's sequence
+                EXPECT_LT(other.rho, m.threshold());
+            }
+        }
+    }
+}
+
+TEST(dmrs_matcher, noise_model_and_threshold)
+{
+    const auto num = gr::nrsar::numerology::preset("sdr20");
+    dmrs_matcher m(num, gr::nrsar::dmrs_config::preset("pusch2"));
+    const double n = (num.num_subcarriers + 1) / 2;
+    // P(rho > t) = exp(-t^2 n^2 / (n - 1)) = 1e-9 at the threshold
+    EXPECT_NEAR(m.threshold(), std::sqrt(std::log(1e9) * (n - 1)) / n, 1e-12);
+    // noise alone: the fraction above the t of P = 0.1 (binomial, 4 sigma)
+    const double t = std::sqrt(std::log(10.0) * (n - 1)) / n;
+    std::mt19937 rng(5);
+    const int trials = 4000;
+    int above = 0;
+    for (int i = 0; i < trials; i++) {
+        const auto x = noise(num.fft_size, rng);
+        above += m.test(x.data(), unsigned(i) % 20, 0).rho > t;
+    }
+    EXPECT_NEAR(double(above) / trials, 0.1, 4.0 * std::sqrt(0.1 * 0.9 / trials));
+}
+
+TEST(dmrs_matcher, timing_scatter_at_3_db)
+{
+    // per-RE SNR s = 2, flat channel: rho -> s / (1 + s). With Z_i = e^(j theta i) (1 + u_i),
+    // u_i ~ CN(0, v = 1/s), the first-order noise of Im(C e^(-j theta)) telescopes to
+    // Im(u_{n-1}) - Im(u_0): the angle's variance is ((n - 1) v^2 / 2 + v) / (n - 1)^2, the
+    // offset's std F / (4 pi) times its root.
+    const auto num = gr::nrsar::numerology::preset("sdr20");
+    dmrs_matcher m(num, gr::nrsar::dmrs_config::preset("pusch2"));
+    const double n = (num.num_subcarriers + 1) / 2, v = 0.5;
+    const auto x = dmrs_symbol(num, 4, 2);
+    // per-sample noise: per-RE variance v on REs of unit power (unitary modulator)
+    std::mt19937 rng(9);
+    std::normal_distribution<float> g(0.0f, float(std::sqrt(v / 2.0)));
+    const int trials = 400;
+    double rho = 0.0, e2 = 0.0;
+    for (int i = 0; i < trials; i++) {
+        const auto w0 = x.begin() + num.cp_samples / 2;
+        std::vector<gr_complex> w(w0, w0 + num.fft_size);
+        for (auto& s : w)
+            s += gr_complex(g(rng), g(rng));
+        const auto r = m.test(w.data(), 4, 0);
+        rho += r.rho / trials;
+        e2 += r.offset * r.offset / trials;
+    }
+    const double sd =
+        std::sqrt((n - 1) * v * v / 2 + v) / (n - 1) * num.fft_size / (4 * M_PI);
+    EXPECT_NEAR(rho, 2.0 / 3.0, 0.02);
+    EXPECT_NEAR(std::sqrt(e2), sd, 0.15 * sd); // 1.66 samples
 }
 
 TEST(sync_tracker, parameter_errors)

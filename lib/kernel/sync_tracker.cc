@@ -6,14 +6,85 @@
  */
 
 #include "param_check.h"
+#include <gnuradio/nrsar/kernel/dmrs.h>
 #include <gnuradio/nrsar/kernel/sync_tracker.h>
 #include <algorithm>
+#include <cmath>
 #include <complex>
 #include <vector>
 
 namespace gr {
 namespace nrsar {
 namespace kernel {
+
+dmrs_matcher::dmrs_matcher(const numerology& num, const dmrs_config& dmrs, double false_alarm)
+    : d_fft(num.fft_size),
+      d_cp(num.cp_samples),
+      d_symbols(dmrs.symbols.size()),
+      d_demod(num.num_subcarriers, num.fft_size, 0, num.dc_subcarrier(), 0),
+      d_y(num.num_subcarriers)
+{
+    if (!(false_alarm > 0.0 && false_alarm < 1.0))
+        throw_param("false_alarm", false_alarm, "must be in (0, 1)");
+    const unsigned n = dmrs_count(num.num_subcarriers);
+    if (n < 2)
+        throw_param("num_subcarriers", num.num_subcarriers, "must be at least 3 (two DMRS REs)");
+    // P(rho > t) = exp(-t^2 n^2 / (n - 1)) (class comment)
+    d_threshold = std::sqrt(-std::log(false_alarm) * double(n - 1)) / double(n);
+    for (unsigned s = 0; s < num.slots_per_frame; s++)
+        for (unsigned l : dmrs.symbols)
+            d_values.push_back(dmrs_values(dmrs.scrambling_id, s, l, n));
+}
+
+dmrs_matcher::match dmrs_matcher::correlate(unsigned slot_in_frame, unsigned dmrs_index) const
+{
+    const auto& r = d_values[std::size_t(slot_in_frame) * d_symbols + dmrs_index];
+    std::complex<double> c = 0.0;
+    double e = 0.0;
+    std::complex<double> prev;
+    for (std::size_t i = 0; i < r.size(); i++) {
+        const std::complex<double> z =
+            std::complex<double>(d_y[2 * i]) * std::conj(std::complex<double>(r[i]));
+        if (i > 0)
+            c += std::conj(prev) * z;
+        e += std::norm(z);
+        prev = z;
+    }
+    match m;
+    m.rho = e > 0.0 ? std::abs(c) / e : 0.0;
+    m.offset = -std::arg(c) * double(d_fft) / (4.0 * M_PI) - double(d_cp / 2);
+    return m;
+}
+
+dmrs_matcher::match
+dmrs_matcher::test(const gr_complex* x, unsigned slot_in_frame, unsigned dmrs_index)
+{
+    if (dmrs_index >= d_symbols)
+        throw_param("dmrs_index",
+                    dmrs_index,
+                    "must be below the DMRS symbols, " + std::to_string(d_symbols));
+    d_demod.execute(x, d_y.data());
+    return correlate(slot_in_frame % (d_values.size() / d_symbols), dmrs_index);
+}
+
+unsigned dmrs_matcher::identify(const gr_complex* x, unsigned dmrs_index, match& best)
+{
+    if (dmrs_index >= d_symbols)
+        throw_param("dmrs_index",
+                    dmrs_index,
+                    "must be below the DMRS symbols, " + std::to_string(d_symbols));
+    d_demod.execute(x, d_y.data());
+    unsigned slot = 0;
+    best = match();
+    for (unsigned s = 0; s < d_values.size() / d_symbols; s++) {
+        const match m = correlate(s, dmrs_index);
+        if (m.rho > best.rho) {
+            best = m;
+            slot = s;
+        }
+    }
+    return slot;
+}
 
 sync_tracker::sync_tracker(unsigned fft_size,
                            unsigned cp,
@@ -28,8 +99,7 @@ sync_tracker::sync_tracker(unsigned fft_size,
       d_slot(std::uint64_t(symbols_per_slot) * (std::uint64_t(cp) + fft_size)),
       d_dmrs(dmrs_offset),
       d_max_early(max_early),
-      d_miss_limit(miss_limit),
-      d_check_len(3 * std::size_t(cp) + fft_size)
+      d_miss_limit(miss_limit)
 {
     if (fft_size < 4 || fft_size % 2 != 0)
         throw_param("fft_size", fft_size, "must be even and at least 4 (half-symbol repetition)");
@@ -60,18 +130,35 @@ sync_tracker::gap_plan sync_tracker::plan_gap(std::uint64_t g, std::uint64_t los
     return p;
 }
 
-sync_tracker::relock
-sync_tracker::relock_at(std::int64_t g, std::uint64_t out_grid, unsigned dmrs_index) const
+sync_tracker::relock sync_tracker::relock_at(std::int64_t g,
+                                             std::uint64_t out_grid,
+                                             unsigned dmrs_index,
+                                             int slot_in_frame,
+                                             unsigned slots_per_frame) const
 {
     if (dmrs_index > d_repeats.size())
         throw_param("dmrs_index", dmrs_index, "must be at most the repeats, " + std::to_string(d_repeats.size()));
+    if (slots_per_frame < 1 || slot_in_frame >= int(slots_per_frame))
+        throw_param("slot_in_frame",
+                    slot_in_frame,
+                    "must be below slots_per_frame = " + std::to_string(slots_per_frame));
     const std::int64_t L = std::int64_t(d_slot);
-    const std::int64_t first = g - (dmrs_index == 0 ? 0 : d_repeats[dmrs_index - 1]);
+    const std::int64_t first = g - repeat_offset(dmrs_index);
     std::int64_t s = ((std::int64_t(d_dmrs) - first) % L + L) % L; // in [0, L)
     if (s > L / 2)
         s -= L;
-    const std::int64_t slot = std::max<std::int64_t>((first + s - std::int64_t(d_dmrs)) / L, 0);
-    return { s, std::max(std::uint64_t(slot), (out_grid + d_slot - 1) / d_slot), dmrs_index };
+    std::int64_t slot = (first + s - std::int64_t(d_dmrs)) / L;
+    std::uint64_t whole = 0;
+    if (slot_in_frame >= 0) {
+        const std::int64_t f = slots_per_frame;
+        whole = std::uint64_t(((slot_in_frame - slot) % f + f) % f);
+        s += std::int64_t(whole) * L;
+        slot += std::int64_t(whole);
+    }
+    slot = std::max<std::int64_t>(slot, 0);
+    return {
+        s, std::max(std::uint64_t(slot), (out_grid + d_slot - 1) / d_slot), dmrs_index, whole
+    };
 }
 
 double sync_tracker::metric_at(const gr_complex* x) const
@@ -96,9 +183,8 @@ unsigned sync_tracker::found_dmrs(const gr_complex* buf,
     for (; j < d_repeats.size(); j++) {
         bool all = true;
         for (std::size_t k = j; k < d_repeats.size() && all; k++) {
-            const std::int64_t at = symbol_start + d_repeats[k] -
-                                    (j == 0 ? 0 : d_repeats[j - 1]) + std::int64_t(d_cp / 2) -
-                                    buf_start;
+            const std::int64_t at = symbol_start + d_repeats[k] - repeat_offset(j) +
+                                    std::int64_t(d_cp / 2) - buf_start;
             if (at >= 0 && at + 2 * std::int64_t(d_half) <= std::int64_t(buffered))
                 all = metric_at(buf + at) >= threshold;
         }
@@ -110,73 +196,22 @@ unsigned sync_tracker::found_dmrs(const gr_complex* buf,
 
 std::int64_t sync_tracker::check_start(std::uint64_t slot) const
 {
-    return std::int64_t(slot * d_slot + d_dmrs) - std::int64_t(d_cp);
+    return std::int64_t(slot * d_slot + d_dmrs) + std::int64_t(d_cp / 2);
 }
 
 std::uint64_t sync_tracker::first_checkable_slot(std::uint64_t g) const
 {
-    // smallest k with k L + dmrs - cp >= g
-    const std::int64_t need = std::int64_t(g) - std::int64_t(d_dmrs) + std::int64_t(d_cp);
+    // smallest k with k L + dmrs + cp/2 >= g
+    const std::int64_t need = std::int64_t(g) - std::int64_t(d_dmrs) - std::int64_t(d_cp / 2);
     if (need <= 0)
         return 0;
     return (std::uint64_t(need) + d_slot - 1) / d_slot;
 }
 
-sync_tracker::check sync_tracker::measure(const gr_complex* x) const
+bool sync_tracker::score(const dmrs_matcher::match& c, double threshold)
 {
-    // M(d) for d = 0 .. 3 cp (d - cp relative to d0_hat), running sums in double.
-    const std::size_t np = 3 * std::size_t(d_cp) + 1;
-    const std::size_t H = d_half;
-    std::complex<double> p = 0.0;
-    double e = 0.0;
-    for (std::size_t m = 0; m < H; m++)
-        p += std::conj(std::complex<double>(x[m])) * std::complex<double>(x[m + H]);
-    for (std::size_t m = 0; m < 2 * H; m++)
-        e += std::norm(std::complex<double>(x[m]));
-    std::vector<double> M(np);
-    for (std::size_t d = 0;; d++) {
-        M[d] = e > 0.0 ? std::norm(p) / (0.25 * e * e) : 0.0;
-        if (d + 1 == np)
-            break;
-        const std::complex<double> a(x[d]), b(x[d + H]), c(x[d + 2 * H]);
-        p += std::conj(b) * c - std::conj(a) * b;
-        e += std::norm(c) - std::norm(a);
-    }
-    // The plateau: the cp + 1 positions with the largest sum of M (windows start at 0 .. 2 cp).
-    double sum = 0.0;
-    for (std::size_t d = 0; d <= d_cp; d++)
-        sum += M[d];
-    double best = sum;
-    std::size_t bw = 0;
-    for (std::size_t w = 1; w <= 2 * std::size_t(d_cp); w++) {
-        sum += M[w + d_cp] - M[w - 1];
-        if (sum > best) {
-            best = sum;
-            bw = w;
-        }
-    }
-    check c;
-    for (std::size_t d = bw; d <= bw + d_cp; d++)
-        c.mmax = std::max(c.mmax, M[d]);
-    c.offset = std::int64_t(bw) - std::int64_t(d_cp);
-    return c;
-}
-
-bool sync_tracker::score(const check& c, double threshold)
-{
-    bool miss = !(c.mmax >= threshold);
-    if (!miss) {
-        // The plateau's start scatters with noise (about 15-19 samples rms at 4-5 dB,
-        // sdr20, against max_early 32): the timing tests take the mean offset of the last
-        // offset_window slots, which a gap moves by its whole size and noise by 1/sqrt(3).
-        d_offsets[d_offset_count++ % offset_window] = c.offset;
-        const std::size_t n = std::min(d_offset_count, offset_window);
-        std::int64_t sum = 0;
-        for (std::size_t i = 0; i < n; i++)
-            sum += d_offsets[i];
-        const double mean = double(sum) / double(n);
-        miss = mean < -double(d_max_early) || mean > double(d_cp / 2);
-    }
+    const bool miss = !(c.rho >= threshold) || c.offset < -double(d_max_early) ||
+                      c.offset > double(d_cp / 2);
     if (!miss) {
         d_misses = 0;
         return false;

@@ -32,7 +32,10 @@ namespace nrsar {
  * over the middle half of the plateau (and over the same part of the slot's other DMRS
  * symbols, so lock waits for the last of them) gives the CFO: cfo = angle(sum P) Delta f / pi,
  * unambiguous for |CFO| < Delta f (30 kHz = 8.6 ppm at 3.5 GHz). Integer multiples of
- * 2 Delta f are not detected.
+ * 2 Delta f are not detected. The 38.211 DMRS sequence (dmrs.scrambling_id, slot within the
+ * frame, symbol; kernel::dmrs_matcher) then refines d0_hat: the phase step between
+ * neighbouring DMRS REs gives the symbol's start (1.7 samples rms at 3 dB per RE against the
+ * plateau's 15-19). The stream must carry that sequence.
  *
  * Output (`out`): complex samples; output sample 0 is the first sample (CP start) of the slot
  * that holds the first detected DMRS symbol, moved earlier by the backoff:
@@ -48,9 +51,10 @@ namespace nrsar {
  * double, "timing" int64 = input sample index of d0_hat, "start" int64 = input sample index
  * of output sample 0, "metric" double = Mmax); tags::symbol_key() (uint64 symbol index) and
  * tags::slot_key() (uint64 slot index) on the first sample of every slot, tags::frame_key()
- * (uint64) on every slots_per_frame-th slot. Slot numbering restarts at 0 at each acquisition:
- * the burst's first slot is slot 0 (unlike NR, where the base station knows the frame timing
- * from its own downlink). Input tags are not propagated: they belong to the transmitter's
+ * (uint64) on every slots_per_frame-th slot. An acquisition numbers its slot by the DMRS
+ * sequence the found symbol carries (modulo slots_per_frame; a burst starting at slot 0 is
+ * numbered from 0; NR's base station would know the frame timing from its own downlink).
+ * Input tags are not propagated: they belong to the transmitter's
  * timeline, which the base station does not know. Non-finite input samples are zeroed and
  * counted (after lock also tagged with tags::nonfinite_key()).
  *
@@ -58,18 +62,19 @@ namespace nrsar {
  * continue the previous stamp's gives the samples lost exactly; the slots that lost samples
  * are not output whole (the cut symbol is completed with zeros, the rest of the last cut slot
  * dropped) and output resumes at the next whole slot with its slot number. Without tags, a
- * per-slot check of the first DMRS symbol's plateau (peak M below threshold, or the mean
- * plateau start of the last three slots more than max(backoff cp, cp / 8) samples early or
- * cp / 2 late, in two consecutive slots)
- * loses the lock; a new search puts the DMRS found back on the slot grid (gap modulo a slot).
+ * per-slot test of the first DMRS symbol against the slot's own DMRS sequence (correlation
+ * rho below a threshold of false-alarm probability 1e-9, or the symbol's start more than
+ * max(backoff cp, cp / 8) samples early or cp / 2 late, in two consecutive slots) loses the
+ * lock; a new search puts the DMRS found back on the slot grid, the gap modulo a slot from
+ * its timing and the whole slots from its sequence's slot number (a gap known modulo a frame).
  * The CFO is kept. Counted: lost_samples(), rx_time_gaps(), lock_losses(), reacquisitions(),
  * skipped_slots(), skipped_symbols(). reset() or any message on the `reset` port starts a
- * fresh acquisition at the next input sample (output continues; the new slot 0 starts where
+ * fresh acquisition at the next input sample (output continues; the new first slot starts where
  * the new acquisition's output begins). Memory is bounded: before lock the block keeps
  * dmrs.symbols[0] (cp + fft_size) + cp + fft_size / 2 + backoff samples of history plus
  * the search span (up to the slot's last DMRS symbol while the CFO is refined).
- * The first detected DMRS symbol must be the first DMRS symbol of a slot (bursts start at
- * slot boundaries).
+ * Without a DMRS sequence that fits, the first detected DMRS symbol is taken as the first
+ * DMRS symbol of slot 0.
  */
 class NRSAR_API ofdm_sync : virtual public gr::block
 {

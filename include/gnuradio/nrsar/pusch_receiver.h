@@ -49,7 +49,8 @@ public:
     virtual std::uint64_t blocks_ok() const = 0;       //!< TBs with CRC ok (filler included)
     virtual std::uint64_t blocks_failed() const = 0;   //!< TBs with CRC / header failure, lost ones included
     //! TBs whose slots never arrived whole (a gap upstream: a partial slot, or slot numbers
-    //! skipped), reported crc_ok False, lost True without decoding; also in blocks_failed()
+    //! skipped), reported crc_ok False, lost True without decoding, or, with repetitions, whose
+    //! other transmissions did not decode them; also in blocks_failed()
     virtual std::uint64_t blocks_lost() const = 0;
     virtual std::uint64_t filler_blocks() const = 0;   //!< CRC-ok filler TBs
     virtual std::uint64_t payload_bytes_ok() const = 0; //!< payload bytes delivered

@@ -19,9 +19,10 @@ from gnuradio import blocks, gr, gr_unittest
 from gnuradio import nrsar
 from gnuradio.nrsar import backhaul, recording
 
-NSLOTS = 8
+NSLOTS = 16
 DELAY = 3000
 CFO_HZ = 4000.0
+DMRS = (2, 11)  # the pusch2 preset
 
 
 class qa_base_station_gaps(gr_unittest.TestCase):
@@ -35,22 +36,29 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         rng = np.random.default_rng(15)
         cls.chunks = [rng.integers(0, 256, per_tb, dtype=np.uint8).tobytes()
                       for _ in range(NSLOTS)]
-        grid, _ = backhaul.transmit_grid(cls.cfg, cls.chunks, NSLOTS)
+        cls.L = num.symbols_per_slot * (num.cp_samples + num.fft_size)
+        cls.b = int(round(0.125 * num.cp_samples))  # ofdm_sync's default backoff
+        cls.x = cls.received(cls.cfg, cls.chunks, NSLOTS, rng)
+
+    @classmethod
+    def received(cls, cfg, chunks, nslots, rng):
+        """The burst of nslots slots carrying chunks as the base station receives it: after
+        DELAY zeros, CFO_HZ, 30 dB per RE, half a slot of noise after it."""
+        num = cls.num
+        grid, _ = backhaul.transmit_grid(cfg, chunks, nslots)
         tb = gr.top_block()
         src = blocks.vector_source_c(grid.ravel().tolist(), False, num.num_subcarriers)
         snk = blocks.vector_sink_c()
         tb.connect(src, nrsar.ofdm_mod(num), snk)
         tb.run()
         burst = np.array(snk.data(), np.complex64)
-        cls.L = num.symbols_per_slot * (num.cp_samples + num.fft_size)
-        cls.b = int(round(0.125 * num.cp_samples))  # ofdm_sync's default backoff
         x = np.concatenate([np.zeros(DELAY, np.complex64), burst,
                             np.zeros(cls.L // 2, np.complex64)])
         n = np.arange(len(x))
         x = x * np.exp(2j * np.pi * CFO_HZ / num.sample_rate_hz() * n)
         sigma = 10.0 ** (-30.0 / 20.0) / np.sqrt(2.0)  # 30 dB per RE (unitary OFDM)
         x = x + sigma * (rng.standard_normal(len(x)) + 1j * rng.standard_normal(len(x)))
-        cls.x = x.astype(np.complex64)
+        return x.astype(np.complex64)
 
     def cut_slots(self, p, g):
         """Slots of the burst with a sample in [p, p + g) (input sample indices)."""
@@ -61,12 +69,14 @@ class qa_base_station_gaps(gr_unittest.TestCase):
     def run_gap(self, p, g, stamped=True):
         return self.run_gaps([(p, g)], stamped)
 
-    def run_gaps(self, gaps, stamped=True):
+    def run_gaps(self, gaps, stamped=True, x=None, cfg=None, fields=("slot", "crc_ok", "lost")):
         """gaps: [(first lost sample of the burst's stream, samples lost)], in order."""
-        keep = np.ones(len(self.x), bool)
+        x = self.x if x is None else x
+        cfg = self.cfg if cfg is None else cfg
+        keep = np.ones(len(x), bool)
         for p, g in gaps:
             keep[p:p + g] = False
-        x = self.x[keep]
+        x = x[keep]
         # rx_time_stamper's gaps: (received index of the first sample after, lost)
         stamps, before = [], 0
         for p, g in gaps:
@@ -76,7 +86,7 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         src = blocks.vector_source_c(x.tolist())
         sync = nrsar.ofdm_sync(self.num, nrsar.make_dmrs("pusch2"))
         dem = nrsar.ofdm_demod(self.num)
-        rx = nrsar.pusch_receiver(self.cfg)
+        rx = nrsar.pusch_receiver(cfg)
         store = blocks.message_debug()
         if stamped:
             stamper = recording.rx_time_stamper(self.num.sample_rate_hz(), stamps)
@@ -86,9 +96,13 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         tb.connect(sync, dem, rx)
         tb.msg_connect((rx, "pdus"), (store, "store"))
         tb.run()
+        if fields is None:  # the PDUs as they came
+            return sync, rx, [backhaul.pdu_fields(store.get_message(i), ("slot", "crc_ok", "lost",
+                                                                         "transmissions"))
+                              for i in range(store.num_messages())]
         pdus = {}
         for i in range(store.num_messages()):
-            meta, data = backhaul.pdu_fields(store.get_message(i), ("slot", "crc_ok", "lost"))
+            meta, data = backhaul.pdu_fields(store.get_message(i), fields)
             pdus[int(meta["slot"])] = (bool(meta["crc_ok"]), bool(meta["lost"]), data())
         return sync, rx, pdus
 
@@ -201,6 +215,110 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         for s in range(NSLOTS):
             if s not in bad:
                 self.assertEqual(pdus[s][2], self.chunks[s], s)
+
+    def untagged_expectation(self, p, g):
+        """(first slot not decoded, first slot decoded again) for g samples lost at p
+        without a tag, from the documented rules (docs/blocks/ofdm_sync.md): slot k's check
+        window is fft_size samples from cp/2 after its first DMRS symbol's start (received
+        samples, old grid); the first window after p misses, so does the next one and the
+        lock is lost at its end; the search from there (after the gap: g samples later in
+        the burst) finds the next DMRS symbol; output resumes at its slot, or at the next
+        slot if it is the slot's second DMRS symbol."""
+        num, L, b = self.num, self.L, self.b
+        sym = num.cp_samples + num.fft_size
+        o = DELAY - b  # grid sample 0 in the burst's stream
+        win = b + DMRS[0] * sym + num.cp_samples // 2
+        k1 = next(k for k in range(NSLOTS) if o + k * L + win >= p)
+        search = o + (k1 + 1) * L + win + num.fft_size + g  # in the burst's samples
+        starts = sorted((o + k * L + b + l * sym, k, l) for k in range(NSLOTS) for l in DMRS)
+        d, k, l = next(t for t in starts if t[0] >= search)
+        # the search starts clear of any DMRS symbol (the expectation's premise)
+        self.assertGreater(d - search, 600)
+        self.assertTrue(all(search >= e + sym + 100 for e, _, _ in starts if e < search))
+        return self.cut_slots(p, g)[0], k if l == DMRS[0] else k + 1
+
+    def check_untagged(self, p, g):
+        first, resume = self.untagged_expectation(p, g)
+        sync, rx, pdus = self.run_gap(p, g, stamped=False)
+        self.assertEqual(sync.rx_time_gaps(), 0)
+        self.assertEqual(sync.lock_losses(), 1)
+        self.assertEqual(sync.reacquisitions(), 1)
+        # the re-acquisition's DMRS sequence tells its slot: whole slots counted
+        self.assertLessEqual(abs(int(sync.lost_samples()) - g), 1)
+        # one PDU per slot, in order; the slots from the cut one to the resumed one are
+        # not decoded (cut, numbered on the old grid, or cut by the lost lock), every
+        # other slot decodes its own payload
+        self.assertEqual(sorted(pdus), list(range(NSLOTS)))
+        for s in range(NSLOTS):
+            crc_ok, lost, data = pdus[s]
+            self.assertEqual(crc_ok, not first <= s < resume, s)
+            if crc_ok:
+                self.assertEqual(data, self.chunks[s], s)
+        self.assertEqual(rx.blocks_ok(), NSLOTS - (resume - first))
+        return first, resume
+
+    def test_010_untagged_gaps_longer_than_half_a_slot(self):
+        # 0.66, 1.5 and 3.7 slots lost in slot 3 (5000 samples in, after its check window)
+        for frac, expect in ((0.66, (3, 6)), (1.5, (3, 7)), (3.7, (3, 9))):
+            with self.subTest(slots=frac):
+                g = int(round(frac * self.L))
+                self.assertEqual(self.check_untagged(DELAY - self.b + 3 * self.L + 5000, g),
+                                 expect)
+
+    def test_011_untagged_gap_of_several_slots(self):
+        g = int(round(9.3 * self.L))
+        self.assertEqual(self.check_untagged(DELAY - self.b + self.L + 5000, g), (1, 13))
+
+    def test_012_lost_tbs_with_repetitions(self):
+        # repetitions 2: TB t in slots 2t (rv 0) and 2t + 1 (rv 2). Documented
+        # (docs/blocks/pusch_receiver.md): a TB is reported once, at the slot where it decoded
+        # or at its last repetition; lost when a gap cut one of its transmissions and the
+        # others did not decode it. Gaps: TB 1's second repetition (it decoded from the
+        # first: ok, not reported again), both of TB 3's (lost, not decoded), TB 5's first
+        # (its second, rv 2 alone, is decoded and not combined with the cut one:
+        # transmissions 1; rv 2 alone misses most systematic bits at this rate: lost).
+        cfg = nrsar.make_pusch_config(self.num, "qpsk", "pusch2", "nr-ldpc", n_id=5,
+                                      repetitions=2)
+        ntb = NSLOTS // 2
+        per_tb = nrsar.pusch_encoder(cfg).payload_bits_per_slot() // 8
+        rng = np.random.default_rng(16)
+        chunks = [rng.integers(0, 256, per_tb, dtype=np.uint8).tobytes() for _ in range(ntb)]
+        x = self.received(cfg, chunks, NSLOTS, rng)
+        o = DELAY - self.b
+        gaps = [(o + 3 * self.L + 5000, 100), (o + 6 * self.L + 5000, self.L),
+                (o + 10 * self.L + 5000, 100)]
+        self.assertEqual([self.cut_slots(p, g) for p, g in gaps], [[3], [6, 7], [10]])
+        sync, rx, msgs = self.run_gaps(gaps, x=x, cfg=cfg, fields=None)
+        self.assertEqual(sync.skipped_slots(), 4)
+        # one PDU per TB, in order, slot = the TB's first slot
+        self.assertEqual([int(m["slot"]) for m, _ in msgs], [2 * t for t in range(ntb)])
+        for t, (m, data) in enumerate(msgs):
+            lost = t in (3, 5)
+            self.assertEqual((bool(m["lost"]), bool(m["crc_ok"])), (lost, not lost), t)
+            if not lost:
+                self.assertEqual(data(), chunks[t], t)
+        # TB 1 decoded at its first slot; TB 3 never decoded; TB 5 from its second alone
+        self.assertEqual([int(m["transmissions"]) for m, _ in msgs],
+                         [1, 1, 1, 0, 1, 1, 1, 1])
+        self.assertEqual((rx.blocks_lost(), rx.blocks_failed(), rx.blocks_ok()), (2, 2, ntb - 2))
+    def test_013_first_lock_numbers_its_slot_by_the_dmrs(self):
+        # A base station that starts inside the burst: the first lock's slot number is the
+        # one its DMRS sequence carries. Slot 0 silent: the lock is in slot 1 (its first DMRS
+        # symbol), numbered 1. The stream starting 5 symbols into slot 2: the lock is on slot
+        # 2's second DMRS symbol, whose slot began before the stream: output starts at slot 3.
+        sym = self.num.cp_samples + self.num.fft_size
+        o = DELAY - self.b
+        silent = self.x.copy()
+        silent[:o + self.L] = 0
+        for x, first in ((silent, 1), (self.x[o + 2 * self.L + 5 * sym:], 3)):
+            with self.subTest(first=first):
+                sync, rx, pdus = self.run_gaps([], stamped=False, x=x)
+                self.assertEqual((sync.lock_losses(), sync.reacquisitions()), (0, 0))
+                self.assertEqual(sorted(pdus), list(range(first, NSLOTS)))
+                for s in range(first, NSLOTS):
+                    crc_ok, lost, data = pdus[s]
+                    self.assertTrue(crc_ok and not lost, s)
+                    self.assertEqual(data, self.chunks[s], s)
 
 
 if __name__ == "__main__":
