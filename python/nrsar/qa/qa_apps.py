@@ -48,6 +48,8 @@ BAD_INPUTS = [
      "--autofocus-significance = -1 must be at least 0"),
     ("nrsar-sim", ["--autofocus-tolerance-m", "0"], "--autofocus-tolerance-m = 0 must be above 0"),
     ("nrsar-sim", ["--autofocus-points", "65"], "--autofocus-points = 65 must be at most 64"),
+    ("nrsar-sim", ["--autofocus-iterations", "51"],
+     "--autofocus-iterations = 51 must be at most 50"),
     ("nrsar-sim", ["--autofocus-gcp", "800,25"],
      "--autofocus-gcp = '800,25' needs --autofocus trajectory"),
     ("nrsar-sim", ["--autofocus", "trajectory", "--focuser", "bp", "--autofocus-gcp", "800"],
