@@ -115,6 +115,19 @@ std::vector<double> detrend(std::vector<double> v)
     return v;
 }
 
+// The rms over the pulses of est - inj and of inj, both less their trend.
+std::array<double, 2> rms_detrended(const std::vector<double>& est,
+                                    const std::vector<double>& inj)
+{
+    const std::vector<double> e = detrend(est), i = detrend(inj);
+    double err = 0.0, inj_rms = 0.0;
+    for (std::size_t n = 0; n < e.size(); ++n) {
+        err += (e[n] - i[n]) * (e[n] - i[n]) / e.size();
+        inj_rms += i[n] * i[n] / e.size();
+    }
+    return { std::sqrt(err), std::sqrt(inj_rms) };
+}
+
 // The path a focus-based estimate can reach: the truth at height h plus the error's trend
 // (per axis).
 std::vector<vec3> truth_plus_trend(double h = H)
@@ -217,15 +230,7 @@ TEST(bp_autofocus, recovers_an_injected_path_error)
         los_true[n] = nav_error(n)[0] * m[0] + nav_error(n)[2] * m[1];
         los_est[n] = r.displacement_m[n][0] * m[0] + r.displacement_m[n][2] * m[1];
     }
-    los_true = detrend(los_true);
-    los_est = detrend(los_est);
-    double err = 0.0, tru_rms = 0.0;
-    for (unsigned n = 0; n < M; ++n) {
-        err += (los_est[n] - los_true[n]) * (los_est[n] - los_true[n]) / M;
-        tru_rms += los_true[n] * los_true[n] / M;
-    }
-    err = std::sqrt(err);
-    tru_rms = std::sqrt(tru_rms);
+    const auto [err, tru_rms] = rms_detrended(los_est, los_true);
     // Noise bound: per pulse the strongest point's phase noise 1 / sqrt(2 SNR) (SNR = 10),
     // over the 17-pulse sum 1 / sqrt(2 * 10 * 17) = 0.054 rad, i.e. lambda / (4 pi) * 0.054
     // = 0.37 mm (with the weaker points the kernel's standard error is 0.31 mm, and the
@@ -293,15 +298,7 @@ TEST(bp_autofocus, solves_x_and_z_on_a_wide_swath)
             inj[n] = nav_error(n)[c];
             est[n] = r.displacement_m[n][c];
         }
-        inj = detrend(inj);
-        est = detrend(est);
-        double err = 0.0, inj_rms = 0.0;
-        for (unsigned n = 0; n < M; ++n) {
-            err += (est[n] - inj[n]) * (est[n] - inj[n]) / M;
-            inj_rms += inj[n] * inj[n] / M;
-        }
-        err = std::sqrt(err);
-        inj_rms = std::sqrt(inj_rms);
+        const auto [err, inj_rms] = rms_detrended(est, inj);
         std::printf("%c: error %.3f mm rms against %.1f mm injected\n", c == 0 ? 'x' : 'z',
                     1e3 * err, 1e3 * inj_rms);
         EXPECT_LT(r.standard_error_m, 0.1 * inj_rms);
