@@ -18,6 +18,12 @@ duration; processing time = wall time of the flowgraph. Variants:
                graph, the transmitter pusch_encoder -> nr_isac_tx -> ofdm_mod into a sink
     paper TF / TD, range_compress: the first two with --rx-fuse on (the filter and the
                range IFFT in one block, range_compress)
+    --flight-s 60: the sdr20 TD + TX graph for a flight of 60 s of radio time, one
+               focuser aperture (2 s) of echo and transmit grid replayed cyclically from
+               files (both with the aperture's period, so the filter's reference matches the
+               echo), image_sink writing every aperture's .npy and PNG: peak RSS in each
+               quarter of the flight, and how far the apertures' images (of the same echo) differ
+               (--presum boxcar: the same graph without cheby's motion compensation)
 
 Profile: CPU time of every block thread (/proc/self/task/*/schedstat, sampled while the
 graph runs; GNU Radio names a block's thread after the block) against the time its work()
@@ -25,9 +31,11 @@ calls took (GNU Radio's performance counters). The difference is the scheduler's
 that thread: buffer bookkeeping, tags, waking neighbours. The rows compare the radio's rate
 with the processing rate (ratio >= 1: real time on this machine as loaded now).
 Run alone: /usr/bin/python3 -m gnuradio.nrsar.bench.bench_rx_realtime [--quick]
+[--flight-s S [--presum boxcar]]
 """
 
 import os
+import tempfile
 import threading
 import time
 
@@ -35,7 +43,7 @@ import numpy as np
 from gnuradio import blocks, gr
 
 from .. import chain, isac_chain, runtime, scenario
-from ..nrsar_python import ofdm_demod, ofdm_mod
+from ..nrsar_python import image_sink, ofdm_demod, ofdm_mod
 from ..options import IsacOptions, SimOptions
 from . import benchutil
 
@@ -44,7 +52,8 @@ HELD = 240  # symbols generated once and replayed (the radio's samples in memory
 
 class ThreadCpu:
     """CPU seconds of each thread of this process, sampled every `period` s while started
-    (a thread's last sample is kept after it exits), and (time, progress()) at each sample."""
+    (a thread's last sample is kept after it exits), and (time, progress(), RSS MiB) at each
+    sample."""
 
     def __init__(self, progress, period=0.02):
         self.period, self.seen, self._stop = period, {}, threading.Event()
@@ -52,7 +61,7 @@ class ThreadCpu:
         self._thread = threading.Thread(target=self._loop, daemon=True)
 
     def sample(self):
-        self.track.append((time.perf_counter(), self.progress()))
+        self.track.append((time.perf_counter(), self.progress(), runtime.rss_mb()))
         self.seen.update(self.read())
 
     @staticmethod
@@ -95,42 +104,58 @@ class ThreadCpu:
 
     def steady_rate(self, total):
         """Items per second between 10 % and 90 % of total (start-up and drain left out)."""
-        inside = [(t, n) for t, n in self.track if 0.1 * total <= n <= 0.9 * total]
+        inside = [(t, n) for t, n, _ in self.track if 0.1 * total <= n <= 0.9 * total]
         if len(inside) < 2 or inside[-1][0] == inside[0][0]:
             return float("nan")
         return (inside[-1][1] - inside[0][1]) / (inside[-1][0] - inside[0][0])
 
 
-def recorded(opts, sc, time_domain):
-    """(echo, grid) of HELD symbols as complex64 arrays: the TF echo (or its OFDM
-    modulation, time_domain) and the transmit grid."""
+def replay(opts, sc, time_domain, symbols=HELD, folder=None):
+    """(echo source, grid source, echo items per symbol): sources that repeat, with one
+    period, the echo of `symbols` symbols (TF, or its OFDM modulation when time_domain) and
+    their transmit grid, generated once and held in memory (folder: in files there)."""
     n = sc.num.num_subcarriers
+    vlens = (1 if time_domain else n, n)
     tb = gr.top_block()
-    head = blocks.head(gr.sizeof_gr_complex * n, HELD)
+    head = blocks.head(gr.sizeof_gr_complex * n, symbols)
     tb.connect(chain.make_transmitter(opts, sc), head)
     echo, echo_out, ref_out = chain.scene_echo_front(tb, opts, sc, head)
     tb.connect(ref_out, blocks.null_sink(gr.sizeof_gr_complex * n))
-    grid, out = blocks.vector_sink_c(n), blocks.vector_sink_c(1 if time_domain else n)
+    if folder:
+        paths = [os.path.join(folder, name) for name in ("echo.c64", "grid.c64")]
+        out, grid = (blocks.file_sink(gr.sizeof_gr_complex * v, p) for v, p in zip(vlens, paths))
+    else:
+        out, grid = blocks.vector_sink_c(vlens[0]), blocks.vector_sink_c(n)
     tb.connect(head, grid)
     tb.connect(echo_out, ofdm_mod(sc.num), out) if time_domain else tb.connect(echo_out, out)
     tb.run()
-    return np.array(out.data(), np.complex64), np.array(grid.data(), np.complex64)
+    if folder:
+        out.close()  # flushed before the sources open the files
+        grid.close()
+        sources = [blocks.file_source(gr.sizeof_gr_complex * v, p, True)
+                   for v, p in zip(vlens, paths)]
+    else:
+        sources = [blocks.vector_source_c(np.array(s.data(), np.complex64), True, v)
+                   for s, v in zip((out, grid), vlens)]
+    return sources[0], sources[1], out.nitems_read(0) // symbols
 
 
-def run_variant(preset, time_domain, transmit, symbols, chunk=0, fuse="off"):
+def run_variant(preset, time_domain, transmit, symbols, chunk=0, fuse="off", flight=None,
+                presum="cheby"):
     """One run: (radio s, wall s, process CPU s, {block: (thread CPU s, work() s)},
-    steady processing rate in radio s per s, [(other thread, CPU s)] busiest first).
-    fuse: --rx-fuse (range_compress in place of tf_filter -> range_ifft)."""
-    opts = SimOptions(preset=preset, images="none", presum="cheby", decim=10, rx_fuse=fuse)
+    steady processing rate in radio s per s, [(other thread, CPU s)] busiest first, the
+    ThreadCpu, {name: the blocks profiled}). fuse: --rx-fuse (range_compress in place of
+    tf_filter -> range_ifft). flight: a folder; one aperture is replayed from files there
+    and image_sink writes its images there (symbols: a whole number of apertures). presum:
+    the presummer's method (--presum)."""
+    opts = SimOptions(preset=preset, images="none", presum=presum, decim=10, rx_fuse=fuse)
     sc = scenario.of(opts.validate())
     n = sc.num.num_subcarriers
-    echo, grid = recorded(opts, sc, time_domain)
+    src, grid, per_symbol = replay(opts, sc, time_domain, sc.symbols if flight else HELD,
+                                   flight)
     tb = gr.top_block()
     rx = chain.imaging_chain(opts, sc, keep_images=False, reference=False)
-    per_symbol = echo.size // HELD
-    src = blocks.vector_source_c(echo, True, 1 if time_domain else n)
-    head = blocks.head(gr.sizeof_gr_complex * (1 if time_domain else n),
-                       symbols * (per_symbol if time_domain else 1))
+    head = blocks.head(gr.sizeof_gr_complex * (1 if time_domain else n), symbols * per_symbol)
     named = {"tf_filter": rx.filter, "range_ifft": rx.range_ifft, "cheby_presum": rx.presum,
              "rd_focuser": rx.focuser, "nmse_probe": rx.probe}
     if rx.filter is rx.range_ifft:  # one range_compress
@@ -145,8 +170,14 @@ def run_variant(preset, time_domain, transmit, symbols, chunk=0, fuse="off"):
         named["ofdm_demod"] = demod
     else:
         tb.connect(head, (rx, 0))
-    tb.connect(blocks.vector_source_c(grid, True, n), (rx, 1))
-    tb.connect((rx, 0), blocks.null_sink(gr.sizeof_gr_complex * rx.focuser.num_output_bins()))
+    tb.connect(grid, (rx, 1))
+    k = rx.focuser.num_output_bins()
+    if flight:  # every aperture kept: they are compared after the run
+        named["image_sink"] = image_sink(k, os.path.join(flight, "image"),
+                                         keep=symbols // sc.symbols)
+        tb.connect((rx, 0), named["image_sink"])
+    else:
+        tb.connect((rx, 0), blocks.null_sink(gr.sizeof_gr_complex * k))
     tb.connect((rx, 1), blocks.null_sink(gr.sizeof_gr_complex * rx.range_ifft.num_bins()))
     if transmit:  # the UAV's own transmitter in the same graph, into the radio's sink
         iopts = IsacOptions(preset=preset, images="none", presum="cheby", decim=10)
@@ -157,7 +188,8 @@ def run_variant(preset, time_domain, transmit, symbols, chunk=0, fuse="off"):
                    blocks.null_sink(gr.sizeof_gr_complex))
         named.update(pusch_encoder=enc, nr_isac_tx=tx, ofdm_mod=mod)
     runtime.quiet_gnuradio_logs()
-    with ThreadCpu(lambda: rx.filter.nitems_written(0)) as cpu:
+    # a flight's minutes: sample less often (the sampler's own CPU)
+    with ThreadCpu(lambda: rx.filter.nitems_written(0), 0.1 if flight else 0.02) as cpu:
         wall, proc = time.perf_counter(), time.process_time()
         runtime.run(tb)
         wall, proc = time.perf_counter() - wall, time.process_time() - proc
@@ -167,7 +199,7 @@ def run_variant(preset, time_domain, transmit, symbols, chunk=0, fuse="off"):
     others = sorted(((c, s) for c, s in cpu.spent().values() if c not in mine),
                     key=lambda cs: -cs[1])
     return (symbols * sc.num.symbol_s(), wall, proc, profile,
-            cpu.steady_rate(symbols) * sc.num.symbol_s(), others)
+            cpu.steady_rate(symbols) * sc.num.symbol_s(), others, cpu, named)
 
 
 # ofdm_demod asks for a whole symbol (4384 samples at paper) per output, and GNU Radio's
@@ -185,10 +217,10 @@ FUSED = (("paper TF, range_compress", "paper", False, False),
 def run(quick=False):
     symbols = 4800 if quick else 24000
     rows, unfused = [], {}
-    radio, _, proc_default, _, _, _ = run_variant("paper", True, False, symbols)
+    radio, _, proc_default = run_variant("paper", True, False, symbols)[:3]
     for label, preset, td, tx in VARIANTS:
-        radio, wall, proc, profile, steady, _ = run_variant(preset, td, tx, symbols,
-                                                            CHUNK if td else 0)
+        radio, wall, proc, profile, steady = run_variant(preset, td, tx, symbols,
+                                                         CHUNK if td else 0)[:5]
         extra = {f"{k}_cpu_per_radio_s": round(c / radio, 4) for k, (c, _) in profile.items()}
         extra.update({f"{k}_work_per_radio_s": round(w / radio, 4)
                       for k, (_, w) in profile.items()})
@@ -208,8 +240,8 @@ def run(quick=False):
         if label.startswith("paper"):
             unfused[label] = radio / proc
     for label, preset, td, tx in FUSED:
-        radio, wall, proc, profile, steady, _ = run_variant(
-            preset, td, tx, symbols, CHUNK if td else 0, fuse="on")
+        radio, wall, proc, profile, steady = run_variant(
+            preset, td, tx, symbols, CHUNK if td else 0, fuse="on")[:5]
         rows.append(benchutil.row(
             f"radar rx path {label}: radio s per CPU s", radio / proc,
             "tf_filter > range_ifft (run before)", unfused[label.split(",")[0]],
@@ -218,25 +250,78 @@ def run(quick=False):
     return rows
 
 
+def print_profile(label, radio, wall, proc, profile, steady, others):
+    print(f"{label}: radio {radio:.3f} s, wall {wall:.3f} s with start-up, steady rate "
+          f"x{steady:.2f} real time; process CPU {proc:.3f} s = {proc / radio:.2f} CPU s "
+          f"per radio s; load {os.getloadavg()[0]:.1f}")
+    for k, (c, w) in sorted(profile.items(), key=lambda kv: -kv[1][0]):
+        print(f"  {k:14s} thread CPU {c:7.3f} s ({c / radio:5.2f} per radio s)  "
+              f"work() {w:7.3f} s")
+    print(f"  other threads  {proc - sum(c for c, _ in profile.values()):7.3f} s: " +
+          ", ".join(f"{comm} {s:.3f}" for comm, s in others[:6]))
+
+
+def flight(seconds, presum="cheby"):
+    """--flight-s: the sdr20 TD + TX graph for `seconds` of radio time rounded to whole
+    apertures; prints the profile, the peak RSS of each quarter and how far each
+    aperture's image differs from the second one's (max |difference| over its peak).
+    The first aperture lacks the history and the last the look-ahead of the others. The
+    replayed echo is the first aperture's while the navigation flies on: cheby compensates
+    each pulse along the line of sight from where the navigation says the UAV is, so its
+    images part from the second one's with the distance flown; boxcar (no compensation)
+    images the same echo the same way every time (a drift would be numerical)."""
+    sc = scenario.of(SimOptions(preset="sdr20").validate())
+    aperture_s = sc.symbols * sc.num.symbol_s()
+    apertures = round(seconds / aperture_s)
+    if apertures < 2:  # the first aperture has no history: compare from the second
+        raise ValueError(f"--flight-s = {seconds} must be >= {1.5 * aperture_s:g} "
+                         f"(2 apertures of {aperture_s:g} s)")
+    print(f"load {os.getloadavg()[0]:.1f} before generating one aperture of echo")
+    with tempfile.TemporaryDirectory(prefix="nrsar-flight-") as folder:
+        radio, wall, proc, profile, steady, others, cpu, named = run_variant(
+            "sdr20", True, True, apertures * sc.symbols, CHUNK, flight=folder, presum=presum)
+        print_profile(f"sdr20 TD + TX, {presum} presum, {apertures} apertures", radio, wall,
+                      proc, profile, steady, others)
+        print(f"processing s per radio s {wall / radio:.3f} (with start-up and drain); "
+              f"transmitted {named['ofdm_mod'].nitems_written(0)} samples")
+        total = apertures * sc.symbols
+        quarters = [[r for _, n, r in cpu.track if q * total / 4 <= n <= (q + 1) * total / 4]
+                    for q in range(4)]
+        print(f"peak RSS {max(r for _, _, r in cpu.track):.0f} MiB; peak of each quarter of the "
+              f"flight " + ", ".join(f"{max(q, default=float('nan')):.1f}" for q in quarters) +
+              f" MiB ({len(cpu.track)} samples)")
+        sink = named["image_sink"]
+        files = [f for f in sink.kept_files() if f.endswith(".npy")]
+        print(f"image_sink: {sink.apertures_written()} apertures written, {len(files)} .npy "
+              f"kept, non-finite samples {sink.nonfinite_count()}")
+        ref = np.load(files[1])
+        diffs = [float(np.abs(np.load(f) - ref).max() / np.abs(ref).max()) for f in files]
+        print(f"image vs aperture 1, max |difference| / peak: first {diffs[0]:.2e}, "
+              f"apertures 2..{len(files) - 2}: max {max(diffs[2:-1], default=0):.2e}, "
+              f"last {diffs[-1]:.2e}; all: " + " ".join(f"{d:.1e}" for d in diffs))
+
+
 def main():
     import argparse
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true")
+    p.add_argument("--flight-s", type=float, default=0.0,
+                   help="run only the sdr20 flight of this many radio seconds (module doc)")
+    p.add_argument("--presum", choices=("cheby", "boxcar"), default="cheby",
+                   help="the flight's presummer (flight())")
     a = p.parse_args()
+    if a.flight_s:
+        try:
+            flight(a.flight_s, a.presum)
+        except ValueError as e:
+            p.exit(2, f"error: {e}\n")
+        return
     symbols = 4800 if a.quick else 24000
     for label, preset, td, tx in (VARIANTS + FUSED +
                                   (("paper TD, default buffer", "paper", True, False),)):
         chunk = CHUNK if td and "default" not in label else 0
-        radio, wall, proc, profile, steady, others = run_variant(
-            preset, td, tx, symbols, chunk, fuse="on" if "range_compress" in label else "off")
-        print(f"{label}: radio {radio:.3f} s, wall {wall:.3f} s with start-up, steady rate "
-              f"x{steady:.2f} real time; process CPU {proc:.3f} s = {proc / radio:.2f} CPU s "
-              f"per radio s; load {os.getloadavg()[0]:.1f}")
-        for k, (c, w) in sorted(profile.items(), key=lambda kv: -kv[1][0]):
-            print(f"  {k:14s} thread CPU {c:7.3f} s ({c / radio:5.2f} per radio s)  "
-                  f"work() {w:7.3f} s")
-        print(f"  other threads  {proc - sum(c for c, _ in profile.values()):7.3f} s: " +
-              ", ".join(f"{comm} {s:.3f}" for comm, s in others[:6]))
+        print_profile(label, *run_variant(
+            preset, td, tx, symbols, chunk, fuse="on" if "range_compress" in label else "off")[:6])
 
 
 if __name__ == "__main__":
