@@ -21,6 +21,7 @@ dmrs_matcher::dmrs_matcher(const numerology& num, const dmrs_config& dmrs, doubl
     : d_fft(num.fft_size),
       d_cp(num.cp_samples),
       d_symbols(dmrs.symbols.size()),
+      d_slots(num.slots_per_frame),
       d_demod(num.num_subcarriers, num.fft_size, 0, num.dc_subcarrier(), 0),
       d_y(num.num_subcarriers)
 {
@@ -31,7 +32,7 @@ dmrs_matcher::dmrs_matcher(const numerology& num, const dmrs_config& dmrs, doubl
         throw_param("num_subcarriers", num.num_subcarriers, "must be at least 3 (two DMRS REs)");
     // P(rho > t) = exp(-t^2 n^2 / (n - 1)) (class comment)
     d_threshold = std::sqrt(-std::log(false_alarm) * double(n - 1)) / double(n);
-    for (unsigned s = 0; s < num.slots_per_frame; s++)
+    for (unsigned s = 0; s < d_slots; s++)
         for (unsigned l : dmrs.symbols)
             d_values.push_back(dmrs_values(dmrs.scrambling_id, s, l, n));
 }
@@ -56,27 +57,28 @@ dmrs_matcher::match dmrs_matcher::correlate(unsigned slot_in_frame, unsigned dmr
     return m;
 }
 
-dmrs_matcher::match
-dmrs_matcher::test(const gr_complex* x, unsigned slot_in_frame, unsigned dmrs_index)
+void dmrs_matcher::demodulate(const gr_complex* x, unsigned dmrs_index)
 {
     if (dmrs_index >= d_symbols)
         throw_param("dmrs_index",
                     dmrs_index,
                     "must be below the DMRS symbols, " + std::to_string(d_symbols));
     d_demod.execute(x, d_y.data());
-    return correlate(slot_in_frame % (d_values.size() / d_symbols), dmrs_index);
+}
+
+dmrs_matcher::match
+dmrs_matcher::test(const gr_complex* x, unsigned slot_in_frame, unsigned dmrs_index)
+{
+    demodulate(x, dmrs_index);
+    return correlate(slot_in_frame % d_slots, dmrs_index);
 }
 
 unsigned dmrs_matcher::identify(const gr_complex* x, unsigned dmrs_index, match& best)
 {
-    if (dmrs_index >= d_symbols)
-        throw_param("dmrs_index",
-                    dmrs_index,
-                    "must be below the DMRS symbols, " + std::to_string(d_symbols));
-    d_demod.execute(x, d_y.data());
+    demodulate(x, dmrs_index);
     unsigned slot = 0;
     best = match();
-    for (unsigned s = 0; s < d_values.size() / d_symbols; s++) {
+    for (unsigned s = 0; s < d_slots; s++) {
         const match m = correlate(s, dmrs_index);
         if (m.rho > best.rho) {
             best = m;

@@ -58,11 +58,14 @@ public:
     unsigned window_delay() const { return d_cp / 2; }
 
 private:
+    //! x's FFT into d_y, for DMRS symbol dmrs_index (checked).
+    void demodulate(const gr_complex* x, unsigned dmrs_index);
     match correlate(unsigned slot_in_frame, unsigned dmrs_index) const;
 
     unsigned d_fft;
     unsigned d_cp;
     std::size_t d_symbols;
+    unsigned d_slots; // slots per frame: each has its own DMRS sequence
     double d_threshold;
     ofdm_demodulator d_demod;
     std::vector<gr_complex> d_y;
