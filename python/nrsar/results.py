@@ -152,6 +152,11 @@ def nav_rms_error_m(sc, n=1000):
     return float(np.sqrt(np.mean(np.sum(d * d, axis=1))))
 
 
+def _json_number(x):
+    """x, or None where it is not finite (JSON has no NaN)."""
+    return x if math.isfinite(x) else None
+
+
 def image_results(opts, chain, sc, runtime_s):
     """After the run: writes the .npy/.png files into opts.out and returns the JSON dict of
     SPEC 9 (the image metrics of the first target, the files and the axes)."""
@@ -253,11 +258,10 @@ def image_results(opts, chain, sc, runtime_s):
     if opts.autofocus == "trajectory":
         # the focuser's own estimate: rms line-of-sight displacement, and its two-way phase
         los = chain["focuser"].trajectory_los_rms_m()
-        result["autofocus_los_rms_m"] = los if math.isfinite(los) else None
+        result["autofocus_los_rms_m"] = _json_number(los)
         # its standard error: a correction not above autofocus_significance of them is
         # not kept (autofocus_los_rms_m 0)
-        se = chain["focuser"].trajectory_se_m()
-        result["autofocus_los_se_m"] = se if math.isfinite(se) else None
+        result["autofocus_los_se_m"] = _json_number(chain["focuser"].trajectory_se_m())
         if opts.autofocus_gcp:
             # the navigation error's constant (at the latest aperture's middle pulse) and
             # drift the ground control points fixed, (x, y, z); y is not solved (0); None
@@ -269,10 +273,10 @@ def image_results(opts, chain, sc, runtime_s):
                 result[f"autofocus_gcp_{key}"] = (list(v) if all(map(math.isfinite, v))
                                                   else None)
             se = foc.trajectory_gcp_se()
-            result["autofocus_gcp_offset_se_m"] = se[0] if math.isfinite(se[0]) else None
-            result["autofocus_gcp_drift_se_mps"] = se[1] if math.isfinite(se[1]) else None
+            result["autofocus_gcp_offset_se_m"] = _json_number(se[0])
+            result["autofocus_gcp_drift_se_mps"] = _json_number(se[1])
         af_rms = 4.0 * math.pi * los / sc.geo.wavelength_m()
-    result["autofocus_phase_rms_rad"] = af_rms if math.isfinite(af_rms) else None
+    result["autofocus_phase_rms_rad"] = _json_number(af_rms)
     # symbols a radio's overflow lost, zeroed by ofdm_demod (docs/recording.md, "Gaps")
     demod = chain.get("radar_demod", chain["echo"])  # nrsar-isac's echo is td_echo
     lost = demod.lost_symbols() if hasattr(demod, "lost_symbols") else 0
@@ -288,7 +292,7 @@ def image_results(opts, chain, sc, runtime_s):
         metrics = {}
     for key in METRIC_KEYS:
         value = metrics.get(key, float("nan"))
-        result[key] = value if math.isfinite(value) else None  # JSON has no NaN
+        result[key] = _json_number(value)
     if MODES[opts.mode][0] != "data":
         # SPEC 8's theory is that of data-aided grids
         result["nmse_theory_db"] = result["nmse_theory_band_db"] = None
