@@ -27,7 +27,8 @@ import tempfile
 import typing
 
 from . import params
-from .nrsar_python import geometry as geometry_type, numerology as numerology_type
+from .nrsar_python import (geometry as geometry_type, numerology as numerology_type,
+                           trajectory_autofocus_config)
 
 # 38.211 5.2.1's c_init has 31 bits; the chain seeds the noise with seed + 1 and the
 # base station's channel with seed + 2.
@@ -253,7 +254,7 @@ def parse_origin(text, flag="--origin"):
     return lat, lon, heading
 
 
-MAX_GCP = 16  # kernel::trajectory_autofocus_config::max_gcp
+MAX_GCP = trajectory_autofocus_config.max_gcp  # the kernel's bound
 
 
 def parse_gcps(texts, flag="--autofocus-gcp"):
@@ -426,8 +427,8 @@ class SimOptions(Options):
                                            "(0: always)", at_least=0.0, at_most=100.0)
     autofocus_gcp: typing.Optional[typing.List[str]] = option(
         None, "--autofocus trajectory: a ground control point (a surveyed corner reflector) "
-        "at X, Y[, Z] in the scene frame [m] inside the image; repeatable, at most 16: they "
-        "fix the navigation error's constant and drift, which focus cannot see (JSON "
+        f"at X, Y[, Z] in the scene frame [m] inside the image; repeatable, at most {MAX_GCP}: "
+        "they fix the navigation error's constant and drift, which focus cannot see (JSON "
         "autofocus_gcp_*; docs/blocks/bp_focuser.md)", metavar="X,Y[,Z]")
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)

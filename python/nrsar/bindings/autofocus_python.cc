@@ -180,6 +180,7 @@ void bind_autofocus(py::module& m)
         .def_readwrite("tolerance_m", &trajectory_autofocus_config::tolerance_m)
         .def_readwrite("significance", &trajectory_autofocus_config::significance)
         .def_readwrite("gcp", &trajectory_autofocus_config::gcp)
+        .def_readonly_static("max_gcp", &trajectory_autofocus_config::max_gcp)
         .def("validate", &trajectory_autofocus_config::validate);
 
     m.def(
