@@ -34,6 +34,7 @@ Run alone: /usr/bin/python3 -m gnuradio.nrsar.bench.bench_rx_realtime [--quick]
 [--flight-s S [--presum boxcar]]
 """
 
+import math
 import os
 import tempfile
 import threading
@@ -272,7 +273,7 @@ def flight(seconds, presum="cheby"):
     images the same echo the same way every time (a drift would be numerical)."""
     sc = scenario.of(SimOptions(preset="sdr20").validate())
     aperture_s = sc.symbols * sc.num.symbol_s()
-    apertures = round(seconds / aperture_s)
+    apertures = round(seconds / aperture_s) if math.isfinite(seconds) else 0
     if apertures < 2:  # the first aperture has no history: compare from the second
         raise ValueError(f"--flight-s = {seconds} must be >= {1.5 * aperture_s:g} "
                          f"(2 apertures of {aperture_s:g} s)")
