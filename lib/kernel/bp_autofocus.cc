@@ -8,6 +8,7 @@
 #include <gnuradio/nrsar/kernel/bp_autofocus.h>
 
 #include "../param_check.h"
+#include <gnuradio/fft/fft.h>
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -34,6 +35,9 @@ void trajectory_autofocus_config::validate() const
     if (!(std::isfinite(significance) && significance >= 0.0 && significance <= 100.0))
         throw_param("significance", significance, "must be in [0, 100]");
     check_finite_points("gcp", gcp, max_gcp);
+    if (!(std::isnan(range_band_cycles) ||
+          (range_band_cycles >= 0.0 && range_band_cycles <= 1.0)))
+        throw_param("range_band_cycles", range_band_cycles, "must be in [0, 1] (or NaN: auto)");
 }
 
 namespace {
@@ -117,6 +121,39 @@ history smoothed_history(const std::vector<std::complex<double>>& c,
              a2,
              pw > 0.0 && (2 * h + 1) * a2 >= 2.0 * sigma2 ? a2 / sigma2 : 0.0,
              pw > 0.0 ? to_m * to_m * sigma2 / (2.0 * a2) : 0.0 };
+}
+
+// The pulses tapered in range: each profile's K-point spectrum times a Hann window of width
+// band [cycles/bin] centred at fc_r. A point's single-pulse pixel holds the other targets'
+// range sidelobes (the unwindowed 2x oversampled Dirichlet: -18 to -32 dB at 5-25 bins),
+// whose phase turns with their Doppler difference; for targets at about one along-track
+// position that beat is slower than the moving sum and biases the solve. Hann brings them to
+// -32 to -74 dB for 1.76 dB of SNR (docs/blocks/bp_focuser.md, "Range sidelobes").
+std::vector<gr_complex>
+tapered(const gr_complex* pulses, unsigned n, const bp_grid& g, double band)
+{
+    const unsigned K = g.num_range_bins;
+    std::vector<gr_complex> out(pulses, pulses + std::size_t(n) * K);
+    if (band == 0.0)
+        return out;
+    std::vector<float> w(K);
+    for (unsigned m = 0; m < K; ++m) {
+        const double f = std::remainder(double(m) / K - g.range_centre_cycles, 1.0);
+        const double c = std::cos(M_PI * f / band);
+        w[m] = std::abs(f) < 0.5 * band ? float(c * c / K) : 0.0f; // the inverse FFT's 1 / K
+    }
+    gr::fft::fft_complex_fwd fwd(K, 1);
+    gr::fft::fft_complex_rev rev(K, 1);
+    for (unsigned p = 0; p < n; ++p) {
+        gr_complex* row = out.data() + std::size_t(p) * K;
+        std::copy(row, row + K, fwd.get_inbuf());
+        fwd.execute();
+        for (unsigned m = 0; m < K; ++m)
+            rev.get_inbuf()[m] = fwd.get_outbuf()[m] * w[m];
+        rev.execute();
+        std::copy(rev.get_outbuf(), rev.get_outbuf() + K, row);
+    }
+    return out;
 }
 
 // Offset of the peak from sample 0 by a parabola through ln|.| of three samples, in
@@ -396,6 +433,12 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     const unsigned ex_j = static_cast<unsigned>(std::min(double(M), std::ceil(4.0 * res_lines)));
     const unsigned ex_k = 4;
 
+    // The histories are read from the tapered pulses, the images from the pulses as given.
+    const double band = std::isnan(cfg.range_band_cycles)
+                            ? std::min(1.0, 2.0 * std::abs(grid.range_centre_cycles) + 1.0 / K)
+                            : cfg.range_band_cycles;
+    const std::vector<gr_complex> hist_pulses = tapered(pulses, n, grid, band);
+
     bp_focuser bp(grid, num_threads);
     bp_grid g1 = grid; // one line, exact BP: the per-pulse summands of a pixel
     g1.num_lines = 1;
@@ -428,7 +471,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
             point& q = pts[i];
             for (unsigned p = 0; p < n; ++p) {
                 one.reset(q.p[1]);
-                one.add(pulses + std::size_t(p) * K, 1, &res.antenna[p]);
+                one.add(hist_pulses.data() + std::size_t(p) * K, 1, &res.antenna[p]);
                 one.image(line.data());
                 // less the pixel's offset from the point, in the phase BP gave it:
                 // 2 pi (2 / lambda + fc_r / rho) (|a - p| - |a - q|)
@@ -563,8 +606,8 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         res.antenna.assign(antenna, antenna + n);
         res.displacement_m.assign(n, vec3{ 0.0, 0.0, 0.0 });
     }
-    const bool calibrated =
-        !cfg.gcp.empty() && calibrate_gcp(pulses, n, grid, cfg.gcp, one, len, h, res);
+    const bool calibrated = !cfg.gcp.empty() && calibrate_gcp(hist_pulses.data(), n, grid,
+                                                              cfg.gcp, one, len, h, res);
     if (calibrated || !(img_is_nav && !res.accepted))
         image_along(res.antenna);
     std::copy(img.begin(), img.end(), image_out);

@@ -179,6 +179,7 @@ void bind_autofocus(py::module& m)
         .def_readwrite("look_spread_rad", &trajectory_autofocus_config::look_spread_rad)
         .def_readwrite("tolerance_m", &trajectory_autofocus_config::tolerance_m)
         .def_readwrite("significance", &trajectory_autofocus_config::significance)
+        .def_readwrite("range_band_cycles", &trajectory_autofocus_config::range_band_cycles)
         .def_readwrite("gcp", &trajectory_autofocus_config::gcp)
         .def_readonly_static("max_gcp", &trajectory_autofocus_config::max_gcp)
         .def("validate", &trajectory_autofocus_config::validate);

@@ -12,6 +12,7 @@
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/kernel/bp_focuser.h>
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace gr {
@@ -37,6 +38,12 @@ struct NRSAR_API trajectory_autofocus_config {
     //! error (from the phase histories' noise); else return the navigation and its image
     //! (0: always keep). Under noise alone the ratio is about 1.
     double significance = 2.0;
+    //! Width of the pulses' range spectrum around grid.range_centre_cycles [cycles/bin],
+    //! [0, 1]: the phase histories and the GCPs' range peaks are read from the pulses tapered
+    //! by a Hann window over it (the other targets' unwindowed range sidelobes would beat in
+    //! them); the image stays untapered. NaN: a range IFFT of subcarriers 0..N-1 (eq. 29),
+    //! 2 |range_centre_cycles| + 1 / K (N / fft_size when K is the FFT size); 0: no taper.
+    double range_band_cycles = std::numeric_limits<double>::quiet_NaN();
     //! Ground control points: surveyed positions (x, y, z) in the scene frame [m], at most
     //! max_gcp. Those inside the image fix the navigation error's constant and linear trend
     //! over the pulses (which focus cannot see) from their phase histories (the constant's
