@@ -102,17 +102,29 @@ def bp_config_of(opts, cfg, autofocus=False):
                      autofocus_gcp=parse_gcps(opts.autofocus_gcp) if autofocus else [])
 
 
-def check_gcps_in_image(opts, geo, first_range_m, bins, rho):
+def check_gcps_in_image(opts, geo, foc, cfg, symbols):
     """OptionError naming the --autofocus-gcp that lies off the image: its slant range from
-    the ideal line, sqrt(x^2 + (H - z)^2), outside the focuser's range axis (an aperture's
-    image holds a GCP only where its echo is on the bins)."""
-    last = first_range_m + (bins - 1) * rho
-    for text, (x, _, z) in zip(opts.autofocus_gcp or [], parse_gcps(opts.autofocus_gcp)):
+    the ideal line, sqrt(x^2 + (H - z)^2), outside bp_focuser foc's range axis (an aperture's
+    image holds a GCP only where its echo is on the bins), or its y outside the lines the
+    run images (cfg's apertures, else those of the symbols; a GCP between two apertures'
+    lines is in neither image and would be skipped)."""
+    first_r = foc.first_range_m()
+    last_r = first_r + (foc.num_output_bins() - 1) * foc.range_bin_m()
+    m = foc.lines_per_aperture()
+    dy = geo.velocity_mps * foc.pulse_interval_s()
+    apertures = cfg.apertures or max(1, symbols // (cfg.symbols_per_pulse * m))
+    first_y = geo.track_start_m + (cfg.first_aperture * m + foc.line_shift()) * dy
+    last_y = first_y + (apertures * m - 1) * dy
+    for text, (x, y, z) in zip(opts.autofocus_gcp or [], parse_gcps(opts.autofocus_gcp)):
         r = math.hypot(x, geo.height_m - z)
-        if not first_range_m <= r <= last:
+        if not first_r <= r <= last_r:
             raise OptionError(f"--autofocus-gcp = {text!r} lies outside the image: slant "
-                              f"range {r:.1f} m, the image's is [{first_range_m:.1f}, "
-                              f"{last:.1f}] m")
+                              f"range {r:.1f} m, the image's is [{first_r:.1f}, "
+                              f"{last_r:.1f}] m")
+        if not first_y <= y <= last_y:
+            raise OptionError(f"--autofocus-gcp = {text!r} lies outside the image: "
+                              f"along-track y {y:.1f} m, the image's is [{first_y:.1f}, "
+                              f"{last_y:.1f}] m")
 
 
 def focuser_config_of(opts, sc, guard_bins):
@@ -204,11 +216,10 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=
     if not focuser:
         foc = None
     elif opts.focuser in ("bp", "ffbp"):
-        if autofocus:
-            check_gcps_in_image(opts, geo, rif.range_axis_first_m(), rif.num_bins(),
-                                rif.range_bin_m())
         foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                          rif.range_bin_m(), bp_config_of(opts, cfg, autofocus), nav)
+        if autofocus:
+            check_gcps_in_image(opts, geo, foc, cfg, sc.symbols)
     else:
         foc = rd_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                          rif.range_bin_m(), cfg, nav)

@@ -62,6 +62,9 @@ BAD_INPUTS = [
     ("nrsar-sim", ["--autofocus", "trajectory", "--focuser", "bp", "--preset", "small",
                    "--autofocus-gcp", "1e5,0"], "--autofocus-gcp = '1e5,0' lies outside the "
      "image: slant range 100005.0 m"),
+    ("nrsar-sim", ["--autofocus", "trajectory", "--focuser", "bp", "--preset", "small",
+                   "--autofocus-gcp", "600,1e4"], "--autofocus-gcp = '600,1e4' lies outside "
+     "the image: along-track y 10000.0 m"),
     ("nrsar-sim", ["--filter-threads", "3"], "--filter-threads = 3 must be at most 2"),
     ("nrsar-sim", ["--filter", "zf"], "--filter: invalid choice: 'zf'"),
     ("nrsar-sim", ["--modulation", "qam1024"], "--modulation: invalid choice"),
