@@ -53,7 +53,7 @@ struct point {
     vec3 p;   // the scatterer the pixel stands for
     vec3 q;   // the point itself: p moved to the peak interpolated between the pixels
     double w; // weight: coherent SNR per pulse A^2 / sigma^2 (inverse phase variance)
-    double v; // variance of the smoothed history's lambda psi / (4 pi) times its length [m^2]
+    double v; // variance of the smoothed history's psi / (2 pi cs) times its length [m^2]
 };
 
 // The scatterer of pixel (line j, bin k), as bp_focuser images it; false where the slant
@@ -72,15 +72,24 @@ bool pixel_position(const bp_grid& g, unsigned j, unsigned k, vec3& p)
     return true;
 }
 
+// A range error e turns a BP summand by 2 pi cs e: the carrier's 4 pi e / lambda and the
+// range spectrum centre's 2 pi fc_r e / rho (BP remodulates the profile, whose point
+// response turns by 2 pi fc_r per bin, at the centre: the band's centre, not subcarrier 0,
+// is the phase's carrier). lambda / (4 pi) alone is 0.7 % off in focus_scenario.
+double phase_cycles_per_m(const bp_grid& g)
+{
+    return 2.0 / g.wavelength_m + g.range_centre_cycles / g.range_bin_m;
+}
+
 struct history {
     double sum; // of the unwrapped history [m]
     double a2;  // coherent power per pulse A^2
     double w;   // A^2 / sigma^2 (0: the smoothed SNR is below 2)
-    double v;   // variance of lambda psi / (4 pi) per pulse [m^2]
+    double v;   // variance of psi / (2 pi cs) per pulse [m^2]
 };
 
 // c's complex moving sum over len[p] pulses (h each side), its phase unwrapped over the
-// pulses in metres (lambda psi / (4 pi)) into b, and the noise it carries.
+// pulses in metres (psi to_m, to_m = 1 / (2 pi cs)) into b, and the noise it carries.
 history smoothed_history(const std::vector<std::complex<double>>& c,
                          const std::vector<unsigned>& len,
                          unsigned h,
@@ -234,11 +243,8 @@ bool calibrate_gcp(const gr_complex* pulses,
                    trajectory_autofocus_result& res)
 {
     const unsigned K = grid.num_range_bins;
-    // A range error e turns a BP summand by 2 pi cs e: the carrier's 4 pi e / lambda and the
-    // range spectrum centre's 2 pi fc_r e / rho (the band's centre, not subcarrier 0, is the
-    // phase's carrier); the phase repeats every 1 / cs of range.
-    const double cs = 2.0 / grid.wavelength_m + grid.range_centre_cycles / grid.range_bin_m;
-    const double period = 1.0 / cs, to_m = period / (2.0 * M_PI);
+    const double cs = phase_cycles_per_m(grid);
+    const double period = 1.0 / cs, to_m = period / (2.0 * M_PI); // the phase repeats every P
     const double tm = 0.5 * (n - 1.0);
     double stt = 0.0;
     for (unsigned p = 0; p < n; ++p)
@@ -451,8 +457,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         bp.image(img.data());
     };
 
-    const double to_m = grid.wavelength_m / (4.0 * M_PI);
-    const double cs = 2.0 / grid.wavelength_m + grid.range_centre_cycles / grid.range_bin_m;
+    const double cs = phase_cycles_per_m(grid), to_m = 1.0 / (2.0 * M_PI * cs);
     const unsigned h = cfg.smooth_pulses / 2;
     std::vector<std::complex<double>> c(n);
     std::vector<unsigned> len(n); // pulses in the moving sum at each pulse (fewer at the ends)
@@ -465,7 +470,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         std::vector<point> pts = prominent(img, grid, cfg, ex_j, ex_k);
         if (pts.empty()) // an empty image: nothing to estimate from
             break;
-        // b[i][n]: lambda psi_i(n) / (4 pi), the navigation's line-of-sight error point i sees.
+        // b[i][n]: psi_i(n) / (2 pi cs), the navigation's line-of-sight error point i sees.
         std::vector<std::vector<double>> b(pts.size(), std::vector<double>(n));
         for (std::size_t i = 0; i < pts.size(); ++i) {
             point& q = pts[i];

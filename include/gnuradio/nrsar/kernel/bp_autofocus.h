@@ -92,11 +92,12 @@ struct NRSAR_API trajectory_autofocus_result {
  * their phase histories see, corrects the path and back-projects again (docs/blocks/
  * bp_focuser.md, "Autofocus along the path").
  *
- * A point at p seen from a_n contributes to its pixel c(n) = A exp(j 4 pi (R_nav - R_true)
- * / lambda) (the BP summand), R_nav - R_true = u_n . (a_nav - a_true), u_n the unit vector
- * from p to the antenna. The phase of the smoothed c (complex moving sum of smooth_pulses,
+ * A point at p seen from a_n contributes to its pixel c(n) = A exp(j 2 pi cs (R_nav -
+ * R_true)) (the BP summand; cs = 2 / lambda + fc_r / rho, the carrier and the range
+ * spectrum's centre), R_nav - R_true = u_n . (a_nav - a_true), u_n the unit vector from p
+ * to the antenna. The phase of the smoothed c (complex moving sum of smooth_pulses,
  * unwrapped over the pulses, its mean removed) gives per pulse and point one equation
- * lambda psi_i(n) / (4 pi) = u_i(n) . d(n) in d = (d_x, d_z); least squares over the
+ * psi_i(n) / (2 pi cs) = u_i(n) . d(n) in d = (d_x, d_z); least squares over the
  * points (weights: the inverse variance of their smoothed phase, sigma_i^2 / (2 L A_i^2)
  * with sigma_i^2 from each history's deviation from its moving mean), both components when
  * the look angles spread (config look_spread_rad), else along their mean line of sight.
