@@ -233,8 +233,9 @@ TEST(bp_autofocus, recovers_an_injected_path_error)
     const auto [err, tru_rms] = rms_detrended(los_est, los_true);
     // Noise bound: per pulse the strongest point's phase noise 1 / sqrt(2 SNR) (SNR = 10),
     // over the 17-pulse sum 1 / sqrt(2 * 10 * 17) = 0.054 rad, i.e. lambda / (4 pi) * 0.054
-    // = 0.37 mm (with the weaker points the kernel's standard error is 0.31 mm, and the
-    // estimate on the true path scatters by that: test below); the smoothing's own bias on the 2 Hz
+    // = 0.37 mm (with the weaker points the kernel's standard error is 0.27 mm, the range
+    // taper having dropped this echo's noise outside the band, and the estimate on the
+    // true path scatters by that: test below); the smoothing's own bias on the 2 Hz
     // sway (1 cm, attenuated by sin(pi f L T) / (L sin(pi f T)) = 0.989) adds 0.1 mm, the
     // unsolved component across the line of sight (3 cm times the 0.6 degree spread about
     // the mean) 0.3 mm: 3 times the noise plus both, 1.5 mm.
@@ -357,7 +358,7 @@ TEST(bp_autofocus, targets_at_one_along_track_position)
 
 TEST(bp_autofocus, leaves_a_focused_image_as_it_is)
 {
-    // On the true path the estimate is noise (0.31 mm standard error at this SNR, test
+    // On the true path the estimate is noise (0.27 mm standard error at this SNR, test
     // below): below 2 standard errors it is refused, and the image is the navigation's.
     const double sigma2 = N / 10.0;
     const auto pulses = echo(sigma2, 11);
