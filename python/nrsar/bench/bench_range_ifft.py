@@ -36,6 +36,16 @@ def _symbols(n, length, count=8, seed=2):
     return x.ravel().tolist()
 
 
+def _source(x, vlen, items, edge=0):
+    """vector_source > head of `items` vectors; edge: their output buffers in items."""
+    src = blocks.vector_source_c(x, True, vlen)
+    head = blocks.head(gr.sizeof_gr_complex * vlen, items)
+    if edge:
+        src.set_min_output_buffer(edge)
+        head.set_min_output_buffer(edge)
+    return src, head
+
+
 def work_time_per_symbol(n_items, x_n):
     """(ours, fft_vcc, fft_vcc through an EDGE_ITEMS buffer) us in work() per symbol at 3360
     points (GNU Radio's performance counters, wall clock inside work()). The peer's
@@ -44,21 +54,16 @@ def work_time_per_symbol(n_items, x_n):
     nfft = nrsar.fast_fft_size(N)
     num = nrsar.make_numerology("paper")
     blk = nrsar.range_ifft(num, nfft, fft.window.WIN_HAMMING)
-    f = fft.fft_vcc(nfft, False, list(fft.window.hamming(N)) + [0.0] * (nfft - N), False, 1)
-    f_edge = fft.fft_vcc(nfft, False, list(fft.window.hamming(N)) + [0.0] * (nfft - N), False,
-                         1)
+    window = list(fft.window.hamming(N)) + [0.0] * (nfft - N)
+    f = fft.fft_vcc(nfft, False, window, False, 1)
+    f_edge = fft.fft_vcc(nfft, False, window, False, 1)
     x_pad = _symbols(N, nfft)
     result = []
     for block, x, vlen, edge in ((blk, x_n, N, 0), (f, x_pad, nfft, 0),
                                  (f_edge, x_pad, nfft, EDGE_ITEMS)):
         tb = gr.top_block()
         out = blk.num_bins() if block is blk else nfft
-        src = blocks.vector_source_c(x, True, vlen)
-        head = blocks.head(gr.sizeof_gr_complex * vlen, n_items)
-        if edge:
-            src.set_min_output_buffer(edge)
-            head.set_min_output_buffer(edge)
-        tb.connect(src, head, block, blocks.null_sink(gr.sizeof_gr_complex * out))
+        tb.connect(*_source(x, vlen, n_items, edge), block, blocks.null_sink(gr.sizeof_gr_complex * out))
         runtime.run(tb)
         result.append(block.pc_work_time_total() / n_items / 1e3)
     return result
@@ -80,13 +85,8 @@ def run(quick=False):
         window = list(fft.window.hamming(N)) + [0.0] * (nfft - N)
 
         def peer(tb, items, nfft=nfft, x_pad=x_pad, window=window, edge=0):
-            src = blocks.vector_source_c(x_pad, True, nfft)
-            head = blocks.head(gr.sizeof_gr_complex * nfft, items)
-            if edge:
-                src.set_min_output_buffer(edge)
-                head.set_min_output_buffer(edge)
             f = fft.fft_vcc(nfft, False, window, False, 1)
-            tb.connect(src, head, f, blocks.null_sink(gr.sizeof_gr_complex * nfft))
+            tb.connect(*_source(x_pad, nfft, items, edge), f, blocks.null_sink(gr.sizeof_gr_complex * nfft))
 
         def peer_padded(tb, items, nfft=nfft, window=window):
             # The stock way to pad 3333-vectors to nfft: vector_to_stream, stream_mux with
