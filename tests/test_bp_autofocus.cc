@@ -716,7 +716,7 @@ TEST(bp_autofocus, gcp_takes_out_an_along_track_offset)
                 "%.2f mm); azimuth peak off by %.1f mm along the navigation, %.1f mm after\n",
                 1e3 * ey, 1e3 * ey_hat, 1e3 * se, 1e3 * crb, 1e3 * (y_nav - y_ref),
                 1e3 * (y_gcp - y_ref));
-    EXPECT_NEAR(se, crb, 0.2 * crb);
+    EXPECT_NEAR(se, crb, 0.1 * crb); // 4.38-4.71 mm over 12 draws; without the taper's 4 / 3: +15 %
     EXPECT_NEAR(ey_hat, ey, 3.0 * se);
     EXPECT_NEAR(y_nav - y_ref, ey, 3.0 * crb);
     EXPECT_NEAR(y_gcp - y_ref, 0.0, 3.0 * crb);
