@@ -264,8 +264,10 @@ def image_results(opts, chain, sc, runtime_s):
         result["autofocus_los_se_m"] = _json_number(chain["focuser"].trajectory_se_m())
         if opts.autofocus_gcp:
             # the navigation error's constant (at the latest aperture's middle pulse) and
-            # drift the ground control points fixed, (x, y, z); y is not solved (0); None
-            # where no GCP lay in that aperture's image
+            # drift the ground control points fixed, (x, y, z); None where no GCP lay in
+            # that aperture's image; y 0: GCPs at one along-track position see an
+            # along-track offset as a drift, and take it out as one (docs/blocks/
+            # bp_focuser.md, "The along-track offset")
             foc = chain["focuser"]
             result["autofocus_gcp_used"] = foc.trajectory_gcp_used()
             for key, v in (("offset_m", foc.trajectory_gcp_offset_m()),
