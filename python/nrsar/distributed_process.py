@@ -193,29 +193,33 @@ def focus_slice(opts, meta_path, sl, reference=False):
     tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
     graph = chain.build(tb, sim_opts, sc, tx=tx, reference=reference,
                         echo_front=process.recording_front(part, reference))
-    if sl.history:
-        graph["filter"].set_snr_history(list(sl.history))
-    pre = graph["presum"]  # its first output is the focuser's first line
-    first = pre.first_pulse() if pre else graph["focuser"].stream_first_line()
-    if first * sc.pulse_symbols != sl.first:
-        raise RuntimeError(f"aperture {sl.index}: the chain expects its stream from pulse "
-                           f"{first}, the slice starts at symbol {sl.first}")
-    k = graph["focuser"].num_output_bins()
-    if sl.symbols == 0:  # its block lies past the recording's end: zeros, as one graph's
-        return {"index": sl.index, "image": np.zeros((sl.apertures * sl.lines, k), np.complex64),
-                "compute_s": time.perf_counter() - start, "snr_db": None}
-    tb.run()
-    bad = graph["echo"].nonfinite_count()
-    if bad:
-        raise SliceError(f"aperture {sl.index}: {bad} non-finite samples in symbols "
-                         f"[{sl.first}, {sl.first + sl.symbols}) of {rec.data_path}")
-    image = np.asarray(graph["image_sink"].data(), np.complex64).reshape(-1, k)
-    if image.shape[0] != sl.apertures * sl.lines:
-        raise RuntimeError(f"aperture {sl.index}: {image.shape[0]} image lines, expected "
-                           f"{sl.apertures * sl.lines}")
-    snr = graph["filter"].estimated_snr_db() if sim_opts.estimate_snr else None
-    return {"index": sl.index, "image": image, "compute_s": time.perf_counter() - start,
-            "snr_db": snr}
+    try:
+        if sl.history:
+            graph["filter"].set_snr_history(list(sl.history))
+        pre = graph["presum"]  # its first output is the focuser's first line
+        first = pre.first_pulse() if pre else graph["focuser"].stream_first_line()
+        if first * sc.pulse_symbols != sl.first:
+            raise RuntimeError(f"aperture {sl.index}: the chain expects its stream from pulse "
+                               f"{first}, the slice starts at symbol {sl.first}")
+        k = graph["focuser"].num_output_bins()
+        if sl.symbols == 0:  # its block lies past the recording's end: zeros, as one graph's
+            return {"index": sl.index, "compute_s": time.perf_counter() - start,
+                    "image": np.zeros((sl.apertures * sl.lines, k), np.complex64),
+                    "snr_db": None}
+        tb.run()
+        bad = graph["echo"].nonfinite_count()
+        if bad:
+            raise SliceError(f"aperture {sl.index}: {bad} non-finite samples in symbols "
+                             f"[{sl.first}, {sl.first + sl.symbols}) of {rec.data_path}")
+        image = np.asarray(graph["image_sink"].data(), np.complex64).reshape(-1, k)
+        if image.shape[0] != sl.apertures * sl.lines:
+            raise RuntimeError(f"aperture {sl.index}: {image.shape[0]} image lines, expected "
+                               f"{sl.apertures * sl.lines}")
+        snr = graph["filter"].estimated_snr_db() if sim_opts.estimate_snr else None
+        return {"index": sl.index, "image": image, "compute_s": time.perf_counter() - start,
+                "snr_db": snr}
+    finally:
+        graph["chain"].release()  # a worker runs many tasks: their blocks and FFTs go back
 
 
 def prepass_symbols(opts, rec, lay):
