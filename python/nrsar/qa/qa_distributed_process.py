@@ -148,6 +148,56 @@ class qa_distributed_process(gr_unittest.TestCase):
         self.assertEqual([first for first, _ in res["strip_slices"]],
                          [0] + [STEP * (a * M + res["strip_line_shift"] - 50) for a in (1, 2, 3)])
 
+    def test_002b_corrupt_symbols_in_the_prepass(self):
+        # --estimate-snr: NaNs in symbols that only task 2 reads and that the pre-pass
+        # replays for task 3's SNR history. Task 2 fails, named; the pre-pass skips them as
+        # the estimator of one graph does (the nonfinite guard), so tasks 0, 1 and 3 equal
+        # the clean recording's one graph with --estimate-snr bit for bit (task 3's filter
+        # weights, so its estimate, included)
+        folder = os.path.join(self.dir, "corrupt_prepass")
+        shutil.copytree(os.path.dirname(self.meta), folder)
+        meta = os.path.join(folder, "flight.sigmf-meta")
+        rec = recording.read(meta)
+        overlap = 50 * STEP * rec.num.symbol_s()
+        opts = self.opts("l", strip_overlap_s=overlap, estimate_snr=True)
+        lay = dp.layout(opts, rec)
+        s1, s2, s3 = lay.slices[1:]
+        self.assertLess(s1.first + s1.symbols, s3.first)  # symbols that only task 2 reads
+        bad = (s1.first + s1.symbols + s3.first) // 2
+        self.assertLess(bad, dp.prepass_symbols(opts, rec, lay))
+        at = rec.hardware_delay_samples + bad * rec.symbol_samples
+        data = np.memmap(rec.data_path, np.complex64, "r+")
+        data[at:at + 10] = np.nan
+        data.flush()
+        del data
+        res = dp.run(self.opts("corrupt_prepass_out", meta=meta, dask="local:2",
+                               strip_overlap_s=overlap, estimate_snr=True), self.client)
+        read = [a for a, (first, n) in enumerate(res["strip_slices"]) if first <= bad < first + n]
+        self.assertEqual(read, [2])
+        self.assertEqual([f["aperture"] for f in res["strip_failed"]], [2])
+        self.assertRegex(res["strip_failed"][0]["error"], r"aperture 2: \d+ non-finite")
+        image = np.load(res["strip_image_npy"])
+        clean = self.whole(self.opts("clean_snr", strip_overlap_s=overlap, estimate_snr=True))
+        for a in (0, 1, 3):
+            np.testing.assert_array_equal(image[a * M:(a + 1) * M], clean[a * M:(a + 1) * M])
+        self.assertEqual(np.count_nonzero(image[2 * M:3 * M]), 0)
+        self.assertIsNone(res["strip_snr_db"][2])
+        self.assertTrue(all(np.isfinite(res["strip_snr_db"][a]) for a in (0, 1, 3)))
+
+    def test_002c_abutting_apertures(self):
+        # --strip-overlap-s 0: each task reads its aperture's own lines, the blocks abut with
+        # neither gap nor overlap (read factor 1), and the strip equals one graph focusing
+        # the whole recording with the same (zero) overlap
+        opts = self.opts("abut", dask="local:2", strip_overlap_s=0.0)
+        res = dp.run(opts, self.client)
+        slices = res["strip_slices"]
+        self.assertEqual(slices[0][0], 0)
+        for (first, n), (after, _) in zip(slices, slices[1:]):
+            self.assertEqual(first + n, after)
+        self.assertEqual([n for _, n in slices], [STEP * M] * 4)
+        self.assertEqual(res["strip_read_factor"], 1.0)
+        np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
+
     def test_003_worker_killed_costs_a_retry(self):
         opts, client = self.opts("killed"), self.client
         pids = client.run(os.getpid)
