@@ -27,7 +27,7 @@ import threading
 import time
 
 import numpy as np
-from gnuradio import gr_unittest
+from gnuradio import gr, gr_unittest
 
 from gnuradio.nrsar import distributed_process as dp, recording
 from gnuradio.nrsar.options import OptionError, ProcessOptions
@@ -197,6 +197,20 @@ class qa_distributed_process(gr_unittest.TestCase):
         self.assertEqual([n for _, n in slices], [STEP * M] * 4)
         self.assertEqual(res["strip_read_factor"], 1.0)
         np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
+
+    def test_002d_a_task_frees_its_blocks(self):
+        # a worker runs task after task: each task's graph (its chain's blocks, kernels and
+        # FFT objects) is freed when it ends (GNU Radio keeps a hier block with a message
+        # connection to its own port, imaging_chain's "metrics", unless released)
+        opts = self.opts("free")
+        rec = recording.read(self.meta)
+        sl = dp.layout(opts, rec).slices[1]
+        gc.collect()
+        blocks = gr.basic_block_ncurrently_allocated()
+        for _ in range(2):
+            dp.focus_slice(opts, self.meta, sl)
+            gc.collect()
+            self.assertEqual(gr.basic_block_ncurrently_allocated(), blocks)
 
     def test_003_worker_killed_costs_a_retry(self):
         opts, client = self.opts("killed"), self.client
