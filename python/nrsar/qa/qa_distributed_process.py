@@ -84,6 +84,26 @@ class qa_distributed_process(gr_unittest.TestCase):
         return dp.focus_slice(opts, opts.recording,
                               dp.whole(opts, rec, dp.layout(opts, rec)))["image"]
 
+    def _corrupted(self, name, symbol):
+        """A copy of the recording (its meta) with 10 NaN samples in the symbol."""
+        folder = os.path.join(self.dir, name)
+        shutil.copytree(os.path.dirname(self.meta), folder)
+        meta = os.path.join(folder, "flight.sigmf-meta")
+        rec = recording.read(meta)
+        at = rec.hardware_delay_samples + symbol * rec.symbol_samples
+        data = np.memmap(rec.data_path, np.complex64, "r+")
+        data[at:at + 10] = np.nan
+        data.flush()
+        return meta
+
+    def _assert_fails_alone(self, res, symbol, aperture):
+        """Only the aperture's task reads the bad symbol, and only it failed, by index."""
+        read = [a for a, (first, n) in enumerate(res["strip_slices"])
+                if first <= symbol < first + n]
+        self.assertEqual(read, [aperture])
+        self.assertEqual([f["aperture"] for f in res["strip_failed"]], read)
+        self.assertRegex(res["strip_failed"][0]["error"], rf"aperture {aperture}: \d+ non-finite")
+
     def test_001_dask_equals_one_process(self):
         # two tasks submitted and not yet written at once, a strip of four: the client
         # streams each aperture into the file in order, holding at most two
@@ -121,24 +141,13 @@ class qa_distributed_process(gr_unittest.TestCase):
         # NaNs written into a copy of the recording just past what task 2 reads; with 50
         # lines of overlap only task 3 reads them and fails, the others equal the one-graph
         # strip of the same overlap
-        folder = os.path.join(self.dir, "corrupt")
-        shutil.copytree(os.path.dirname(self.meta), folder)
-        meta = os.path.join(folder, "flight.sigmf-meta")
-        rec = recording.read(meta)
+        rec = recording.read(self.meta)
         overlap = 50 * STEP * rec.num.symbol_s()
         task2 = dp.layout(self.opts("l", strip_overlap_s=overlap), rec).slices[2]
         bad = task2.first + task2.symbols + 10
-        at = rec.hardware_delay_samples + bad * rec.symbol_samples
-        data = np.memmap(rec.data_path, np.complex64, "r+")
-        data[at:at + 10] = np.nan
-        data.flush()
-        del data
-        res = dp.run(self.opts("corrupt_out", meta=meta, dask="local:2",
-                               strip_overlap_s=overlap), self.client)
-        read = [a for a, (first, n) in enumerate(res["strip_slices"]) if first <= bad < first + n]
-        self.assertEqual(read, [3])
-        self.assertEqual([f["aperture"] for f in res["strip_failed"]], read)
-        self.assertRegex(res["strip_failed"][0]["error"], r"aperture 3: \d+ non-finite")
+        res = dp.run(self.opts("corrupt_out", meta=self._corrupted("corrupt", bad),
+                               dask="local:2", strip_overlap_s=overlap), self.client)
+        self._assert_fails_alone(res, bad, 3)
         image = np.load(res["strip_image_npy"])
         clean = self.whole(self.opts("clean", strip_overlap_s=overlap))
         np.testing.assert_array_equal(image[:3 * M], clean[:3 * M])
@@ -154,10 +163,7 @@ class qa_distributed_process(gr_unittest.TestCase):
         # the estimator of one graph does (the nonfinite guard), so tasks 0, 1 and 3 equal
         # the clean recording's one graph with --estimate-snr bit for bit (task 3's filter
         # weights, so its estimate, included)
-        folder = os.path.join(self.dir, "corrupt_prepass")
-        shutil.copytree(os.path.dirname(self.meta), folder)
-        meta = os.path.join(folder, "flight.sigmf-meta")
-        rec = recording.read(meta)
+        rec = recording.read(self.meta)
         overlap = 50 * STEP * rec.num.symbol_s()
         opts = self.opts("l", strip_overlap_s=overlap, estimate_snr=True)
         lay = dp.layout(opts, rec)
@@ -165,17 +171,10 @@ class qa_distributed_process(gr_unittest.TestCase):
         self.assertLess(s1.first + s1.symbols, s3.first)  # symbols that only task 2 reads
         bad = (s1.first + s1.symbols + s3.first) // 2
         self.assertLess(bad, dp.prepass_symbols(opts, rec, lay))
-        at = rec.hardware_delay_samples + bad * rec.symbol_samples
-        data = np.memmap(rec.data_path, np.complex64, "r+")
-        data[at:at + 10] = np.nan
-        data.flush()
-        del data
-        res = dp.run(self.opts("corrupt_prepass_out", meta=meta, dask="local:2",
-                               strip_overlap_s=overlap, estimate_snr=True), self.client)
-        read = [a for a, (first, n) in enumerate(res["strip_slices"]) if first <= bad < first + n]
-        self.assertEqual(read, [2])
-        self.assertEqual([f["aperture"] for f in res["strip_failed"]], [2])
-        self.assertRegex(res["strip_failed"][0]["error"], r"aperture 2: \d+ non-finite")
+        res = dp.run(self.opts("corrupt_prepass_out", meta=self._corrupted("corrupt_prepass", bad),
+                               dask="local:2", strip_overlap_s=overlap, estimate_snr=True),
+                     self.client)
+        self._assert_fails_alone(res, bad, 2)
         image = np.load(res["strip_image_npy"])
         clean = self.whole(self.opts("clean_snr", strip_overlap_s=overlap, estimate_snr=True))
         for a in (0, 1, 3):

@@ -20,12 +20,13 @@ namespace kernel {
  * \brief The process's pool of gr::fft objects: every kernel takes its FFTs from here.
  *
  * Why: gr::fft's constructor reads and rewrites `~/.gr_fftw_wisdom` under a file lock for
- * every plan, even one whose size the wisdom holds (4-6 ms at best, 8-14 ms median and up
- * to 98 ms on the loaded 2-core machine, the file shared by every process of the user).
- * A Dask task of nrsar-process built 6 of them (ofdm_demod, range_ifft, rd_focuser's two
- * azimuth FFTs), 11-84 ms against 0.08-0.12 s of compute (docs/scale.md, "FFT plans per
- * task"). Here a kernel's destructor hands its objects back and the next kernel of the same
- * (size, direction, threads) takes one, so a process plans each size once.
+ * every plan, even one whose size the wisdom holds (1.9 ms at best, 7.6-14 ms median and
+ * up to 98 ms on the loaded 2-core machine: the file is shared by every process of the
+ * user). A Dask task of nrsar-process made 6 (ofdm_demod, range_ifft, rd_focuser's two
+ * azimuth FFTs), 11-84 ms against 0.07-0.12 s of compute. Here a kernel's destructor hands
+ * its objects back and the next kernel of the same (size, direction, threads) takes one, so
+ * a process plans each size once: such a task now makes none after its worker's first, and
+ * its median time fell from 0.060-0.091 s to 0.039-0.044 s (docs/scale.md, "The FFT pool").
  *
  * A gr::fft object owns its buffers and is not thread-safe, so each handle is exclusive
  * (a pool, not a shared plan). A reused object's buffers are zeroed, as a new one's are,
