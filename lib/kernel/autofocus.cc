@@ -244,8 +244,8 @@ autofocus& autofocus::operator=(autofocus&&) noexcept = default;
 void autofocus::plan(std::size_t lines, std::size_t bins)
 {
     if (lines != d_M) {
-        d_fwd = std::make_unique<gr::fft::fft_complex_fwd>(static_cast<int>(lines));
-        d_rev = std::make_unique<gr::fft::fft_complex_rev>(static_cast<int>(lines));
+        d_fwd = make_fft_fwd(static_cast<int>(lines));
+        d_rev = make_fft_rev(static_cast<int>(lines));
     }
     d_M = lines;
     d_K = bins;

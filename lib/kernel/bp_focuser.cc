@@ -11,6 +11,7 @@
 #include <gnuradio/nrsar/bp_config.h>
 #include <gnuradio/nrsar/kernel/bp_autofocus.h>
 #include <gnuradio/nrsar/kernel/bp_focuser.h>
+#include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -87,18 +88,18 @@ void bp_grid::validate() const
 
 // Per-thread FFT plans and scratch.
 struct bp_focuser::worker {
-    gr::fft::fft_complex_fwd fwd;
-    gr::fft::fft_complex_rev rev;
+    fft_fwd fwd;
+    fft_rev rev;
     std::vector<int> idx, beam;
     std::vector<float> mu, nu, frac, sine;
     std::vector<gr_complex> demod; // K: exp(-j 2 pi fc_r k) / K (inverse-FFT scale folded in)
     // FFBP: the plans of the polar subimage's rows (K + 2 E bins), made when E changes.
-    std::unique_ptr<gr::fft::fft_complex_fwd> sub_fwd;
-    std::unique_ptr<gr::fft::fft_complex_rev> sub_rev;
+    fft_fwd sub_fwd;
+    fft_rev sub_rev;
 
     worker(const bp_grid& g)
-        : fwd(g.num_range_bins, 1),
-          rev(g.num_range_bins * g.upsample, 1),
+        : fwd(make_fft_fwd(g.num_range_bins, 1)),
+          rev(make_fft_rev(g.num_range_bins * g.upsample, 1)),
           idx(g.num_range_bins),
           beam(g.num_range_bins),
           mu(g.num_range_bins),
@@ -220,7 +221,7 @@ void upsample_row(gr::fft::fft_complex_fwd& fwd,
 void bp_focuser::upsample(worker& w, const gr_complex* pulse, gr_complex* out)
 {
     if (!d_sinc) {
-        upsample_row(w.fwd, w.rev, pulse, w.demod.data(), out);
+        upsample_row(*w.fwd, *w.rev, pulse, w.demod.data(), out);
         return;
     }
     const unsigned K = d_grid.num_range_bins, half = d_grid.sinc_taps / 2;
@@ -384,8 +385,8 @@ void bp_focuser::add_ffbp(const gr_complex* pulses,
         }
         for (auto& w : d_workers) {
             if (!w->sub_fwd || static_cast<unsigned>(w->sub_fwd->inbuf_length()) != Kp) {
-                w->sub_fwd = std::make_unique<gr::fft::fft_complex_fwd>(Kp, 1);
-                w->sub_rev = std::make_unique<gr::fft::fft_complex_rev>(Kp * U, 1);
+                w->sub_fwd = make_fft_fwd(Kp, 1);
+                w->sub_rev = make_fft_rev(Kp * U, 1);
             }
             for (auto* v : { &w->mu, &w->nu, &w->frac, &w->sine })
                 v->resize(std::max(Kp, K));

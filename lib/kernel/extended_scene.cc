@@ -256,7 +256,7 @@ extended_scene::extended_scene(const numerology& num,
     d_snb.resize(block);
     d_csb.resize(block);
     d_h.resize(N);
-    d_fft = std::make_unique<gr::fft::fft_complex_fwd>(d_P);
+    d_fft = make_fft_fwd(d_P);
 }
 
 double extended_scene::platform_y(std::uint64_t m) const

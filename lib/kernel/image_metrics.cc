@@ -6,6 +6,7 @@
  */
 
 #include "../param_check.h"
+#include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <gnuradio/nrsar/kernel/image_metrics.h>
 #include <volk/volk.h>
 #include <algorithm>
@@ -28,8 +29,8 @@ double db10(double x) { return (x > 0.0 && std::isfinite(x)) ? 10.0 * std::log10
 struct image_metrics::upsampler {
     std::size_t n = 0;
     unsigned factor = 0;
-    std::unique_ptr<gr::fft::fft_complex_fwd> fwd;
-    std::unique_ptr<gr::fft::fft_complex_rev> rev;
+    fft_fwd fwd;
+    fft_rev rev;
 
     void plan(std::size_t len, unsigned u)
     {
@@ -37,8 +38,8 @@ struct image_metrics::upsampler {
             return;
         n = len;
         factor = u;
-        fwd = std::make_unique<gr::fft::fft_complex_fwd>(static_cast<int>(n));
-        rev = std::make_unique<gr::fft::fft_complex_rev>(static_cast<int>(n * u));
+        fwd = make_fft_fwd(static_cast<int>(n));
+        rev = make_fft_rev(static_cast<int>(n * u));
     }
 
     // in: n samples (already gathered); out: n * factor interpolated samples of the band

@@ -34,7 +34,7 @@ ofdm_modulator::ofdm_modulator(unsigned n, unsigned fft_size, unsigned cp, unsig
 {
     check_layout(n, fft_size, cp, k0);
     d_scale = float(1.0 / std::sqrt(double(fft_size)));
-    d_fft = std::make_unique<gr::fft::fft_complex_rev>(int(fft_size), 1);
+    d_fft = make_fft_rev(int(fft_size), 1);
     // The bins between N - k0 and fft_size - k0 stay empty: execute() writes only the
     // N used bins and the out-of-place plan preserves its input.
     std::fill_n(d_fft->get_inbuf(), fft_size, gr_complex(0.0f, 0.0f));
@@ -68,7 +68,7 @@ ofdm_demodulator::ofdm_demodulator(
                     "must be at most cp_samples = " + std::to_string(cp) +
                         " (a later FFT window reaches into the next symbol)");
     d_scale = float(1.0 / std::sqrt(double(fft_size)));
-    d_fft = std::make_unique<gr::fft::fft_complex_fwd>(int(fft_size), 1);
+    d_fft = make_fft_fwd(int(fft_size), 1);
 }
 
 void ofdm_demodulator::execute(const gr_complex* in, gr_complex* out)

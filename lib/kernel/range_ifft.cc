@@ -39,7 +39,7 @@ range_ifft::range_ifft(unsigned n,
                         std::to_string(d_fft_size - d_first));
     // The plan is owned here (never in work()); FFTW planning is not thread safe, and
     // gr::fft takes its planner mutex itself.
-    d_fft = std::make_unique<gr::fft::fft_complex_rev>(int(d_fft_size), 1);
+    d_fft = make_fft_rev(int(d_fft_size), 1);
     // The padding is zero once and stays so: only the first n inputs are ever written
     // and FFTW's out-of-place c2c plans preserve their input.
     std::fill_n(d_fft->get_inbuf(), d_fft_size, gr_complex(0.0f, 0.0f));

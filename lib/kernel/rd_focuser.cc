@@ -103,8 +103,8 @@ rd_focuser::rd_focuser(const focuser_config& cfg, const rd_block& blk)
     d_blk.validate();
     d_nfft = cfg.fast_fft_size ? fast_fft_size(blk.num_lines) : blk.num_lines;
     const unsigned K = blk.num_range_bins;
-    d_fwd = std::make_unique<gr::fft::fft_complex_fwd>(d_nfft, 1);
-    d_rev = std::make_unique<gr::fft::fft_complex_rev>(d_nfft, 1);
+    d_fwd = make_fft_fwd(d_nfft, 1);
+    d_rev = make_fft_rev(d_nfft, 1);
     if (cfg.band == doppler_band::ESTIMATE)
         d_spec.resize(static_cast<size_t>(K) * d_nfft);
     d_tile.resize(static_cast<size_t>(ifft_tile_rows) * d_nfft);

@@ -400,6 +400,15 @@ class imaging_chain(gr.hier_block2):
         self.probe = probe
         self.autofocus = af
 
+    def release(self):
+        """Frees the chain's blocks after its graph has run (the chain cannot run again).
+        GNU Radio 3.10 never frees a hier block whose child is msg_connected to the hier
+        block's own port ("metrics"; its edge and block lists hold the hier block itself),
+        nor its children with their kernels, buffers and FFT objects: a process that builds
+        many graphs (a Dask worker, distributed_process) releases each."""
+        self.msg_disconnect(self.probe, "metrics", self, "metrics")
+        self.disconnect_all()
+
     # The probe's last metrics, for GRC's function probes and GUI labels
     def nmse_db(self):
         return self.probe.nmse_db()

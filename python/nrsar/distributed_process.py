@@ -118,8 +118,9 @@ def layout(opts, rec):
         raise OptionError(f"--strip-aperture-s = {opts.strip_aperture_s:g} must hold at least "
                           f"two image lines ({2 * step} symbols) and at most the recording's "
                           f"{total} lines ({rec.symbols} symbols)")
-    # the focuser the tasks build, asked for its layout (no FFT plans are made for this)
-    sim_opts, sc = _scenario(opts, rec, m)
+    # the focuser the tasks build, asked for its layout (built, never run: its range
+    # IFFT's FFT object goes back to the pool, kernel/fft_plans.h, for the tasks)
+    sc = dataclasses.replace(sc, strip=(m,) + sc.strip[1:])
     crop, guard = chain.range_crop(sim_opts, sc, fft_size_of(sim_opts, rec.num.num_subcarriers))
     _, _, foc, pre, _ = chain.receive_path(
         sim_opts, sc, crop, chain.focuser_config_of(sim_opts, sc, guard), sc.navigation)
@@ -193,29 +194,33 @@ def focus_slice(opts, meta_path, sl, reference=False):
     tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
     graph = chain.build(tb, sim_opts, sc, tx=tx, reference=reference,
                         echo_front=process.recording_front(part, reference))
-    if sl.history:
-        graph["filter"].set_snr_history(list(sl.history))
-    pre = graph["presum"]  # its first output is the focuser's first line
-    first = pre.first_pulse() if pre else graph["focuser"].stream_first_line()
-    if first * sc.pulse_symbols != sl.first:
-        raise RuntimeError(f"aperture {sl.index}: the chain expects its stream from pulse "
-                           f"{first}, the slice starts at symbol {sl.first}")
-    k = graph["focuser"].num_output_bins()
-    if sl.symbols == 0:  # its block lies past the recording's end: zeros, as one graph's
-        return {"index": sl.index, "image": np.zeros((sl.apertures * sl.lines, k), np.complex64),
-                "compute_s": time.perf_counter() - start, "snr_db": None}
-    tb.run()
-    bad = graph["echo"].nonfinite_count()
-    if bad:
-        raise SliceError(f"aperture {sl.index}: {bad} non-finite samples in symbols "
-                         f"[{sl.first}, {sl.first + sl.symbols}) of {rec.data_path}")
-    image = np.asarray(graph["image_sink"].data(), np.complex64).reshape(-1, k)
-    if image.shape[0] != sl.apertures * sl.lines:
-        raise RuntimeError(f"aperture {sl.index}: {image.shape[0]} image lines, expected "
-                           f"{sl.apertures * sl.lines}")
-    snr = graph["filter"].estimated_snr_db() if sim_opts.estimate_snr else None
-    return {"index": sl.index, "image": image, "compute_s": time.perf_counter() - start,
-            "snr_db": snr}
+    try:
+        if sl.history:
+            graph["filter"].set_snr_history(list(sl.history))
+        pre = graph["presum"]  # its first output is the focuser's first line
+        first = pre.first_pulse() if pre else graph["focuser"].stream_first_line()
+        if first * sc.pulse_symbols != sl.first:
+            raise RuntimeError(f"aperture {sl.index}: the chain expects its stream from pulse "
+                               f"{first}, the slice starts at symbol {sl.first}")
+        k = graph["focuser"].num_output_bins()
+        if sl.symbols == 0:  # its block lies past the recording's end: zeros, as one graph's
+            return {"index": sl.index, "compute_s": time.perf_counter() - start,
+                    "image": np.zeros((sl.apertures * sl.lines, k), np.complex64),
+                    "snr_db": None}
+        tb.run()
+        bad = graph["echo"].nonfinite_count()
+        if bad:
+            raise SliceError(f"aperture {sl.index}: {bad} non-finite samples in symbols "
+                             f"[{sl.first}, {sl.first + sl.symbols}) of {rec.data_path}")
+        image = np.asarray(graph["image_sink"].data(), np.complex64).reshape(-1, k)
+        if image.shape[0] != sl.apertures * sl.lines:
+            raise RuntimeError(f"aperture {sl.index}: {image.shape[0]} image lines, expected "
+                               f"{sl.apertures * sl.lines}")
+        snr = graph["filter"].estimated_snr_db() if sim_opts.estimate_snr else None
+        return {"index": sl.index, "image": image, "compute_s": time.perf_counter() - start,
+                "snr_db": snr}
+    finally:
+        graph["chain"].release()  # a worker runs many tasks: their blocks and FFTs go back
 
 
 def prepass_symbols(opts, rec, lay):
@@ -262,8 +267,7 @@ def prepass(opts, rec, lay, client=None):
     if end == 0:
         return lay.slices, 0.0
     start = time.perf_counter()
-    workers = len(client.scheduler_info()["workers"]) if client else 1
-    size = -(-end // workers)
+    size = -(-end // workers_of(client))
     parts = [(a, min(size, end - a)) for a in range(0, end, size)]
     if client is None:
         sums = (prepass_sums(opts, rec.meta_path, a, k) for a, k in parts)
@@ -328,6 +332,11 @@ def local_cluster(workers, security):
         yield cluster
 
 
+def workers_of(client):
+    """The client's cluster's workers (1: this process, no client)."""
+    return len(client.scheduler_info()["workers"]) if client else 1
+
+
 def in_order(opts, meta_path, slices, client=None, window=0):
     """Yields (slice, task result or SliceError text, held) in aperture order: each task
     runs in this process, or on the client's cluster with at most `window` tasks (0: twice
@@ -341,7 +350,7 @@ def in_order(opts, meta_path, slices, client=None, window=0):
             except SliceError as err:
                 yield sl, str(err), 1
         return
-    window = window or 2 * len(client.scheduler_info()["workers"])
+    window = window or 2 * workers_of(client)
     waiting, queue = collections.deque(), iter(slices)
     while True:
         while len(waiting) < window:
@@ -406,7 +415,7 @@ def run(opts, client=None):
         slices, prepass_s = prepass(opts, rec, lay, client)
         failed, times, peak, snrs = write_strip(path, lay, in_order(
             opts, rec.meta_path, slices, client, opts.strip_window))
-        workers = len(client.scheduler_info()["workers"]) if client else 1
+        workers = workers_of(client)
     return {"recording_meta": rec.meta_path, "strip_apertures": len(slices),
             "strip_aperture_lines": lay.lines, "strip_slices":
             [[s.first, s.symbols] for s in slices], "strip_overlap_lines": [lay.before, lay.after],

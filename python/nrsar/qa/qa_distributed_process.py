@@ -27,7 +27,7 @@ import threading
 import time
 
 import numpy as np
-from gnuradio import gr_unittest
+from gnuradio import gr, gr_unittest
 
 from gnuradio.nrsar import distributed_process as dp, recording
 from gnuradio.nrsar.options import OptionError, ProcessOptions
@@ -84,6 +84,26 @@ class qa_distributed_process(gr_unittest.TestCase):
         return dp.focus_slice(opts, opts.recording,
                               dp.whole(opts, rec, dp.layout(opts, rec)))["image"]
 
+    def _corrupted(self, name, symbol):
+        """A copy of the recording (its meta) with 10 NaN samples in the symbol."""
+        folder = os.path.join(self.dir, name)
+        shutil.copytree(os.path.dirname(self.meta), folder)
+        meta = os.path.join(folder, "flight.sigmf-meta")
+        rec = recording.read(meta)
+        at = rec.hardware_delay_samples + symbol * rec.symbol_samples
+        data = np.memmap(rec.data_path, np.complex64, "r+")
+        data[at:at + 10] = np.nan
+        data.flush()
+        return meta
+
+    def _assert_fails_alone(self, res, symbol, aperture):
+        """Only the aperture's task reads the bad symbol, and only it failed, by index."""
+        read = [a for a, (first, n) in enumerate(res["strip_slices"])
+                if first <= symbol < first + n]
+        self.assertEqual(read, [aperture])
+        self.assertEqual([f["aperture"] for f in res["strip_failed"]], read)
+        self.assertRegex(res["strip_failed"][0]["error"], rf"aperture {aperture}: \d+ non-finite")
+
     def test_001_dask_equals_one_process(self):
         # two tasks submitted and not yet written at once, a strip of four: the client
         # streams each aperture into the file in order, holding at most two
@@ -121,24 +141,13 @@ class qa_distributed_process(gr_unittest.TestCase):
         # NaNs written into a copy of the recording just past what task 2 reads; with 50
         # lines of overlap only task 3 reads them and fails, the others equal the one-graph
         # strip of the same overlap
-        folder = os.path.join(self.dir, "corrupt")
-        shutil.copytree(os.path.dirname(self.meta), folder)
-        meta = os.path.join(folder, "flight.sigmf-meta")
-        rec = recording.read(meta)
+        rec = recording.read(self.meta)
         overlap = 50 * STEP * rec.num.symbol_s()
         task2 = dp.layout(self.opts("l", strip_overlap_s=overlap), rec).slices[2]
         bad = task2.first + task2.symbols + 10
-        at = rec.hardware_delay_samples + bad * rec.symbol_samples
-        data = np.memmap(rec.data_path, np.complex64, "r+")
-        data[at:at + 10] = np.nan
-        data.flush()
-        del data
-        res = dp.run(self.opts("corrupt_out", meta=meta, dask="local:2",
-                               strip_overlap_s=overlap), self.client)
-        read = [a for a, (first, n) in enumerate(res["strip_slices"]) if first <= bad < first + n]
-        self.assertEqual(read, [3])
-        self.assertEqual([f["aperture"] for f in res["strip_failed"]], read)
-        self.assertRegex(res["strip_failed"][0]["error"], r"aperture 3: \d+ non-finite")
+        res = dp.run(self.opts("corrupt_out", meta=self._corrupted("corrupt", bad),
+                               dask="local:2", strip_overlap_s=overlap), self.client)
+        self._assert_fails_alone(res, bad, 3)
         image = np.load(res["strip_image_npy"])
         clean = self.whole(self.opts("clean", strip_overlap_s=overlap))
         np.testing.assert_array_equal(image[:3 * M], clean[:3 * M])
@@ -147,6 +156,60 @@ class qa_distributed_process(gr_unittest.TestCase):
         self.assertEqual(res["strip_overlap_lines"], [50, 50])
         self.assertEqual([first for first, _ in res["strip_slices"]],
                          [0] + [STEP * (a * M + res["strip_line_shift"] - 50) for a in (1, 2, 3)])
+
+    def test_002b_corrupt_symbols_in_the_prepass(self):
+        # --estimate-snr: NaNs in symbols that only task 2 reads and that the pre-pass
+        # replays for task 3's SNR history. Task 2 fails, named; the pre-pass skips them as
+        # the estimator of one graph does (the nonfinite guard), so tasks 0, 1 and 3 equal
+        # the clean recording's one graph with --estimate-snr bit for bit (task 3's filter
+        # weights, so its estimate, included)
+        rec = recording.read(self.meta)
+        overlap = 50 * STEP * rec.num.symbol_s()
+        opts = self.opts("l", strip_overlap_s=overlap, estimate_snr=True)
+        lay = dp.layout(opts, rec)
+        s1, s2, s3 = lay.slices[1:]
+        self.assertLess(s1.first + s1.symbols, s3.first)  # symbols that only task 2 reads
+        bad = (s1.first + s1.symbols + s3.first) // 2
+        self.assertLess(bad, dp.prepass_symbols(opts, rec, lay))
+        res = dp.run(self.opts("corrupt_prepass_out", meta=self._corrupted("corrupt_prepass", bad),
+                               dask="local:2", strip_overlap_s=overlap, estimate_snr=True),
+                     self.client)
+        self._assert_fails_alone(res, bad, 2)
+        image = np.load(res["strip_image_npy"])
+        clean = self.whole(self.opts("clean_snr", strip_overlap_s=overlap, estimate_snr=True))
+        for a in (0, 1, 3):
+            np.testing.assert_array_equal(image[a * M:(a + 1) * M], clean[a * M:(a + 1) * M])
+        self.assertEqual(np.count_nonzero(image[2 * M:3 * M]), 0)
+        self.assertIsNone(res["strip_snr_db"][2])
+        self.assertTrue(all(np.isfinite(res["strip_snr_db"][a]) for a in (0, 1, 3)))
+
+    def test_002c_abutting_apertures(self):
+        # --strip-overlap-s 0: each task reads its aperture's own lines, the blocks abut with
+        # neither gap nor overlap (read factor 1), and the strip equals one graph focusing
+        # the whole recording with the same (zero) overlap
+        opts = self.opts("abut", dask="local:2", strip_overlap_s=0.0)
+        res = dp.run(opts, self.client)
+        slices = res["strip_slices"]
+        self.assertEqual(slices[0][0], 0)
+        for (first, n), (after, _) in zip(slices, slices[1:]):
+            self.assertEqual(first + n, after)
+        self.assertEqual([n for _, n in slices], [STEP * M] * 4)
+        self.assertEqual(res["strip_read_factor"], 1.0)
+        np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
+
+    def test_002d_a_task_frees_its_blocks(self):
+        # a worker runs task after task: each task's graph (its chain's blocks, kernels and
+        # FFT objects) is freed when it ends (GNU Radio keeps a hier block with a message
+        # connection to its own port, imaging_chain's "metrics", unless released)
+        opts = self.opts("free")
+        rec = recording.read(self.meta)
+        sl = dp.layout(opts, rec).slices[1]
+        gc.collect()
+        blocks = gr.basic_block_ncurrently_allocated()
+        for _ in range(2):
+            dp.focus_slice(opts, self.meta, sl)
+            gc.collect()
+            self.assertEqual(gr.basic_block_ncurrently_allocated(), blocks)
 
     def test_003_worker_killed_costs_a_retry(self):
         opts, client = self.opts("killed"), self.client

@@ -8,7 +8,7 @@
 #ifndef INCLUDED_NRSAR_KERNEL_AUTOFOCUS_H
 #define INCLUDED_NRSAR_KERNEL_AUTOFOCUS_H
 
-#include <gnuradio/fft/fft.h>
+#include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/autofocus_config.h>
@@ -88,8 +88,8 @@ public:
 private:
     autofocus_config d_cfg;
     std::size_t d_M = 0, d_K = 0;
-    std::unique_ptr<gr::fft::fft_complex_fwd> d_fwd;
-    std::unique_ptr<gr::fft::fft_complex_rev> d_rev;
+    fft_fwd d_fwd;
+    fft_rev d_rev;
     volk::vector<gr_complex> d_spec;  // K x M: azimuth spectrum of the input, range-major
     volk::vector<gr_complex> d_work;  // K x M: corrected image / PGA's windowed lines
     std::vector<double> d_phi;        // M: the estimate so far

@@ -8,7 +8,7 @@
 #ifndef INCLUDED_NRSAR_KERNEL_EXTENDED_SCENE_H
 #define INCLUDED_NRSAR_KERNEL_EXTENDED_SCENE_H
 
-#include <gnuradio/fft/fft.h>
+#include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/kernel/finite_guard.h>
@@ -220,7 +220,7 @@ private:
     std::vector<double> d_Rb, d_cycb, d_posb;
     std::vector<float> d_snb, d_csb;
     finite_guard d_guard;
-    std::unique_ptr<gr::fft::fft_complex_fwd> d_fft;
+    fft_fwd d_fft;
 };
 
 } // namespace kernel

@@ -8,7 +8,7 @@
 #ifndef INCLUDED_NRSAR_KERNEL_OFDM_MODEM_H
 #define INCLUDED_NRSAR_KERNEL_OFDM_MODEM_H
 
-#include <gnuradio/fft/fft.h>
+#include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
 #include <volk/volk_alloc.hh>
@@ -50,7 +50,7 @@ public:
 private:
     unsigned d_n, d_fft_size, d_cp, d_k0;
     float d_scale;
-    std::unique_ptr<gr::fft::fft_complex_rev> d_fft;
+    fft_rev d_fft;
 };
 
 /*!
@@ -92,7 +92,7 @@ private:
 
     unsigned d_n, d_fft_size, d_cp, d_k0, d_fft_start;
     float d_scale;
-    std::unique_ptr<gr::fft::fft_complex_fwd> d_fft;
+    fft_fwd d_fft;
 };
 
 /*!

@@ -8,10 +8,10 @@
 #ifndef INCLUDED_NRSAR_KERNEL_RANGE_IFFT_H
 #define INCLUDED_NRSAR_KERNEL_RANGE_IFFT_H
 
-#include <gnuradio/fft/fft.h>
 #include <gnuradio/fft/window.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
+#include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <gnuradio/nrsar/kernel/fft_size.h>
 #include <volk/volk_alloc.hh>
 #include <memory>
@@ -104,7 +104,7 @@ private:
     double d_window_param;
     double d_coherent_gain = 1.0;
     volk::vector<float> d_taps; // w[n] / sqrt(N), twice (real and imaginary part)
-    std::unique_ptr<gr::fft::fft_complex_rev> d_fft;
+    fft_rev d_fft;
 };
 
 } // namespace kernel

@@ -8,7 +8,7 @@
 #ifndef INCLUDED_NRSAR_KERNEL_RD_FOCUSER_H
 #define INCLUDED_NRSAR_KERNEL_RD_FOCUSER_H
 
-#include <gnuradio/fft/fft.h>
+#include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <gnuradio/gr_complex.h>
 #include <gnuradio/nrsar/api.h>
 #include <gnuradio/nrsar/focuser_config.h>
@@ -181,8 +181,8 @@ private:
     double d_centre;
     double d_max_migration;
     bool d_rcmc_applied;
-    std::unique_ptr<gr::fft::fft_complex_fwd> d_fwd;
-    std::unique_ptr<gr::fft::fft_complex_rev> d_rev;
+    fft_fwd d_fwd;
+    fft_rev d_rev;
     sinc_interpolator d_interp;
     volk::vector<gr_complex> d_stage;      // K x num_lines, for line-major input (lazy)
     volk::vector<gr_complex> d_spec;       // K x nfft spectra, ESTIMATE only
