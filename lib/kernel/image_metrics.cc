@@ -230,18 +230,18 @@ std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
 
 void strip_pixel_weights_into(std::vector<float>& w,
                               std::size_t lines,
-                         std::size_t bins,
-                         double y0_m,
-                         double dy_m,
-                         double r0_m,
-                         double dr_m,
-                         double data_lo_m,
-                         double data_hi_m,
-                         double band_lo_hz,
-                         double band_hi_hz,
-                         double wavelength_m,
-                         double velocity_mps,
-                         double period_m)
+                              std::size_t bins,
+                              double y0_m,
+                              double dy_m,
+                              double r0_m,
+                              double dr_m,
+                              double data_lo_m,
+                              double data_hi_m,
+                              double band_lo_hz,
+                              double band_hi_hz,
+                              double wavelength_m,
+                              double velocity_mps,
+                              double period_m)
 {
     check_finite_positive("wavelength_m", wavelength_m);
     check_finite_positive("velocity_mps", velocity_mps);
@@ -638,7 +638,8 @@ metrics_result image_metrics::compute(const gr_complex* img,
     // Extended-scene figures (second paper, section 3.2.1). The target's energy is that of
     // the calibrated reference, |c_hat|^2 <ref, ref>.
     res.image_entropy = image_entropy(img, lines * bins);
-    res.epi = lines >= 3 && bins >= 3 ? edge_preservation_index(ref, img, lines, bins, d_amp) : nan_v;
+    res.epi =
+        lines >= 3 && bins >= 3 ? edge_preservation_index(ref, img, lines, bins, d_amp) : nan_v;
     double ref_energy = 0.0;
     for (std::size_t i = 0; i < lines * bins; ++i)
         ref_energy += std::norm(std::complex<double>(ref[i]));

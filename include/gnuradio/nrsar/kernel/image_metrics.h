@@ -220,18 +220,18 @@ NRSAR_API std::vector<float> strip_pixel_weights(std::size_t lines,
 //! The same into w (resized; its capacity is reused from one aperture to the next).
 NRSAR_API void strip_pixel_weights_into(std::vector<float>& w,
                                         std::size_t lines,
-                                   std::size_t bins,
-                                   double y0_m,
-                                   double dy_m,
-                                   double r0_m,
-                                   double dr_m,
-                                   double data_lo_m,
-                                   double data_hi_m,
-                                   double band_lo_hz,
-                                   double band_hi_hz,
-                                   double wavelength_m,
-                                   double velocity_mps,
-                                   double period_m = 0.0);
+                                        std::size_t bins,
+                                        double y0_m,
+                                        double dy_m,
+                                        double r0_m,
+                                        double dr_m,
+                                        double data_lo_m,
+                                        double data_hi_m,
+                                        double band_lo_hz,
+                                        double band_hi_hz,
+                                        double wavelength_m,
+                                        double velocity_mps,
+                                        double period_m = 0.0);
 
 //! Replaces non-finite samples by 0; returns how many there were.
 NRSAR_API std::size_t zero_nonfinite(gr_complex* data, std::size_t n);
