@@ -414,7 +414,7 @@ int nmse_probe_impl::work(int noutput_items,
     const auto* ref = d_cfg.reference_input ? static_cast<const gr_complex*>(input_items[1]) : nullptr;
     const std::uint64_t base = nitems_read(0);
 
-    std::vector<gr::tag_t> tags;
+    auto& tags = d_tags;
     get_tags_in_range(tags, 0, base, base + noutput_items);
     std::sort(tags.begin(), tags.end(), gr::tag_t::offset_compare);
     std::size_t ti = 0;
