@@ -70,7 +70,7 @@ int cheby_presum_impl::general_work(int noutput_items,
     const std::uint64_t base = nitems_read(0);
     const int nin = ninput_items[0];
 
-    std::vector<gr::tag_t> tags;
+    auto& tags = d_tags;
     get_tags_in_range(tags, 0, base, base + nin);
     std::sort(tags.begin(), tags.end(), gr::tag_t::offset_compare);
     std::size_t ti = 0;

@@ -26,6 +26,7 @@ private:
     std::map<std::uint64_t, std::uint64_t> d_pending_bad;      // output group -> zeroed
     bool d_first = true;
     nonfinite_reporter d_nonfinite;
+    std::vector<gr::tag_t> d_tags; // work()'s input tags (kept: no allocation per call)
 
 public:
     cheby_presum_impl(kernel::cheby_presum&& k);

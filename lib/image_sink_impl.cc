@@ -168,7 +168,7 @@ int image_sink_impl::work(int noutput_items,
     gr::thread::scoped_lock guard(d_setlock);
     const auto* in = static_cast<const gr_complex*>(input_items[0]);
     const std::uint64_t n0 = nitems_read(0);
-    std::vector<tag_t> tags;
+    auto& tags = d_tags;
     get_tags_in_range(tags, 0, n0, n0 + noutput_items);
     sort_aperture_first(tags);
     std::uint64_t pos = n0;

@@ -33,6 +33,7 @@ private:
     std::uint64_t d_written = 0;
     std::vector<std::string> d_last;
     nonfinite_reporter d_nonfinite;
+    std::vector<gr::tag_t> d_tags; // work()'s input tags (kept: no allocation per call)
     const pmt::pmt_t d_port;
 
     void append(const gr_complex* lines, unsigned n, std::uint64_t first_item);

@@ -275,21 +275,22 @@ void nmse_probe_impl::finish_aperture(bool partial)
     }
 
     // Noise region: a given box, or range bins away from every target.
-    std::vector<std::uint8_t> bin_mask(bins, 1), line_mask(lines, 1);
+    d_bin_mask.assign(bins, 1);
+    d_line_mask.assign(lines, 1);
     for (std::size_t k = 0; k < bins; ++k) {
         const double r = r0 + k * dr;
         if (!d_cfg.noise_box.empty()) {
-            bin_mask[k] = r >= d_cfg.noise_box[0] && r <= d_cfg.noise_box[1];
+            d_bin_mask[k] = r >= d_cfg.noise_box[0] && r <= d_cfg.noise_box[1];
         } else {
             for (const auto& t : d_scene.targets)
                 if (std::abs(r - closest_range(d_geo, t)) <= d_cfg.noise_guard_cells * rho_r)
-                    bin_mask[k] = 0;
+                    d_bin_mask[k] = 0;
         }
     }
     if (!d_cfg.noise_box.empty())
         for (std::size_t m = 0; m < lines; ++m) {
             const double y = y0 + m * dy;
-            line_mask[m] = y >= d_cfg.noise_box[2] && y <= d_cfg.noise_box[3];
+            d_line_mask[m] = y >= d_cfg.noise_box[2] && y <= d_cfg.noise_box[3];
         }
 
     // SPEC 8: the NMSE's mean over pixels that each carry a whole correlation window's noise
@@ -297,20 +298,20 @@ void nmse_probe_impl::finish_aperture(bool partial)
     // and far bins (longer windows) fewer than near ones: normalise each pixel. Aperture i's
     // pulses span track_start + [i, i + 1) M dy.
     const bool band_known = d_cfg.band_hi_hz > d_cfg.band_lo_hz;
-    std::vector<float> weights;
-    if (band_known && d_cfg.zero_padded) {
+    const bool weighted = band_known && d_cfg.zero_padded;
+    if (weighted) {
         const double span = static_cast<double>(d_capacity) * dy;
         const double data0 = d_geo.track_start_m + static_cast<double>(d_aperture) * span;
-        weights = kernel::strip_pixel_weights(lines, bins, y0, dy, r0, dr,
-                                              std::min(data0, data0 + span),
-                                              std::max(data0, data0 + span), d_cfg.band_lo_hz,
-                                              d_cfg.band_hi_hz, d_geo.wavelength_m(),
-                                              d_geo.velocity_mps,
-                                              d_cfg.block_lines * std::abs(dy));
+        kernel::strip_pixel_weights_into(d_weights, lines, bins, y0, dy, r0, dr,
+                                         std::min(data0, data0 + span),
+                                         std::max(data0, data0 + span), d_cfg.band_lo_hz,
+                                         d_cfg.band_hi_hz, d_geo.wavelength_m(),
+                                         d_geo.velocity_mps,
+                                         d_cfg.block_lines * std::abs(dy));
     }
     const auto res = d_kernel.compute(d_img.data(), d_ref.data(), lines, bins, exp_line,
-                                      exp_bin, cfg, bin_mask.data(), line_mask.data(),
-                                      weights.empty() ? nullptr : weights.data());
+                                      exp_bin, cfg, d_bin_mask.data(), d_line_mask.data(),
+                                      weighted ? d_weights.data() : nullptr);
     // SPEC 8's theory is for one target. In a scene, every target's data-randomness
     // pedestal (rcs_q Var(chi)) and the noise (SNR_in is defined against the total RCS)
     // count against the reference target's peak: add 10 log10(total RCS / reference RCS).
@@ -413,7 +414,7 @@ int nmse_probe_impl::work(int noutput_items,
     const auto* ref = d_cfg.reference_input ? static_cast<const gr_complex*>(input_items[1]) : nullptr;
     const std::uint64_t base = nitems_read(0);
 
-    std::vector<gr::tag_t> tags;
+    auto& tags = d_tags;
     get_tags_in_range(tags, 0, base, base + noutput_items);
     std::sort(tags.begin(), tags.end(), gr::tag_t::offset_compare);
     std::size_t ti = 0;

@@ -40,6 +40,10 @@ private:
     // state of the aperture being buffered
     kernel::image_metrics d_kernel;
     volk::vector<gr_complex> d_img, d_ref;
+    // finish_aperture's noise masks and pixel weights, kept: no allocation per aperture
+    std::vector<std::uint8_t> d_bin_mask, d_line_mask;
+    std::vector<float> d_weights;
+    std::vector<gr::tag_t> d_tags; // work()'s input tags (kept: no allocation per call)
     std::size_t d_lines_in = 0;    // lines buffered
     std::size_t d_capacity = 0;    // lines of the current aperture
     std::uint64_t d_aperture = 0;  // index of the current aperture

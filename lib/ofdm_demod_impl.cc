@@ -107,9 +107,8 @@ int ofdm_demod_impl::work_plain(int noutput_items,
     const std::uint64_t len = d_kernel.symbol_length();
     const int n = std::min<int>(noutput_items, int(ninput / len));
     const std::uint64_t r0 = nitems_read(0), w0 = nitems_written(0);
-    std::vector<gr::tag_t> tags;
-    get_tags_in_range(tags, 0, r0, r0 + std::uint64_t(n) * len);
-    for (auto t : tags) {
+    get_tags_in_range(d_tags, 0, r0, r0 + std::uint64_t(n) * len);
+    for (auto t : d_tags) {
         t.offset = w0 + (t.offset - r0) / len;
         add_item_tag(0, t);
     }
@@ -217,10 +216,11 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
         apply_offset(r0, s0 - std::int64_t(r0), "new tx_start_time");
     }
 
-    std::vector<gr::tag_t> tags;
+    auto& tags = d_tags;
     get_tags_in_range(tags, 0, r0, r0 + avail);
     std::stable_sort(tags.begin(), tags.end(), gr::tag_t::offset_compare);
-    std::vector<std::uint64_t> stamps; // indices into tags of rx_time tags
+    auto& stamps = d_stamps_at; // indices into tags of rx_time tags
+    stamps.clear();
     for (std::size_t i = 0; i < tags.size(); i++)
         if (pmt::eq(tags[i].key, d_rx_time_key))
             stamps.push_back(i);
@@ -229,7 +229,8 @@ int ofdm_demod_impl::work_aligned(int noutput_items,
     std::uint64_t pos = 0;
     int produced = 0;
     // (relative input start, output item) of each demodulated symbol
-    std::vector<std::pair<std::uint64_t, int>> starts;
+    auto& starts = d_starts;
+    starts.clear();
 
     // Next stamp that changes the timeline, skipping malformed and consistent ones.
     auto next_stamp = [&]() -> std::uint64_t {

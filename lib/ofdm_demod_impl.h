@@ -47,6 +47,10 @@ private:
     std::uint64_t d_last_stamp = 0; // input offset of the last stamp counted
     bool d_warned_unstamped = false;
     std::vector<gr::tag_t> d_pending; // tags on dropped samples, for the next output item
+    // work()'s tags, rx_time stamps and symbol starts: kept, so no allocation per call
+    std::vector<gr::tag_t> d_tags;
+    std::vector<std::uint64_t> d_stamps_at;
+    std::vector<std::pair<std::uint64_t, int>> d_starts;
 
     int work_plain(int noutput_items, int ninput, const gr_complex* in, gr_complex* out);
     int work_aligned(int noutput_items, int ninput, const gr_complex* in, gr_complex* out);

@@ -40,9 +40,8 @@ int ofdm_mod_impl::work(int noutput_items,
     const std::uint64_t len = d_kernel.symbol_length();
     const int nsym = noutput_items / int(len);
 
-    std::vector<gr::tag_t> tags;
-    get_tags_in_range(tags, 0, nitems_read(0), nitems_read(0) + nsym);
-    for (auto t : tags) {
+    get_tags_in_range(d_tags, 0, nitems_read(0), nitems_read(0) + nsym);
+    for (auto t : d_tags) {
         t.offset *= len; // the first sample (CP start) of the tagged symbol
         add_item_tag(0, t);
     }

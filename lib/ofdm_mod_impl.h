@@ -22,6 +22,7 @@ private:
     kernel::ofdm_modulator d_kernel;
     kernel::finite_guard d_guard;
     nonfinite_reporter d_nonfinite;
+    std::vector<gr::tag_t> d_tags; // this call's input tags (kept: no allocation per call)
 
 public:
     explicit ofdm_mod_impl(kernel::ofdm_modulator&& kern);

@@ -238,7 +238,7 @@ int rd_focuser_impl::general_work(int noutput_items,
     auto* rd_out = d_want_rd ? static_cast<gr_complex*>(output_items[1]) : nullptr;
 
     // The tags of everything not yet ingested, in offset order.
-    std::vector<tag_t> tags;
+    auto& tags = d_tags;
     get_tags_in_range(tags, 0, d_focuser.lines_in(), nread + navail);
     std::sort(tags.begin(), tags.end(), tag_t::offset_compare);
     // The block's side of the shared input loop (focuser_stream.h).

@@ -36,6 +36,7 @@ private:
 
     nonfinite_reporter d_nonfinite;
     std::uint64_t d_nonfinite_pending = 0;
+    std::vector<gr::tag_t> d_tags; // work()'s input tags (kept: no allocation per call)
 
     void log_warnings();
     void prepare(); // the kernel's, logging its warnings

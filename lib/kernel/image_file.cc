@@ -8,7 +8,6 @@
 #include "param_check.h"
 #include <gnuradio/nrsar/kernel/image_file.h>
 #include <volk/volk.h>
-#include <volk/volk_alloc.hh>
 #include <zlib.h>
 #include <algorithm>
 #include <cmath>
@@ -108,12 +107,18 @@ std::string npy_header_complex64(size_t rows, size_t cols)
 
 void db_levels(const gr_complex* data, size_t n, double dynamic_range_db, std::uint8_t* out)
 {
-    volk::vector<float> p(n);
-    volk_32fc_magnitude_squared_32f(p.data(), data, static_cast<unsigned>(n));
+    // |x|^2 in blocks on the stack, twice (peak, then levels): no image-sized buffer is
+    // allocated per image, which fragmented a long stream's heap (docs/soak.md).
+    constexpr size_t block = 1024;
+    alignas(64) float p[block];
     float peak = 0.0f;
-    for (size_t i = 0; i < n; ++i)
-        if (p[i] > peak) // false for NaN
-            peak = p[i];
+    for (size_t i0 = 0; i0 < n; i0 += block) {
+        const size_t m = std::min(block, n - i0);
+        volk_32fc_magnitude_squared_32f(p, data + i0, static_cast<unsigned>(m));
+        for (size_t i = 0; i < m; ++i)
+            if (p[i] > peak) // false for NaN
+                peak = p[i];
+    }
     if (!(peak > 0.0f) || !std::isfinite(peak)) {
         std::fill(out, out + n, std::uint8_t(0));
         return;
@@ -122,11 +127,15 @@ void db_levels(const gr_complex* data, size_t n, double dynamic_range_db, std::u
     // are 0.16 dB apart at dr = 40 dB, far coarser than float's error).
     const float a = static_cast<float>(255.0 * 10.0 / dynamic_range_db);
     const float inv_peak = 1.0f / peak;
-    for (size_t i = 0; i < n; ++i) {
-        const float r = p[i] * inv_peak;
-        float lv = r > 0.0f ? a * std::log10(r) + 255.0f : 0.0f;
-        lv = std::min(255.0f, std::max(0.0f, lv)); // NaN -> 0 (max keeps the first operand)
-        out[i] = static_cast<std::uint8_t>(std::lround(lv));
+    for (size_t i0 = 0; i0 < n; i0 += block) {
+        const size_t m = std::min(block, n - i0);
+        volk_32fc_magnitude_squared_32f(p, data + i0, static_cast<unsigned>(m));
+        for (size_t i = 0; i < m; ++i) {
+            const float r = p[i] * inv_peak;
+            float lv = r > 0.0f ? a * std::log10(r) + 255.0f : 0.0f;
+            lv = std::min(255.0f, std::max(0.0f, lv)); // NaN -> 0 (max keeps the first operand)
+            out[i0 + i] = static_cast<std::uint8_t>(std::lround(lv));
+        }
     }
 }
 
@@ -147,42 +156,73 @@ std::array<std::array<std::uint8_t, 3>, 256> colormap_table(image_colormap cmap)
     return lut;
 }
 
-std::vector<std::uint8_t> encode_png(const std::uint8_t* pixels,
-                                     unsigned width,
-                                     unsigned height,
-                                     unsigned channels,
-                                     int level)
+void deflater_deleter::operator()(z_stream_s* z) const
+{
+    deflateEnd(z);
+    delete z;
+}
+
+void encode_png(const std::uint8_t* pixels,
+                unsigned width,
+                unsigned height,
+                unsigned channels,
+                int level,
+                png_buffers& buf)
 {
     if (width == 0 || height == 0)
         throw_param("png width x height", static_cast<double>(width) * height, "must be > 0");
     if (channels != 1 && channels != 3)
         throw_param("png channels", channels, "must be 1 or 3");
     check_range("png_level", level, 0, 9);
-    std::vector<std::uint8_t> out = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
-    std::vector<std::uint8_t> ihdr;
-    put_be32(ihdr, width);
-    put_be32(ihdr, height);
-    ihdr.push_back(8);                                    // bit depth
-    ihdr.push_back(channels == 1 ? 0 : 2);                // colour type: grey / RGB
-    ihdr.push_back(0);                                    // compression: deflate
-    ihdr.push_back(0);                                    // filter method 0
-    ihdr.push_back(0);                                    // no interlace
-    put_chunk(out, "IHDR", ihdr.data(), ihdr.size());
+    if (!buf.stream || buf.level != level) {
+        auto z = std::make_unique<z_stream_s>();
+        if (deflateInit(z.get(), level) != Z_OK) // compress2's settings
+            throw std::runtime_error("image_sink: zlib deflateInit failed");
+        buf.stream.reset(z.release());
+        buf.level = level;
+    } else if (deflateReset(buf.stream.get()) != Z_OK) {
+        throw std::runtime_error("image_sink: zlib deflateReset failed");
+    }
+    std::vector<std::uint8_t>& out = buf.png;
+    out.assign({ 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' });
+    std::uint8_t ihdr[13];
+    for (int i = 0; i < 4; ++i) {
+        ihdr[i] = static_cast<std::uint8_t>(width >> (24 - 8 * i));
+        ihdr[4 + i] = static_cast<std::uint8_t>(height >> (24 - 8 * i));
+    }
+    ihdr[8] = 8;                        // bit depth
+    ihdr[9] = channels == 1 ? 0 : 2;    // colour type: grey / RGB
+    ihdr[10] = ihdr[11] = ihdr[12] = 0; // deflate, filter method 0, no interlace
+    put_chunk(out, "IHDR", ihdr, sizeof ihdr);
 
     // Raw scanlines, each led by its filter type byte (0: none).
     const size_t stride = static_cast<size_t>(width) * channels;
-    std::vector<std::uint8_t> raw((stride + 1) * height);
+    buf.raw.resize((stride + 1) * height);
     for (unsigned y = 0; y < height; ++y) {
-        raw[y * (stride + 1)] = 0;
-        std::memcpy(&raw[y * (stride + 1) + 1], pixels + y * stride, stride);
+        buf.raw[y * (stride + 1)] = 0;
+        std::memcpy(&buf.raw[y * (stride + 1) + 1], pixels + y * stride, stride);
     }
-    uLongf zlen = compressBound(static_cast<uLong>(raw.size()));
-    std::vector<std::uint8_t> z(zlen);
-    if (compress2(z.data(), &zlen, raw.data(), static_cast<uLong>(raw.size()), level) != Z_OK)
-        throw std::runtime_error("image_sink: zlib compress2 failed");
-    put_chunk(out, "IDAT", z.data(), zlen);
+    z_stream_s& z = *buf.stream;
+    buf.z.resize(deflateBound(&z, static_cast<uLong>(buf.raw.size())));
+    z.next_in = buf.raw.data();
+    z.avail_in = static_cast<uInt>(buf.raw.size());
+    z.next_out = buf.z.data();
+    z.avail_out = static_cast<uInt>(buf.z.size());
+    if (deflate(&z, Z_FINISH) != Z_STREAM_END)
+        throw std::runtime_error("image_sink: zlib deflate failed");
+    put_chunk(out, "IDAT", buf.z.data(), z.total_out);
     put_chunk(out, "IEND", nullptr, 0);
-    return out;
+}
+
+std::vector<std::uint8_t> encode_png(const std::uint8_t* pixels,
+                                     unsigned width,
+                                     unsigned height,
+                                     unsigned channels,
+                                     int level)
+{
+    png_buffers buf;
+    encode_png(pixels, width, height, channels, level, buf);
+    return std::move(buf.png);
 }
 
 void image_file_config::validate() const
@@ -267,13 +307,14 @@ image_writer::write(const gr_complex* image, size_t rows, size_t cols, std::uint
                 std::memcpy(&d_pixels[3 * i], d_lut[d_levels[i]].data(), 3);
             px = d_pixels.data();
         }
-        const auto png = encode_png(px,
-                                    static_cast<unsigned>(cols),
-                                    static_cast<unsigned>(rows),
-                                    grey ? 1 : 3,
-                                    d_cfg.png_level);
+        encode_png(px,
+                   static_cast<unsigned>(cols),
+                   static_cast<unsigned>(rows),
+                   grey ? 1 : 3,
+                   d_cfg.png_level,
+                   d_png);
         const std::string p = path(n, "png");
-        write_file(p, png.data(), png.size(), nullptr, 0);
+        write_file(p, d_png.png.data(), d_png.png.size(), nullptr, 0);
         written.push_back(p);
     }
     // The ring: forget (and delete) the oldest aperture's files beyond `keep`. A name that

@@ -229,19 +229,20 @@ std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
     return { ml, kb };
 }
 
-std::vector<float> strip_pixel_weights(std::size_t lines,
-                                       std::size_t bins,
-                                       double y0_m,
-                                       double dy_m,
-                                       double r0_m,
-                                       double dr_m,
-                                       double data_lo_m,
-                                       double data_hi_m,
-                                       double band_lo_hz,
-                                       double band_hi_hz,
-                                       double wavelength_m,
-                                       double velocity_mps,
-                                       double period_m)
+void strip_pixel_weights_into(std::vector<float>& w,
+                              std::size_t lines,
+                              std::size_t bins,
+                              double y0_m,
+                              double dy_m,
+                              double r0_m,
+                              double dr_m,
+                              double data_lo_m,
+                              double data_hi_m,
+                              double band_lo_hz,
+                              double band_hi_hz,
+                              double wavelength_m,
+                              double velocity_mps,
+                              double period_m)
 {
     check_finite_positive("wavelength_m", wavelength_m);
     check_finite_positive("velocity_mps", velocity_mps);
@@ -278,7 +279,7 @@ std::vector<float> strip_pixel_weights(std::size_t lines,
         return f * wavelength_m / (2.0 * velocity_mps) / (hyperbolic ? std::sqrt(1.0 - a * a) : 1.0);
     };
     const double c_lo = c(band_lo_hz), c_hi = c(band_hi_hz);
-    std::vector<float> w(lines * bins, 0.0f);
+    w.assign(lines * bins, 0.0f);
     for (std::size_t k = 0; k < bins; ++k) {
         const double r = r0_m + static_cast<double>(k) * dr_m;
         const double u_lo = r * c_lo, u_hi = r * c_hi, window = u_hi - u_lo;
@@ -293,6 +294,25 @@ std::vector<float> strip_pixel_weights(std::size_t lines,
                 w[m * bins + k] = static_cast<float>(window / s);
         }
     }
+}
+
+std::vector<float> strip_pixel_weights(std::size_t lines,
+                                       std::size_t bins,
+                                       double y0_m,
+                                       double dy_m,
+                                       double r0_m,
+                                       double dr_m,
+                                       double data_lo_m,
+                                       double data_hi_m,
+                                       double band_lo_hz,
+                                       double band_hi_hz,
+                                       double wavelength_m,
+                                       double velocity_mps,
+                                       double period_m)
+{
+    std::vector<float> w;
+    strip_pixel_weights_into(w, lines, bins, y0_m, dy_m, r0_m, dr_m, data_lo_m, data_hi_m,
+                             band_lo_hz, band_hi_hz, wavelength_m, velocity_mps, period_m);
     return w;
 }
 
@@ -318,19 +338,31 @@ double edge_preservation_index(const gr_complex* x,
                                std::size_t lines,
                                std::size_t bins)
 {
+    std::vector<double> scratch;
+    return edge_preservation_index(x, y, lines, bins, scratch);
+}
+
+double edge_preservation_index(const gr_complex* x,
+                               const gr_complex* y,
+                               std::size_t lines,
+                               std::size_t bins,
+                               std::vector<double>& scratch)
+{
     if (lines < 3 || bins < 3)
         throw_param("image size (lines x bins)", lines * bins, "must be at least 3 x 3");
     // Amplitudes once per pixel (the Laplacians below read each one 5 times per pass: the
     // hypot calls were most of nmse_probe's CPU time, issue 16); same values, same sums.
-    const auto amplitudes = [lines, bins](const gr_complex* a) {
-        std::vector<double> amp(lines * bins);
-        for (std::size_t i = 0; i < amp.size(); ++i)
-            amp[i] = std::abs(std::complex<double>(a[i]));
-        return amp;
-    };
-    const std::vector<double> ax = amplitudes(x), ay = amplitudes(y);
-    const auto lap = [bins](const std::vector<double>& amp, std::size_t m, std::size_t k) {
-        const double* A = amp.data() + m * bins + k;
+    const std::size_t n_px = lines * bins;
+    if (scratch.size() < 2 * n_px)
+        scratch.resize(2 * n_px);
+    double* const ax = scratch.data();
+    double* const ay = ax + n_px;
+    for (std::size_t i = 0; i < n_px; ++i) {
+        ax[i] = std::abs(std::complex<double>(x[i]));
+        ay[i] = std::abs(std::complex<double>(y[i]));
+    }
+    const auto lap = [bins](const double* amp, std::size_t m, std::size_t k) {
+        const double* A = amp + m * bins + k;
         return A[-std::ptrdiff_t(bins)] + A[bins] + A[-1] + A[1] - 4.0 * A[0];
     };
     const double n = static_cast<double>((lines - 2) * (bins - 2));
@@ -607,7 +639,8 @@ metrics_result image_metrics::compute(const gr_complex* img,
     // Extended-scene figures (second paper, section 3.2.1). The target's energy is that of
     // the calibrated reference, |c_hat|^2 <ref, ref>.
     res.image_entropy = image_entropy(img, lines * bins);
-    res.epi = lines >= 3 && bins >= 3 ? edge_preservation_index(ref, img, lines, bins) : nan_v;
+    res.epi =
+        lines >= 3 && bins >= 3 ? edge_preservation_index(ref, img, lines, bins, d_amp) : nan_v;
     double ref_energy = 0.0;
     for (std::size_t i = 0; i < lines * bins; ++i)
         ref_energy += std::norm(std::complex<double>(ref[i]));

@@ -453,9 +453,10 @@ class SimOptions(Options):
                           "g = c conj(s))", choices=["on", "off"])
     filter_threads: int = option(1, "threads per tf_filter work() call", at_least=1,
                                  at_most=2)
-    rx_fuse: str = option("off", "range_compress (tf_filter and range_ifft in one pass, the "
+    rx_fuse: str = option("on", "range_compress (tf_filter and range_ifft in one pass, the "
                           "same output) where the chain allows it: full-rate pulses, presum "
-                          "after the IFFT, one filter thread", choices=["on", "off"])
+                          "after the IFFT, one filter thread (off: the two blocks)",
+                          choices=["on", "off"])
     seed: int = option(1, "seed of the data PRBS (31-bit c_init) and the noise (seed + 1)",
                        at_least=0, at_most=SEED_MAX)
     trajectory: typing.Optional[str] = option(

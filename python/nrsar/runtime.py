@@ -8,7 +8,7 @@
     runtime.run(tb)                 # tb.run() with GNU Radio's performance counters on;
                                     # Ctrl-C stops the graph and raises Interrupted
     runtime.rx_block_times(chain)   # CPU seconds in work() per receive block
-    runtime.peak_rss_mb(), runtime.rss_mb()
+    runtime.peak_rss_mb(), runtime.rss_mb(), runtime.heap_mb()
 """
 
 import os
@@ -80,6 +80,24 @@ def rss_mb():
             if line.startswith("VmRSS:"):
                 return int(line.split()[1]) / 1024.0
     return float("nan")
+
+
+def heap_mb():
+    """(in use, free) MiB of glibc's heap over all its arenas (mallinfo2; NaN elsewhere): RSS
+    that grows with free bytes is the allocator fragmenting, with bytes in use a leak."""
+    import ctypes
+
+    class Mallinfo2(ctypes.Structure):
+        _fields_ = [(n, ctypes.c_size_t) for n in ("arena", "ordblks", "smblks", "hblks",
+                                                   "hblkhd", "usmblks", "fsmblks", "uordblks",
+                                                   "fordblks", "keepcost")]
+    try:
+        f = ctypes.CDLL(None).mallinfo2
+    except AttributeError:  # not glibc >= 2.33
+        return float("nan"), float("nan")
+    f.restype = Mallinfo2
+    m = f()
+    return (m.uordblks + m.hblkhd) / 2**20, m.fordblks / 2**20
 
 
 def quiet_gnuradio_logs():

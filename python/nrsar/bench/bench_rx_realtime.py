@@ -288,9 +288,11 @@ def flight(seconds, presum="cheby"):
         total = apertures * sc.symbols
         quarters = [[r for _, n, r in cpu.track if q * total / 4 <= n <= (q + 1) * total / 4]
                     for q in range(4)]
+        used, free = runtime.heap_mb()  # free bytes that grow: fragmentation (docs/soak.md)
         print(f"peak RSS {max(r for _, _, r in cpu.track):.0f} MiB; peak of each quarter of the "
               f"flight " + ", ".join(f"{max(q, default=float('nan')):.1f}" for q in quarters) +
-              f" MiB ({len(cpu.track)} samples)")
+              f" MiB ({len(cpu.track)} samples); glibc heap at the end: {used:.1f} MiB in use, "
+              f"{free:.1f} MiB free in its arenas")
         sink = named["image_sink"]
         files = [f for f in sink.kept_files() if f.endswith(".npy")]
         print(f"image_sink: {sink.apertures_written()} apertures written, {len(files)} .npy "

@@ -86,6 +86,19 @@ class qa_soak(gr_unittest.TestCase):
         self.assertLessEqual(slope, 1.0)
         self.assertLess(abs(step), 2.0)  # one allocator region, not an aperture's image
 
+    def test_003_heap_mb_sees_an_allocation_come_and_go(self):
+        # runtime.heap_mb (bench_rx_realtime's fragmentation check): 48 MiB allocated
+        # through malloc count as in use, and no longer once freed
+        from gnuradio.nrsar import runtime
+        used0, free0 = runtime.heap_mb()
+        block = bytearray(48 * 2**20)
+        used1, _ = runtime.heap_mb()
+        del block
+        used2, _ = runtime.heap_mb()
+        self.assertAlmostEqual(used1 - used0, 48.0, delta=0.5)
+        self.assertAlmostEqual(used2 - used0, 0.0, delta=0.5)
+        self.assertGreaterEqual(free0, 0.0)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_soak)

@@ -13,8 +13,11 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <string>
 #include <vector>
+
+struct z_stream_s; // zlib's deflate state (zlib.h)
 
 namespace gr {
 namespace nrsar {
@@ -56,6 +59,30 @@ NRSAR_API std::vector<std::uint8_t> encode_png(const std::uint8_t* pixels,
                                                unsigned height,
                                                unsigned channels,
                                                int level = 6);
+
+struct deflater_deleter {
+    NRSAR_API void operator()(::z_stream_s* z) const;
+};
+
+//! What encode_png needs from one image to the next: buffers and zlib's state (about 270 kB).
+struct png_buffers {
+    std::unique_ptr<::z_stream_s, deflater_deleter> stream;
+    int level = -1;
+    std::vector<std::uint8_t> raw, z;
+    std::vector<std::uint8_t> png; //!< the file
+};
+
+/*!
+ * \brief encode_png into buf.png, reusing buf's buffers and deflate state: a writer of
+ * images of one size allocates nothing after the first (a long stream's heap does not
+ * fragment, docs/soak.md). The same bytes as encode_png.
+ */
+NRSAR_API void encode_png(const std::uint8_t* pixels,
+                          unsigned width,
+                          unsigned height,
+                          unsigned channels,
+                          int level,
+                          png_buffers& buf);
 
 //! What image_writer writes.
 struct NRSAR_API image_file_config {
@@ -108,6 +135,7 @@ private:
     std::array<std::array<std::uint8_t, 3>, 256> d_lut;
     std::vector<std::uint8_t> d_levels;
     std::vector<std::uint8_t> d_pixels;
+    png_buffers d_png;
     std::deque<std::vector<std::string>> d_ring; // files of the kept apertures
 };
 

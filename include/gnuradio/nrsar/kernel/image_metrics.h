@@ -102,6 +102,12 @@ NRSAR_API double edge_preservation_index(const gr_complex* x,
                                          const gr_complex* y,
                                          std::size_t lines,
                                          std::size_t bins);
+//! The same in scratch (grown to 2 lines bins doubles, reused: no allocation per image).
+NRSAR_API double edge_preservation_index(const gr_complex* x,
+                                         const gr_complex* y,
+                                         std::size_t lines,
+                                         std::size_t bins,
+                                         std::vector<double>& scratch);
 
 /*!
  * \brief Noise-equivalent sigma zero [dB] by the integral method: a point target of RCS
@@ -211,6 +217,21 @@ NRSAR_API std::vector<float> strip_pixel_weights(std::size_t lines,
                                                  double wavelength_m,
                                                  double velocity_mps,
                                                  double period_m = 0.0);
+//! The same into w (resized; its capacity is reused from one aperture to the next).
+NRSAR_API void strip_pixel_weights_into(std::vector<float>& w,
+                                        std::size_t lines,
+                                        std::size_t bins,
+                                        double y0_m,
+                                        double dy_m,
+                                        double r0_m,
+                                        double dr_m,
+                                        double data_lo_m,
+                                        double data_hi_m,
+                                        double band_lo_hz,
+                                        double band_hi_hz,
+                                        double wavelength_m,
+                                        double velocity_mps,
+                                        double period_m = 0.0);
 
 //! Replaces non-finite samples by 0; returns how many there were.
 NRSAR_API std::size_t zero_nonfinite(gr_complex* data, std::size_t n);
@@ -275,6 +296,7 @@ private:
     std::unique_ptr<upsampler> d_up[2];
     volk::vector<gr_complex> d_line;
     volk::vector<float> d_power;
+    std::vector<double> d_amp; // edge_preservation_index's amplitudes
 };
 
 } // namespace kernel
