@@ -237,11 +237,10 @@ bool nr_ldpc_decoder::near_codeword(const nr_ldpc_decode_result& res)
         return false;
     // int8 saturation leaves a word a few checks from a codeword (the a-posteriori sums of
     // the wrong and the right bits alike at +-127); a word below the threshold leaves many.
-    unsigned checks = 0, bad = 0;
-    for (const layer& ly : d_active) {
-        checks += d_zc;
-        bad += unsatisfied<std::int8_t>(ly);
-    }
+    const std::size_t checks = d_active.size() * std::size_t{ d_zc };
+    std::size_t bad = 0;
+    for (auto ly = d_active.begin(); ly != d_active.end() && bad * near_codeword_fraction <= checks; ++ly)
+        bad += unsatisfied<std::int8_t>(*ly);
     return bad * near_codeword_fraction <= checks;
 }
 
