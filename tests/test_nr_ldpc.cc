@@ -178,7 +178,8 @@ namespace {
 // Layered offset min-sum in double, beta 0.5 (the decoder's algorithm without fixed point),
 // from the table entries: rows in order, a row whose degree-one column received nothing
 // skipped, stopping when every decoded row's check holds. Returns the K information bits.
-std::vector<std::uint8_t> oms_float64(int bg, unsigned zc, const std::vector<float>& llr, unsigned max_iter)
+std::vector<std::uint8_t>
+oms_float64(int bg, unsigned zc, const std::vector<float>& llr, unsigned max_iter)
 {
     const nr_base_graph& g = nr_base_graph::get(bg);
     const int ils = nr_lifting_set_index(zc);
@@ -195,12 +196,15 @@ std::vector<std::uint8_t> oms_float64(int bg, unsigned zc, const std::vector<flo
         bool used = true;
         for (const auto& [j, s] : r)
             if (degree[j] == 1)
-                used = std::any_of(l.begin() + j * zc, l.begin() + (j + 1) * zc, [](double v) { return v != 0.0; });
+                used = std::any_of(l.begin() + j * zc, l.begin() + (j + 1) * zc,
+                                   [](double v) { return v != 0.0; });
         if (used)
             active.push_back(r);
     }
     // row r of block row i checks bit (r + P_ij) mod Zc of column block j
-    const auto at = [&](unsigned j, unsigned s, unsigned z) -> double& { return l[j * zc + (z + s) % zc]; };
+    const auto at = [&](unsigned j, unsigned s, unsigned z) -> double& {
+        return l[j * zc + (z + s) % zc];
+    };
     std::vector<std::vector<double>> msg(active.size());
     for (std::size_t i = 0; i < active.size(); i++)
         msg[i].assign(active[i].size() * zc, 0.0);

@@ -235,13 +235,16 @@ bool nr_ldpc_decoder::near_codeword(const nr_ldpc_decode_result& res)
 {
     if (res.parity_ok)
         return false;
-    // int8 saturation leaves a word a few checks from a codeword (the a-posteriori sums of
-    // the wrong and the right bits alike at +-127); a word below the threshold leaves many.
+    // The int8 failures that int16 decodes (saturated sums, the offset's coarse step) end a
+    // few checks from a codeword; a word below the code's threshold leaves many.
     const std::size_t checks = d_active.size() * std::size_t{ d_zc };
     std::size_t bad = 0;
-    for (auto ly = d_active.begin(); ly != d_active.end() && bad * near_codeword_fraction <= checks; ++ly)
-        bad += unsatisfied<std::int8_t>(*ly);
-    return bad * near_codeword_fraction <= checks;
+    for (const layer& ly : d_active) {
+        bad += unsatisfied<std::int8_t>(ly);
+        if (bad * near_codeword_fraction > checks)
+            return false;
+    }
+    return true;
 }
 
 nr_ldpc_decode_result nr_ldpc_decoder::redecoded(nr_ldpc_decode_result res)
@@ -332,7 +335,8 @@ unsigned nr_ldpc_decoder::unsatisfied(const layer& ly)
 {
     gather<T>(ly);
     const T* t = reinterpret_cast<const T*>(d_t.data());
-    return d_simd ? unsatisfied_avx2(t, ly.degree, d_zp, d_zc) : unsatisfied_generic(t, ly.degree, d_zp, d_zc);
+    return d_simd ? unsatisfied_avx2(t, ly.degree, d_zp, d_zc)
+                  : unsatisfied_generic(t, ly.degree, d_zp, d_zc);
 }
 
 template <typename T>
@@ -366,10 +370,10 @@ nr_ldpc_decode_result nr_ldpc_decoder::run(std::uint8_t* c)
         // Rows that failed at their visit (e.g. before the punctured columns got values)
         // are checked again; when they hold, a full syndrome on the final hard decisions
         // confirms (a row that held at its visit may have changed since).
+        const auto holds = [this](const layer& ly) { return unsatisfied<T>(ly) == 0; };
         const bool failed_now_hold = std::all_of(d_failed.begin(), d_failed.end(),
-                                                 [this](const layer* ly) { return unsatisfied<T>(*ly) == 0; });
-        if (failed_now_hold && std::all_of(d_active.begin(), d_active.end(),
-                                           [this](const layer& ly) { return unsatisfied<T>(ly) == 0; })) {
+                                                 [&](const layer* ly) { return holds(*ly); });
+        if (failed_now_hold && std::all_of(d_active.begin(), d_active.end(), holds)) {
             res.parity_ok = true;
             break;
         }
