@@ -89,19 +89,16 @@ bool any_received_generic(const float* in, unsigned n)
 }
 
 template <typename T>
-bool signs_ok_generic(const T* t, unsigned deg, unsigned zp, unsigned zc)
+unsigned unsatisfied_generic(const T* t, unsigned deg, unsigned zp, unsigned zc)
 {
-    T x[lanes];
-    for (unsigned v = 0; v < zp; v += lanes) {
-        std::fill(x, x + lanes, 0);
+    unsigned bad = 0;
+    for (unsigned z = 0; z < zc; z++) {
+        T x = 0;
         for (unsigned e = 0; e < deg; e++)
-            for (unsigned z = 0; z < lanes; z++)
-                x[z] ^= t[e * zp + v + z];
-        for (unsigned z = 0; z < lanes && v + z < zc; z++)
-            if (x[z] < 0)
-                return false;
+            x ^= t[e * zp + z];
+        bad += x < 0 ? 1u : 0u;
     }
-    return true;
+    return bad;
 }
 
 // Both widths (the AVX2 unit's fallback on other CPUs calls them too).
@@ -109,8 +106,8 @@ template bool layer_generic(std::int8_t*, std::int8_t*, unsigned, unsigned, unsi
 template bool layer_generic(std::int16_t*, std::int16_t*, unsigned, unsigned, unsigned, std::int16_t);
 template void quantize_generic(const float*, unsigned, float, std::int8_t*);
 template void quantize_generic(const float*, unsigned, float, std::int16_t*);
-template bool signs_ok_generic(const std::int8_t*, unsigned, unsigned, unsigned);
-template bool signs_ok_generic(const std::int16_t*, unsigned, unsigned, unsigned);
+template unsigned unsatisfied_generic(const std::int8_t*, unsigned, unsigned, unsigned);
+template unsigned unsatisfied_generic(const std::int16_t*, unsigned, unsigned, unsigned);
 
 } // namespace ldpc_detail
 
@@ -210,13 +207,50 @@ nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c, const std::uint8_t* n
     // Beyond int8_max_degree the int16 path decodes, at 4x the scale: saturated a-posteriori
     // sums were the error floor of the low-rate words (docs/nr_coding.md).
     const unsigned d_max = select_layers();
-    const bool wide = d_max > int8_max_degree;
-    const double target = std::clamp(168.0 / (1.0 + d_max), 8.0, 32.0) *
-                          (wide ? fixed<std::int16_t>::target_gain : fixed<std::int8_t>::target_gain);
+    const double target = std::clamp(168.0 / (1.0 + d_max), 8.0, 32.0);
     const double root_mean = count > 0.0 ? sum / count : 0.0;
-    const float scale = root_mean > 0.0 ? static_cast<float>(target / (root_mean * root_mean)) : 1.0f;
+    const auto scale_of = [&](double gain) {
+        return root_mean > 0.0 ? static_cast<float>(target * gain / (root_mean * root_mean)) : 1.0f;
+    };
+    const float wide_scale = scale_of(fixed<std::int16_t>::target_gain);
+    if (d_max <= int8_max_degree) {
+        const float scale = scale_of(fixed<std::int8_t>::target_gain);
+        set_offset(scale);
+        const nr_ldpc_decode_result res = quantize_and_run<std::int8_t>(llr, scale, c);
+        if (!near_codeword(res))
+            return res;
+        set_offset(wide_scale);
+        return redecoded(quantize_and_run<std::int16_t>(llr, wide_scale, c));
+    }
+    set_offset(wide_scale);
+    return quantize_and_run<std::int16_t>(llr, wide_scale, c);
+}
+
+void nr_ldpc_decoder::set_offset(float scale)
+{
     d_offset = static_cast<int>(std::min(std::lround(offset_llr * scale), 127L));
-    return wide ? quantize_and_run<std::int16_t>(llr, scale, c) : quantize_and_run<std::int8_t>(llr, scale, c);
+}
+
+bool nr_ldpc_decoder::near_codeword(const nr_ldpc_decode_result& res)
+{
+    if (res.parity_ok)
+        return false;
+    // The int8 failures that int16 decodes (saturated sums, the offset's coarse step) end a
+    // few checks from a codeword; a word below the code's threshold leaves many.
+    const std::size_t checks = d_active.size() * std::size_t{ d_zc };
+    std::size_t bad = 0;
+    for (const layer& ly : d_active) {
+        bad += unsatisfied<std::int8_t>(ly);
+        if (bad * near_codeword_fraction > checks)
+            return false;
+    }
+    return true;
+}
+
+nr_ldpc_decode_result nr_ldpc_decoder::redecoded(nr_ldpc_decode_result res)
+{
+    res.redecoded = true;
+    return res;
 }
 
 template <typename T>
@@ -244,8 +278,10 @@ nr_ldpc_decode_result nr_ldpc_decoder::decode_int8(const std::int8_t* llr, std::
         const std::int8_t* in = llr + (j - 2) * d_zc;
         d_received[j] = std::any_of(in, in + d_zc, [](std::int8_t v) { return v != 0; });
     }
-    return select_layers() > int8_max_degree ? widen_and_run<std::int16_t>(llr, c)
-                                             : widen_and_run<std::int8_t>(llr, c);
+    if (select_layers() > int8_max_degree)
+        return widen_and_run<std::int16_t>(llr, c);
+    const nr_ldpc_decode_result res = widen_and_run<std::int8_t>(llr, c);
+    return near_codeword(res) ? redecoded(widen_and_run<std::int16_t>(llr, c)) : res;
 }
 
 template <typename T>
@@ -295,11 +331,12 @@ void nr_ldpc_decoder::gather(const layer& ly)
 }
 
 template <typename T>
-bool nr_ldpc_decoder::row_ok(const layer& ly)
+unsigned nr_ldpc_decoder::unsatisfied(const layer& ly)
 {
     gather<T>(ly);
     const T* t = reinterpret_cast<const T*>(d_t.data());
-    return d_simd ? signs_ok_avx2(t, ly.degree, d_zp, d_zc) : signs_ok_generic(t, ly.degree, d_zp, d_zc);
+    return d_simd ? unsatisfied_avx2(t, ly.degree, d_zp, d_zc)
+                  : unsatisfied_generic(t, ly.degree, d_zp, d_zc);
 }
 
 template <typename T>
@@ -333,10 +370,10 @@ nr_ldpc_decode_result nr_ldpc_decoder::run(std::uint8_t* c)
         // Rows that failed at their visit (e.g. before the punctured columns got values)
         // are checked again; when they hold, a full syndrome on the final hard decisions
         // confirms (a row that held at its visit may have changed since).
-        const bool failed_now_hold =
-            std::all_of(d_failed.begin(), d_failed.end(), [this](const layer* ly) { return row_ok<T>(*ly); });
-        if (failed_now_hold &&
-            std::all_of(d_active.begin(), d_active.end(), [this](const layer& ly) { return row_ok<T>(ly); })) {
+        const auto holds = [this](const layer& ly) { return unsatisfied<T>(ly) == 0; };
+        const bool failed_now_hold = std::all_of(d_failed.begin(), d_failed.end(),
+                                                 [&](const layer* ly) { return holds(*ly); });
+        if (failed_now_hold && std::all_of(d_active.begin(), d_active.end(), holds)) {
             res.parity_ok = true;
             break;
         }

@@ -111,18 +111,18 @@ bool layer(typename V::T* t, typename V::T* r, unsigned deg, unsigned zp, unsign
 }
 
 template <typename V>
-bool signs_ok(const typename V::T* t, unsigned deg, unsigned zp, unsigned zc)
+unsigned unsatisfied(const typename V::T* t, unsigned deg, unsigned zp, unsigned zc)
 {
-    __m256i bad = _mm256_setzero_si256();
+    unsigned bad = 0;
     for (unsigned v = 0; v < zp; v += V::n) {
         __m256i x = _mm256_setzero_si256();
         for (unsigned e = 0; e < deg; e++)
             x = _mm256_xor_si256(x, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(t + e * zp + v)));
         if (v + V::n > zc)
             x = _mm256_and_si256(x, V::gt(V::set1(static_cast<int>(zc - v)), V::ramp()));
-        bad = _mm256_or_si256(bad, x);
+        bad += __builtin_popcount(static_cast<unsigned>(_mm256_movemask_epi8(x)) & V::sign_bits);
     }
-    return (static_cast<unsigned>(_mm256_movemask_epi8(bad)) & V::sign_bits) == 0;
+    return bad;
 }
 
 } // namespace
@@ -137,14 +137,14 @@ bool layer_avx2(std::int16_t* t, std::int16_t* r, unsigned deg, unsigned zp, uns
     return layer<lanes16>(t, r, deg, zp, zc, offset);
 }
 
-bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+unsigned unsatisfied_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
 {
-    return signs_ok<lanes8>(t, deg, zp, zc);
+    return unsatisfied<lanes8>(t, deg, zp, zc);
 }
 
-bool signs_ok_avx2(const std::int16_t* t, unsigned deg, unsigned zp, unsigned zc)
+unsigned unsatisfied_avx2(const std::int16_t* t, unsigned deg, unsigned zp, unsigned zc)
 {
-    return signs_ok<lanes16>(t, deg, zp, zc);
+    return unsatisfied<lanes16>(t, deg, zp, zc);
 }
 
 namespace {
@@ -267,13 +267,13 @@ void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
 {
     root_sums_generic(in, n8, part, cnt);
 }
-bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
+unsigned unsatisfied_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
 {
-    return signs_ok_generic(t, deg, zp, zc);
+    return unsatisfied_generic(t, deg, zp, zc);
 }
-bool signs_ok_avx2(const std::int16_t* t, unsigned deg, unsigned zp, unsigned zc)
+unsigned unsatisfied_avx2(const std::int16_t* t, unsigned deg, unsigned zp, unsigned zc)
 {
-    return signs_ok_generic(t, deg, zp, zc);
+    return unsatisfied_generic(t, deg, zp, zc);
 }
 } // namespace ldpc_detail
 } // namespace kernel

@@ -77,12 +77,12 @@ bool any_received_avx2(const float* in, unsigned n);
 void root_sums_generic(const float* in, std::size_t n8, float* part, float* cnt);
 void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt);
 
-//! True when the product of the signs of the deg gathered columns of t is positive in
-//! every lane below zc (a row's parity check on its hard decisions).
+//! The number of lanes below zc in which the product of the signs of the deg gathered
+//! columns of t is negative (a row's unsatisfied parity checks on its hard decisions).
 template <typename T>
-bool signs_ok_generic(const T* t, unsigned deg, unsigned zp, unsigned zc);
-bool signs_ok_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc);
-bool signs_ok_avx2(const std::int16_t* t, unsigned deg, unsigned zp, unsigned zc);
+unsigned unsatisfied_generic(const T* t, unsigned deg, unsigned zp, unsigned zc);
+unsigned unsatisfied_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc);
+unsigned unsatisfied_avx2(const std::int16_t* t, unsigned deg, unsigned zp, unsigned zc);
 
 } // namespace ldpc_detail
 } // namespace kernel
