@@ -21,6 +21,15 @@ using namespace gr::nrsar;
 using cd = std::complex<double>;
 
 namespace {
+
+// kernel::strip_pixel_weights_into, returning the weights.
+template <typename... Args>
+std::vector<float> strip_pixel_weights(Args... args)
+{
+    std::vector<float> w;
+    kernel::strip_pixel_weights_into(w, args...);
+    return w;
+}
 constexpr double pi = 3.14159265358979323846;
 
 // 256-QAM of 3GPP TS 38.211 5.1 (SPEC section 2), unit mean power.
@@ -414,7 +423,7 @@ TEST(ImageMetrics, StripPixelWeightsFollowTheWindowsSupport)
     const double lambda = 299792458.0 / 3.5e9, v = 50.0, r0 = std::hypot(300.0, 1000.0);
     const double f_lo = -12.13, f_hi = 123.45;
     const std::size_t lines = 100, bins = 2;
-    const auto w = kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 500.0, 0.0, 100.0,
+    const auto w = strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 500.0, 0.0, 100.0,
                                                f_lo, f_hi, lambda, v);
     ASSERT_EQ(w.size(), lines * bins);
     for (std::size_t k = 0; k < bins; ++k) {
@@ -437,16 +446,16 @@ TEST(ImageMetrics, StripPixelWeightsFollowTheWindowsSupport)
         const double last = std::floor(std::min(149.0, u_hi));
         EXPECT_EQ(static_cast<double>(interior), last - first + 1.0);
     }
-    EXPECT_THROW(kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, 100.0, 10.0,
+    EXPECT_THROW(strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, 100.0, 10.0,
                                              10.0, lambda, v),
                  std::invalid_argument);
     // the full PRF (24 kHz, far beyond 2 v / lambda = 1167 Hz) maps parabolically: windows of
     // r f lambda / (2 v) metres, longer than the pulses, so every line holds all of them
-    const auto full = kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, 100.0,
+    const auto full = strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, 100.0,
                                                   -12e3, 12e3, lambda, v);
     for (std::size_t k = 0; k < bins; ++k)
         EXPECT_NEAR(full[50 * bins + k], (r0 + k) * 24e3 * lambda / (2 * v) / 100.0, 1e-3) << k;
-    EXPECT_THROW(kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 5.0, 5.0, f_lo,
+    EXPECT_THROW(strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 5.0, 5.0, f_lo,
                                              f_hi, lambda, v),
                  std::invalid_argument);
 }
@@ -461,7 +470,7 @@ TEST(ImageMetrics, StripPixelWeightsCountEveryCopyOfACircularBlock)
     const std::size_t lines = 40, bins = 2;
     for (const double f : { 123.45, 12e3 }) {
         const double f_lo = -f / 3.0, f_hi = f;
-        const auto w = kernel::strip_pixel_weights(lines, bins, 50.0, 3.0, r0, 500.0, 0.0, span,
+        const auto w = strip_pixel_weights(lines, bins, 50.0, 3.0, r0, 500.0, 0.0, span,
                                                    f_lo, f_hi, lambda, v, period);
         for (std::size_t k = 0; k < bins; ++k) {
             const double r = r0 + 500.0 * k;
@@ -490,7 +499,7 @@ TEST(ImageMetrics, StripPixelWeightsCountEveryCopyOfACircularBlock)
             }
         }
     }
-    EXPECT_THROW(kernel::strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, span, -5.0,
+    EXPECT_THROW(strip_pixel_weights(lines, bins, 50.0, 1.0, r0, 1.0, 0.0, span, -5.0,
                                              5.0, lambda, v, 0.5 * span),
                  std::invalid_argument);
 }

@@ -296,26 +296,6 @@ void strip_pixel_weights_into(std::vector<float>& w,
     }
 }
 
-std::vector<float> strip_pixel_weights(std::size_t lines,
-                                       std::size_t bins,
-                                       double y0_m,
-                                       double dy_m,
-                                       double r0_m,
-                                       double dr_m,
-                                       double data_lo_m,
-                                       double data_hi_m,
-                                       double band_lo_hz,
-                                       double band_hi_hz,
-                                       double wavelength_m,
-                                       double velocity_mps,
-                                       double period_m)
-{
-    std::vector<float> w;
-    strip_pixel_weights_into(w, lines, bins, y0_m, dy_m, r0_m, dr_m, data_lo_m, data_hi_m,
-                             band_lo_hz, band_hi_hz, wavelength_m, velocity_mps, period_m);
-    return w;
-}
-
 double image_entropy(const gr_complex* img, std::size_t n)
 {
     // Two passes: the total energy, then -sum D ln D (pixels with D = 0 contribute 0).

@@ -557,6 +557,7 @@ def simulate_graph(opts, keep_reference=False):
         with progress.polling("symbols", sc.symbols, lambda: graph["filter"].nitems_written(0)):
             runtime.run(tb)
     result = results.image_results(opts, graph, sc, time.perf_counter() - start)
+    graph["chain"].release()  # figures and tests run many graphs in one process
     if opts.record is not None:
         result.update(recording_meta=rec.meta_path, recording_data=rec.data_path)
         result["warnings"] += recording.model_warnings(sc, rec.echo.taps())

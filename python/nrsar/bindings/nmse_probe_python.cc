@@ -127,8 +127,19 @@ void bind_nmse_probe(py::module& m)
         .def("apertures", &nmse_probe::apertures, "Apertures evaluated so far")
         .def("nonfinite_count", &nmse_probe::nonfinite_count, "Non-finite input samples zeroed");
 
-    m.def("strip_pixel_weights",
-          &gr::nrsar::kernel::strip_pixel_weights,
+    m.def(
+        "strip_pixel_weights",
+        [](std::size_t lines, std::size_t bins, double y0_m, double dy_m, double r0_m,
+           double dr_m, double data_lo_m, double data_hi_m, double band_lo_hz,
+           double band_hi_hz, double wavelength_m, double velocity_mps, double period_m) {
+            std::vector<float> w;
+            gr::nrsar::kernel::strip_pixel_weights_into(w, lines, bins, y0_m, dy_m, r0_m,
+                                                        dr_m, data_lo_m, data_hi_m,
+                                                        band_lo_hz, band_hi_hz,
+                                                        wavelength_m, velocity_mps,
+                                                        period_m);
+            return w;
+        },
           py::arg("lines"),
           py::arg("bins"),
           py::arg("y0_m"),
@@ -143,7 +154,7 @@ void bind_nmse_probe(py::module& m)
           py::arg("velocity_mps"),
           py::arg("period_m") = 0.0,
           "Per-pixel weights W / s (lines x bins, row-major) of the NMSE of a zero-padded "
-          "aperture (kernel::strip_pixel_weights, SPEC section 8)");
+          "aperture (kernel::strip_pixel_weights_into, SPEC section 8)");
 
     m.def("nmse_theory_db",
           &gr::nrsar::kernel::nmse_theory_db,

@@ -191,7 +191,7 @@ NRSAR_API std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
  * focuser's parabolic fallback, eq. (40)).
  * Of that window, W = r (c(f_hi) - c(f_lo)) long, only the part s within [data_lo_m,
  * data_hi_m] holds pulses, and the pixel's noise and data-randomness power scale with s
- * (circular processing: with W). Returns lines x bins weights (row-major) W / s where
+ * (circular processing: with W). The lines x bins weights (row-major) are W / s where
  * s >= min(W, data_hi_m - data_lo_m) / 2, 0 elsewhere (pixels holding less than half the
  * pulses of the bin's best-covered line; no weight exceeds 2 W / min(W, span)).
  * period_m > 0: the focuser correlated circularly over a block of that length (its azimuth
@@ -203,21 +203,8 @@ NRSAR_API std::pair<std::size_t, std::size_t> find_peak(const gr_complex* img,
  * Bins at a slant range <= 0 (no correlation window, no echo) get weight 0.
  * Throws std::invalid_argument for an empty or non-finite band, an empty data span, a
  * negative or non-finite period or a non-finite axis.
+ * Writes them into w (resized; its capacity is reused from one aperture to the next).
  */
-NRSAR_API std::vector<float> strip_pixel_weights(std::size_t lines,
-                                                 std::size_t bins,
-                                                 double y0_m,
-                                                 double dy_m,
-                                                 double r0_m,
-                                                 double dr_m,
-                                                 double data_lo_m,
-                                                 double data_hi_m,
-                                                 double band_lo_hz,
-                                                 double band_hi_hz,
-                                                 double wavelength_m,
-                                                 double velocity_mps,
-                                                 double period_m = 0.0);
-//! The same into w (resized; its capacity is reused from one aperture to the next).
 NRSAR_API void strip_pixel_weights_into(std::vector<float>& w,
                                         std::size_t lines,
                                         std::size_t bins,
@@ -260,7 +247,7 @@ public:
      * target-free noise region as their outer product; nullptr = all bins / all lines.
      * pixel_weight (lines x bins, >= 0; nullptr = all 1): the NMSE's mean runs over the
      * pixels of non-zero weight, each pixel's error power times its weight
-     * (strip_pixel_weights).
+     * (strip_pixel_weights_into).
      * Non-finite metrics (no noise pixel, reference all zero, ...) come back as NaN.
      */
     metrics_result compute(const gr_complex* img,
