@@ -372,6 +372,7 @@ int ofdm_sync_impl::general_work(int noutput_items,
         d_fresh = true;
         d_pad = d_drop = 0;
         d_resume = d_search_pending = d_gap_tag_pending = false;
+        d_rest.clear();
         d_in_origin = r0;
         d_timing = -1;
         d_cfo_hz = 0.0;
@@ -433,8 +434,10 @@ int ofdm_sync_impl::general_work(int noutput_items,
             if (!lost && d_next < bend && produced == noutput_items)
                 break;
             // A re-acquisition may resume at a slot that starts after the buffer: drop to it.
-            // A lost lock leaves the rest of the buffer to the new search's past.
+            // A lost lock leaves the rest of the buffer to the new search.
             d_drop = lost ? 0 : std::uint64_t(std::max<std::int64_t>(d_next - bend, 0));
+            if (lost)
+                d_rest.assign(d_acq.buffer() + (d_next - bstart), d_acq.buffer() + (bend - bstart));
             d_acq.discard_before(bend); // frees the history
             d_state = state::track;
             continue;
@@ -460,8 +463,13 @@ int ofdm_sync_impl::general_work(int noutput_items,
             d_resume = false;
             d_drop = 0;
             d_acq.reset();
-            d_in_origin = r0 + consumed;
             d_state = state::search;
+            // The input ends at r0 + consumed, after the rest of a drained buffer (if any).
+            d_in_origin = r0 + consumed - d_rest.size();
+            const bool locked = !d_rest.empty() && d_acq.push(d_rest.data(), d_rest.size());
+            d_rest.clear();
+            if (locked)
+                on_lock(w0 + produced);
             continue;
         }
         const int to_stamp = until_stamp();

@@ -56,6 +56,8 @@ private:
     bool d_resume = false;
     std::uint64_t d_resume_slot = 0;
     bool d_search_pending = false;
+    // The drained buffer's samples after a lock lost there: the new search's start.
+    std::vector<gr_complex> d_rest;
     // The found DMRS symbol's window at a lock, derotated (the slots' checks: d_tracker).
     std::vector<gr_complex> d_check;
     // The last rx_time stamp: input item and time.
