@@ -82,7 +82,7 @@ private:
     void jump_grid(std::uint64_t to);
     void handle_stamp(const gr::tag_t& tag, std::uint64_t out_item);
     void lose_lock(const char* why);
-    //! Output of n samples at d_grid_out, derotated: the lock check; true when it lost the lock.
+    //! n output samples (derotated) at d_grid_out to the lock check; true: it lost the lock.
     bool output_checked(const gr_complex* out, std::size_t n);
 
 public:

@@ -300,7 +300,8 @@ std::vector<sync_tracker::slot_check> check_stream(sync_tracker& t,
 {
     std::vector<sync_tracker::slot_check> tested;
     for (std::size_t i = 0; i < x.size();) {
-        const std::size_t n = std::min({ chunk, x.size() - i, std::size_t(t.until_check_end(g + i)) });
+        const std::size_t n =
+            std::min({ chunk, x.size() - i, std::size_t(t.until_check_end(g + i)) });
         const auto c = t.check(x.data() + i, g + i, n, m, 20);
         if (c.tested)
             tested.push_back(c);
