@@ -122,10 +122,19 @@ void ofdm_sync_impl::jump_grid(std::uint64_t to)
     d_grid_out = to;
 }
 
-void ofdm_sync_impl::start_check(std::uint64_t grid)
+bool ofdm_sync_impl::output_checked(const gr_complex* out, std::size_t n)
 {
-    d_check_slot = d_tracker.first_checkable_slot(grid);
-    d_tracker.clear_misses();
+    const auto c = d_tracker.check(out, d_grid_out, n, d_matcher, d_num.slots_per_frame);
+    d_grid_out += n;
+    if (c.lost) {
+        d_logger->warn("slot {}: DMRS rho {:.3f} (threshold {:.3f}), offset {:.1f} samples",
+                       c.slot,
+                       c.match.rho,
+                       d_matcher.threshold(),
+                       c.match.offset);
+        lose_lock("DMRS check");
+    }
+    return c.lost;
 }
 
 void ofdm_sync_impl::lose_lock(const char* why)
@@ -230,6 +239,8 @@ void ofdm_sync_impl::on_lock(std::uint64_t out_item)
     d_sync_tag_pending = true;
     d_sync_tag_item = out_item;
     d_state = state::drain;
+    // The drained slots are checked too: a false or shifted lock is noticed there.
+    d_tracker.start_check(d_grid_out);
     d_logger->info("{}: DMRS symbol at input sample {}, CFO {:.1f} Hz, metric {:.3f}, "
                    "DMRS rho {:.3f} (symbol {} of slot {} of the frame), slot {} starts at input "
                    "sample {}",
@@ -361,6 +372,7 @@ int ofdm_sync_impl::general_work(int noutput_items,
         d_fresh = true;
         d_pad = d_drop = 0;
         d_resume = d_search_pending = d_gap_tag_pending = false;
+        d_rest.clear();
         d_in_origin = r0;
         d_timing = -1;
         d_cfo_hz = 0.0;
@@ -400,29 +412,34 @@ int ofdm_sync_impl::general_work(int noutput_items,
         if (d_state == state::drain) {
             const std::int64_t bstart = d_acq.buffer_start();
             const std::int64_t bend = bstart + std::int64_t(d_acq.buffered());
-            while (produced < noutput_items && d_next < bend) {
+            bool lost = false;
+            while (!lost && produced < noutput_items && d_next < bend) {
                 gr_complex* o = out + produced;
-                std::int64_t k;
+                // Stop at the end of a slot's check window, to look at it before going on.
+                std::int64_t k = std::min<std::int64_t>(
+                    noutput_items - produced, std::int64_t(d_tracker.until_check_end(d_grid_out)));
                 if (d_next < bstart) {
                     // Before the first buffered sample (before the stream began): zeros.
-                    k = std::min<std::int64_t>(bstart - d_next, noutput_items - produced);
+                    k = std::min<std::int64_t>(bstart - d_next, k);
                     std::fill_n(o, k, gr_complex(0.0f, 0.0f));
                 } else {
-                    k = std::min<std::int64_t>(bend - d_next, noutput_items - produced);
+                    k = std::min<std::int64_t>(bend - d_next, k);
                     std::memcpy(o, d_acq.buffer() + (d_next - bstart), sizeof(gr_complex) * k);
                 }
                 d_rot.rotate(o, o, std::size_t(k));
                 produced += int(k);
                 d_next += k;
-                d_grid_out += std::uint64_t(k);
+                lost = output_checked(o, std::size_t(k));
             }
-            if (d_next < bend && produced == noutput_items)
+            if (!lost && d_next < bend && produced == noutput_items)
                 break;
             // A re-acquisition may resume at a slot that starts after the buffer: drop to it.
-            d_drop = std::uint64_t(std::max<std::int64_t>(d_next - bend, 0));
+            // A lost lock leaves the rest of the buffer to the new search.
+            d_drop = lost ? 0 : std::uint64_t(std::max<std::int64_t>(d_next - bend, 0));
+            if (lost)
+                d_rest.assign(d_acq.buffer() + (d_next - bstart), d_acq.buffer() + (bend - bstart));
             d_acq.discard_before(bend); // frees the history
             d_state = state::track;
-            start_check(d_grid_out);
             continue;
         }
 
@@ -446,8 +463,13 @@ int ofdm_sync_impl::general_work(int noutput_items,
             d_resume = false;
             d_drop = 0;
             d_acq.reset();
-            d_in_origin = r0 + consumed;
             d_state = state::search;
+            // The input ends at r0 + consumed, after the rest of a drained buffer (if any).
+            d_in_origin = r0 + consumed - d_rest.size();
+            const bool locked = !d_rest.empty() && d_acq.push(d_rest.data(), d_rest.size());
+            d_rest.clear();
+            if (locked)
+                on_lock(w0 + produced);
             continue;
         }
         const int to_stamp = until_stamp();
@@ -468,44 +490,24 @@ int ofdm_sync_impl::general_work(int noutput_items,
             jump_grid(d_resume_slot * d_tracker.slot_length());
             d_out_minus_grid = std::int64_t(w0 + produced) - std::int64_t(d_grid_out);
             d_next_slot = d_resume_slot;
-            start_check(d_grid_out);
+            d_tracker.start_check(d_grid_out);
         }
-        int n = std::min(to_stamp, noutput_items - produced);
         // Stop at the end of the slot's check window, to look at it before going on.
-        const std::int64_t cs = d_tracker.check_start(d_check_slot);
-        const std::int64_t ce = cs + std::int64_t(d_tracker.check_length());
-        const std::int64_t g = std::int64_t(d_grid_out);
-        if (g < ce)
-            n = int(std::min<std::int64_t>(n, ce - g));
+        const int n = int(std::min<std::uint64_t>(
+            std::uint64_t(std::min(to_stamp, noutput_items - produced)),
+            d_tracker.until_check_end(d_grid_out)));
         if (n <= 0)
             break;
         std::size_t bad = 0;
         const gr_complex* x = d_guard.guard(in + consumed, n, bad);
         d_rot.rotate(x, out + produced, std::size_t(n));
-        const std::int64_t c0 = std::max(g, cs), c1 = std::min(g + n, ce);
-        if (c0 < c1) // derotated: the DMRS test needs the CFO removed
-            std::copy(out + produced + (c0 - g),
-                      out + produced + (c1 - g),
-                      d_check.begin() + (c0 - cs));
         if (bad > 0) {
             const std::uint64_t item = w0 + produced;
             add_item_tag(0, d_nonfinite.tag(d_logger, bad, item, item, alias_pmt()));
         }
         consumed += n;
+        output_checked(out + produced, std::size_t(n)); // derotated: the test needs no CFO
         produced += n;
-        d_grid_out += std::uint64_t(n);
-        if (g + n == ce) {
-            const auto c = d_matcher.test(d_check.data(), d_check_slot % d_num.slots_per_frame, 0);
-            d_check_slot++;
-            if (d_tracker.score(c, d_matcher.threshold())) {
-                d_logger->warn("slot {}: DMRS rho {:.3f} (threshold {:.3f}), offset {:.1f} samples",
-                               d_check_slot - 1,
-                               c.rho,
-                               d_matcher.threshold(),
-                               c.offset);
-                lose_lock("DMRS check");
-            }
-        }
     }
 
     if (produced > 0) {

@@ -56,9 +56,10 @@ private:
     bool d_resume = false;
     std::uint64_t d_resume_slot = 0;
     bool d_search_pending = false;
-    // The lock check: one window per slot (derotated; at a lock: from the acquirer's buffer).
+    // The drained buffer's samples after a lock lost there: the new search's start.
+    std::vector<gr_complex> d_rest;
+    // The found DMRS symbol's window at a lock, derotated (the slots' checks: d_tracker).
     std::vector<gr_complex> d_check;
-    std::uint64_t d_check_slot = 0;
     // The last rx_time stamp: input item and time.
     bool d_have_stamp = false;
     std::uint64_t d_stamp_abs = 0;
@@ -81,7 +82,8 @@ private:
     void jump_grid(std::uint64_t to);
     void handle_stamp(const gr::tag_t& tag, std::uint64_t out_item);
     void lose_lock(const char* why);
-    void start_check(std::uint64_t grid);
+    //! n output samples (derotated) at d_grid_out to the lock check; true: it lost the lock.
+    bool output_checked(const gr_complex* out, std::size_t n);
 
 public:
     ofdm_sync_impl(const numerology& num, const dmrs_config& dmrs, double threshold, double backoff);

@@ -275,6 +275,109 @@ TEST(dmrs_matcher, timing_scatter_at_3_db)
     EXPECT_NEAR(std::sqrt(e2), sd, 0.15 * sd); // 1.66 samples
 }
 
+namespace {
+// sdr20 slots [k0, k0 + slots) whose first DMRS symbol (pusch2: symbol 2) holds slot
+// number[k]'s sequence at its place (the rest zeros), grid sample k0 L at x[0].
+std::vector<gr_complex> dmrs_slots(const gr::nrsar::numerology& num,
+                                   const std::vector<unsigned>& number)
+{
+    const std::size_t sym = num.cp_samples + num.fft_size, len = num.symbols_per_slot * sym;
+    std::vector<gr_complex> x(number.size() * len, 0.0f);
+    for (std::size_t k = 0; k < number.size(); k++) {
+        const auto d = dmrs_symbol(num, number[k], 2);
+        std::copy(d.begin(), d.end(), x.begin() + k * len + 2 * sym);
+    }
+    return x;
+}
+
+// The output x (grid sample g at x[0]) passed to the check in chunks of at most chunk samples,
+// as ofdm_sync passes its drained and tracked output: the slots tested.
+std::vector<sync_tracker::slot_check> check_stream(sync_tracker& t,
+                                                   dmrs_matcher& m,
+                                                   const std::vector<gr_complex>& x,
+                                                   std::uint64_t g,
+                                                   std::size_t chunk)
+{
+    std::vector<sync_tracker::slot_check> tested;
+    for (std::size_t i = 0; i < x.size();) {
+        const std::size_t n =
+            std::min({ chunk, x.size() - i, std::size_t(t.until_check_end(g + i)) });
+        const auto c = t.check(x.data() + i, g + i, n, m, 20);
+        if (c.tested)
+            tested.push_back(c);
+        i += n;
+    }
+    return tested;
+}
+} // namespace
+
+TEST(sync_tracker, slots_are_checked_from_the_lock_on)
+{
+    // A lock's first output slots come from the acquirer's buffer; the check starts with them.
+    const auto num = gr::nrsar::numerology::preset("sdr20");
+    dmrs_matcher m(num, gr::nrsar::dmrs_config::preset("pusch2"));
+    const unsigned cp = num.cp_samples, sym = cp + num.fft_size;
+    const std::uint64_t len = num.symbols_per_slot * sym;
+    sync_tracker t(num.fft_size, cp, num.symbols_per_slot, 2 * sym, cp / 8);
+    const double nd = (num.num_subcarriers + 1) / 2;
+
+    // Clean slots 7..11 (a lock at slot 7 of the frame), in odd chunks and whole: every slot
+    // is tested with its own sequence, from the first one, and passes at the exact timing.
+    const auto clean = dmrs_slots(num, { 7, 8, 9, 10, 11 });
+    for (std::size_t chunk : { std::size_t(777), clean.size() }) {
+        t.start_check(7 * len);
+        const auto c = check_stream(t, m, clean, 7 * len, chunk);
+        ASSERT_EQ(c.size(), 5u);
+        for (std::size_t k = 0; k < c.size(); k++) {
+            EXPECT_EQ(c[k].slot, 7 + k);
+            EXPECT_NEAR(c[k].match.rho, (nd - 1) / nd, 1e-5);
+            EXPECT_NEAR(c[k].match.offset, 0.0, 1e-3);
+            EXPECT_FALSE(c[k].lost);
+        }
+        EXPECT_EQ(t.misses(), 0u);
+    }
+    // A lock starting past slot 7's check window: slot 8 is the first tested.
+    t.start_check(7 * len + 2 * sym + cp / 2 + 1);
+    const std::vector<gr_complex> tail(clean.begin() + 2 * sym + cp / 2 + 1, clean.end());
+    const auto c8 = check_stream(t, m, tail, 7 * len + 2 * sym + cp / 2 + 1, 1000);
+    ASSERT_EQ(c8.size(), 4u);
+    EXPECT_EQ(c8[0].slot, 8u);
+
+    // A wrong slot number (a false lock): one is a miss, cleared by the good slot after it;
+    // two in a row lose the lock at the second.
+    t.start_check(0);
+    auto c = check_stream(t, m, dmrs_slots(num, { 0, 5, 2, 3 }), 0, 1000);
+    ASSERT_EQ(c.size(), 4u);
+    EXPECT_LT(c[1].match.rho, m.threshold());
+    EXPECT_FALSE(c[1].lost);
+    EXPECT_EQ(t.misses(), 0u);
+    t.start_check(0);
+    c = check_stream(t, m, dmrs_slots(num, { 0, 5, 6, 3 }), 0, 1000);
+    EXPECT_TRUE(c[2].lost);
+    EXPECT_EQ(c[2].slot, 2u);
+
+    // G = 100 samples lost without a tag inside slot 1, before its DMRS: slots 1 and 2 start
+    // G early (beyond max_early = cp / 8): the lock is lost at slot 2.
+    auto gap = dmrs_slots(num, { 0, 1, 2, 3 });
+    const std::size_t G = 100;
+    gap.erase(gap.begin() + len + 10, gap.begin() + len + 10 + G);
+    t.start_check(0);
+    c = check_stream(t, m, gap, 0, 1000);
+    ASSERT_GE(c.size(), 3u);
+    EXPECT_FALSE(c[0].lost);
+    EXPECT_GE(c[1].match.rho, m.threshold());
+    EXPECT_NEAR(c[1].match.offset, -double(G), 1e-3);
+    EXPECT_FALSE(c[1].lost);
+    EXPECT_TRUE(c[2].lost);
+    EXPECT_EQ(c[2].slot, 2u);
+
+    // Memory: a check never takes more than the samples to the window's end.
+    t.start_check(0);
+    EXPECT_EQ(t.until_check_end(0), 2 * sym + cp / 2 + num.fft_size);
+    EXPECT_THROW(t.check(clean.data(), 0, 2 * sym + cp / 2 + num.fft_size + 1, m, 20),
+                 std::invalid_argument);
+}
+
 TEST(sync_tracker, parameter_errors)
 {
     EXPECT_THROW(sync_tracker(63, CP, SPS, DMRS, EARLY), std::invalid_argument);

@@ -222,6 +222,44 @@ bool sync_tracker::score(const dmrs_matcher::match& c, double threshold)
     return d_misses >= d_miss_limit;
 }
 
+void sync_tracker::start_check(std::uint64_t g)
+{
+    d_check_slot = first_checkable_slot(g);
+    d_misses = 0;
+}
+
+std::uint64_t sync_tracker::until_check_end(std::uint64_t g) const
+{
+    const std::int64_t end = check_start(d_check_slot) + std::int64_t(check_length());
+    return std::uint64_t(std::max<std::int64_t>(end - std::int64_t(g), 0));
+}
+
+sync_tracker::slot_check sync_tracker::check(const gr_complex* x,
+                                             std::uint64_t g,
+                                             std::size_t n,
+                                             dmrs_matcher& matcher,
+                                             unsigned slots_per_frame)
+{
+    if (n > until_check_end(g))
+        throw_param("n", n, "must be at most the samples to the check window's end, " +
+                                std::to_string(until_check_end(g)));
+    const std::int64_t cs = check_start(d_check_slot);
+    const std::int64_t ce = cs + std::int64_t(check_length());
+    const std::int64_t a = std::int64_t(g);
+    const std::int64_t c0 = std::max(a, cs), c1 = std::min(a + std::int64_t(n), ce);
+    d_window.resize(check_length());
+    if (c0 < c1)
+        std::copy(x + (c0 - a), x + (c1 - a), d_window.begin() + (c0 - cs));
+    slot_check r;
+    if (a + std::int64_t(n) != ce)
+        return r;
+    r.tested = true;
+    r.slot = d_check_slot++;
+    r.match = matcher.test(d_window.data(), unsigned(r.slot % slots_per_frame), 0);
+    r.lost = score(r.match, matcher.threshold());
+    return r;
+}
+
 } // namespace kernel
 } // namespace nrsar
 } // namespace gr

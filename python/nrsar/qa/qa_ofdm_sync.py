@@ -289,6 +289,43 @@ class qa_ofdm_sync(gr_unittest.TestCase):
         self.assertEqual(sync.timing_samples(), 4321 + DMRS[0] * self.L)
         self.assertEqual([t.offset for t in tags if pmt.symbol_to_string(t.key) == "sync"], [0])
 
+    def test_012_drained_slots_are_checked(self):
+        # The search takes the whole stream in one chunk (one source write into a buffer that
+        # holds it), so every slot after the lock is output from the acquirer's buffer. G
+        # samples lost without a tag in slot 1, before its DMRS: slots 1 and 2 start G early,
+        # two misses there lose the lock; the new search goes on in the rest of the buffer,
+        # finds slot 2's second DMRS symbol and resumes at slot 3 on the old grid moved by G.
+        num, G, D = self.num, 1000, 3000
+        Ls, b = self.L * num.symbols_per_slot, round(0.125 * num.cp_samples)
+        x = modulate(num, make_grid(num, 6, 3))
+        cut = np.concatenate([np.zeros(D, np.complex64), x[:Ls + 100], x[Ls + 100 + G:],
+                              np.zeros(20000, np.complex64)])
+        tb = gr.top_block()
+        src = blocks.vector_source_c(cut.tolist())
+        src.set_min_output_buffer(len(cut) * 2)
+        sync = nrsar.ofdm_sync(num, nrsar.make_dmrs("pusch2"), 0.1, 0.125)
+        snk = blocks.vector_sink_c()
+        tb.connect(src, sync, snk)
+        tb.run()
+        raw = np.array(snk.data())
+        self.assertEqual((sync.lock_losses(), sync.reacquisitions(), sync.lost_samples()),
+                         (1, 1, G))
+        # Lost at the end of slot 2's check window (its first DMRS symbol from cp/2 after
+        # d0_hat), the symbol completed with zeros; slot 3 follows.
+        lost_at = 2 * Ls + DMRS[0] * self.L + b + num.cp_samples // 2 + num.fft_size
+        resumed = -(-lost_at // self.L) * self.L
+        got = {}
+        for t in snk.tags():
+            got.setdefault(pmt.symbol_to_string(t.key), []).append((t.offset, t.value))
+        self.assertEqual([o for o, _ in got["gap"]], [lost_at])
+        self.assertEqual([(o, pmt.to_uint64(v)) for o, v in got["slot"]],
+                         [(k * Ls, k) for k in range(3)] +
+                         [(o, 3 + k) for k, o in enumerate(range(resumed, len(raw), Ls))])
+        np.testing.assert_allclose(raw[b:b + Ls + 100], x[:Ls + 100], atol=1e-4)
+        np.testing.assert_array_equal(raw[lost_at:resumed], 0)
+        np.testing.assert_allclose(raw[resumed + b:resumed + b + 3 * Ls], x[3 * Ls:],
+                                   atol=1e-4)
+
     def test_009_getters_and_setters(self):
         sync = nrsar.ofdm_sync(self.num, nrsar.make_dmrs("pusch2"))
         self.assertFalse(sync.locked())

@@ -177,6 +177,32 @@ public:
     bool score(const dmrs_matcher::match& c, double threshold);
     //! Forgets the misses (a new lock).
     void clear_misses() { d_misses = 0; }
+
+    /*!
+     * \brief The lock check over the output stream: start_check(g) at a lock (grid sample g,
+     * the first output sample, drained from the acquirer's buffer or not) or a resumed slot
+     * forgets the misses and waits for the first slot whose check window starts at or after
+     * g; check() then takes the derotated output as it passes.
+     */
+    void start_check(std::uint64_t g);
+    //! Samples from grid sample g to the end of the next slot's check window (0 when at it).
+    std::uint64_t until_check_end(std::uint64_t g) const;
+    struct slot_check {
+        bool tested = false;       //!< a check window ended here: the slot was tested
+        bool lost = false;         //!< ... and made miss_limit consecutive misses
+        std::uint64_t slot = 0;    //!< the tested slot
+        dmrs_matcher::match match; //!< its test
+    };
+    /*!
+     * \brief Output x (derotated) of grid samples [g, g + n), n <= until_check_end(g): keeps
+     * what falls in the slot's check window; where the window ends, tests the slot's own DMRS
+     * (slot modulo slots_per_frame, its first DMRS symbol) and scores it.
+     */
+    slot_check check(const gr_complex* x,
+                     std::uint64_t g,
+                     std::size_t n,
+                     dmrs_matcher& matcher,
+                     unsigned slots_per_frame);
     unsigned misses() const { return d_misses; }
     unsigned miss_limit() const { return d_miss_limit; }
 
@@ -191,6 +217,8 @@ private:
     unsigned d_miss_limit;
     unsigned d_misses = 0;
     std::vector<std::int64_t> d_repeats;
+    std::uint64_t d_check_slot = 0;
+    std::vector<gr_complex> d_window; // the check window (fft_size samples): memory stays bounded
 };
 
 } // namespace kernel
