@@ -523,6 +523,15 @@ TEST(bp_autofocus, validates)
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("look_spread_rad = -0.1"), std::string::npos);
     }
+    try {
+        c = {};
+        c.gcp_along_track_se_m = 1.5;
+        run(c, M);
+        FAIL();
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("gcp_along_track_se_m = 1.5 must be in [0, 1]"),
+                  std::string::npos);
+    }
 }
 
 TEST(bp_autofocus, ground_control_points_fix_the_trend)
