@@ -230,7 +230,8 @@ void bp_focuser_impl::process_aperture()
             d_gcp_offset[c] = unused * r.gcp_offset_m[c];
             d_gcp_drift[c] = unused * r.gcp_drift_m[c] / d_T;
         }
-        d_gcp_se = { unused * r.gcp_offset_se_m, unused * r.gcp_drift_se_m / d_T };
+        d_gcp_se = { unused * r.gcp_offset_se_m, unused * r.gcp_drift_se_m / d_T,
+                     r.gcp_along_track ? r.gcp_offset_y_se_m : s_nan };
     } else {
         d_kernel->reset(d_next_y);
         d_kernel->add(d_pulses.data(), d_fill, d_antenna.data());

@@ -523,6 +523,15 @@ TEST(bp_autofocus, validates)
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("look_spread_rad = -0.1"), std::string::npos);
     }
+    try {
+        c = {};
+        c.gcp_along_track_se_m = 1.5;
+        run(c, M);
+        FAIL();
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("gcp_along_track_se_m = 1.5 must be in [0, 1]"),
+                  std::string::npos);
+    }
 }
 
 TEST(bp_autofocus, ground_control_points_fix_the_trend)
@@ -596,6 +605,9 @@ TEST(bp_autofocus, ground_control_points_fix_the_trend)
     const auto r2 = trajectory_autofocus(pulses.data(), M, nav.data(), grid(), cfg, img2.data());
     ASSERT_EQ(r2.gcp_used, 2u);
     EXPECT_TRUE(r2.gcp_two_dimensional);
+    // At one along-track position: e_y not solved (its standard error unbounded), y left.
+    EXPECT_FALSE(r2.gcp_along_track);
+    EXPECT_EQ(r2.gcp_offset_m[1], 0.0);
     // Each GCP's line-of-sight constant and slope as the solution gives them: the second's
     // integer is the first's (its lambda / 2 lattice point next to the first's prediction).
     for (const los& t : { t0, t1 }) {
@@ -686,6 +698,7 @@ TEST(bp_autofocus, gcp_takes_out_an_along_track_offset)
     std::vector<gr_complex> img(std::size_t(M) * K);
     const auto r = trajectory_autofocus(pulses.data(), M, nav.data(), grid(), cfg, img.data());
     ASSERT_EQ(r.gcp_used, 1u);
+    EXPECT_FALSE(r.gcp_along_track); // one GCP: e_y stays in the drift
     const vec3 am = tru[M / 2];
     const double dx = am[0] - TGT[0][0], dy = am[1] - TGT[0][1], rm = std::hypot(dx, dy, H);
     const double s = r.gcp_drift_m[0] * dx / rm + r.gcp_drift_m[2] * H / rm;
@@ -720,4 +733,96 @@ TEST(bp_autofocus, gcp_takes_out_an_along_track_offset)
     EXPECT_NEAR(ey_hat, ey, 3.0 * se);
     EXPECT_NEAR(y_nav - y_ref, ey, 3.0 * crb);
     EXPECT_NEAR(y_gcp - y_ref, 0.0, 3.0 * crb);
+}
+
+TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_offset)
+{
+    // Each GCP's constant holds u_y e_y, u_y = (y_a - y_q) / R at the middle pulse: GCPs
+    // spread along track tell e_y apart from x and z. Three GCPs (look angles 1 degree apart,
+    // each alone in its range bins), the middle one 25 m along track from the outer two, so
+    // u_y's pattern is not a linear function of the look angle that x and z would absorb.
+    // Navigation = truth + e_y along track, then also + an (x, z) offset and drift. The
+    // kernel's e_y within 3 of its standard error, which is held against the Cramer-Rao-type
+    // one computed here: (G^-1)_yy of G = sum u u^T / var_c over the GCPs, var_c = 1 / ((2 pi
+    // cs)^2 2 g n) the constant's (mean phase of n pulses at SNR g per pulse; g = 4 / 3 of
+    // the echo's, the Hann-tapered history, as in gcp_takes_out_an_along_track_offset).
+    const std::vector<vec3> tg = { { 800.0, 12.53, 1.0 },
+                                   { 830.0, 37.53, 1.0 },
+                                   { 770.0, 37.53, 1.0 } };
+    constexpr double ey = 0.30, snr = 10.0;
+    const auto pulses = echo(N / snr, 47, tg);
+    const auto tru = true_path();
+    const double cs = 2.0 / LAM + FCR / RHO;
+    const vec3 am = tru[M / 2];
+    double g[3][3] = {};
+    for (const auto& q : tg) {
+        const vec3 d = { am[0] - q[0], am[1] - q[1], am[2] };
+        const double r = std::hypot(d[0], d[1], d[2]);
+        const double var = 1.0 / (std::pow(2.0 * M_PI * cs, 2) * 2.0 * (4.0 / 3.0) * snr *
+                                  q[2] * q[2] * M);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                g[i][j] += d[i] * d[j] / (r * r * var);
+    }
+    // (G^-1)_yy = cofactor / det
+    const double det = g[0][0] * (g[1][1] * g[2][2] - g[1][2] * g[2][1]) -
+                       g[0][1] * (g[1][0] * g[2][2] - g[1][2] * g[2][0]) +
+                       g[0][2] * (g[1][0] * g[2][1] - g[1][1] * g[2][0]);
+    const double crb = std::sqrt((g[0][0] * g[2][2] - g[0][2] * g[2][0]) / det);
+    trajectory_autofocus_config cfg;
+    for (const auto& q : tg)
+        cfg.gcp.push_back({ q[0], q[1], 0.0 });
+    const double half = 1.0 / cs;
+    std::vector<gr_complex> img(std::size_t(M) * K);
+    const auto ref = bp_image(echo(0.0, 47, tg), tru);
+    const double perfect_db = nmse_db(bp_image(pulses, tru), ref);
+    for (const bool drift : { false, true }) {
+        std::vector<vec3> nav = tru;
+        for (unsigned n = 0; n < M; ++n) {
+            const double t = (n - 0.5 * (M - 1.0)) * T; // 0 at the middle pulse
+            nav[n][0] += drift ? 0.12 + 0.05 * t : 0.0;
+            nav[n][1] += ey;
+            nav[n][2] += drift ? -0.20 - 0.08 * t : 0.0;
+        }
+        const auto r =
+            trajectory_autofocus(pulses.data(), M, nav.data(), grid(), cfg, img.data());
+        ASSERT_EQ(r.gcp_used, 3u);
+        ASSERT_TRUE(r.gcp_along_track);
+        EXPECT_TRUE(r.gcp_two_dimensional);
+        std::printf("%s: e_y %.1f mm (true %.1f), se %.2f mm (Cramer-Rao %.2f mm); offset "
+                    "(%.1f, %.1f) mm, se %.2f mm; drift (%.4f, %.4f) mm / pulse, se %.4f\n",
+                    drift ? "with drift" : "e_y alone", 1e3 * r.gcp_offset_m[1], 1e3 * ey,
+                    1e3 * r.gcp_offset_y_se_m, 1e3 * crb, 1e3 * r.gcp_offset_m[0],
+                    1e3 * r.gcp_offset_m[2], 1e3 * r.gcp_offset_se_m, 1e3 * r.gcp_drift_m[0],
+                    1e3 * r.gcp_drift_m[2], 1e3 * r.gcp_drift_se_m);
+        EXPECT_NEAR(r.gcp_offset_y_se_m, crb, 0.1 * crb);
+        EXPECT_NEAR(r.gcp_offset_m[1], ey, 3.0 * r.gcp_offset_y_se_m);
+        EXPECT_NEAR(r.antenna[M / 2][1], tru[M / 2][1] + ey - r.gcp_offset_m[1], 1e-9);
+        // (x, z): the drift within 3 standard errors (rms of x, z); the offset less the
+        // integer k of periods along the GCPs' mean line of sight (|k| <= 1, "The integer").
+        const double dx = drift ? 0.05 * T : 0.0, dz = drift ? -0.08 * T : 0.0;
+        EXPECT_LT(std::hypot(r.gcp_drift_m[0] - dx, r.gcp_drift_m[2] - dz),
+                  3.0 * r.gcp_drift_se_m);
+        const double ox = r.gcp_offset_m[0] - (drift ? 0.12 : 0.0);
+        const double oz = r.gcp_offset_m[2] - (drift ? -0.20 : 0.0);
+        const auto m = mean_los(); // TGT's look angles are tg's
+        const double k = std::round((ox * m[0] + oz * m[1]) / half);
+        EXPECT_LE(std::abs(k), 1.0);
+        EXPECT_LT(std::hypot(ox - k * half * m[0], oz - k * half * m[1]),
+                  3.0 * r.gcp_offset_se_m);
+        // The image against the perfectly navigated one's NMSE; and with e_y left in the
+        // drift (gate closed) for comparison.
+        trajectory_autofocus_config closed = cfg;
+        closed.gcp_along_track_se_m = 0.0;
+        std::vector<gr_complex> img0(img.size());
+        const auto r0 =
+            trajectory_autofocus(pulses.data(), M, nav.data(), grid(), closed, img0.data());
+        EXPECT_FALSE(r0.gcp_along_track);
+        EXPECT_EQ(r0.gcp_offset_m[1], 0.0);
+        const double got_db = nmse_db(img, ref), closed_db = nmse_db(img0, ref);
+        std::printf("NMSE: perfect navigation %.2f dB, e_y solved %.2f dB, left in the "
+                    "drift %.2f dB\n",
+                    perfect_db, got_db, closed_db);
+        EXPECT_LT(got_db, perfect_db + 0.5);
+    }
 }

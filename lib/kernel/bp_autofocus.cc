@@ -35,6 +35,9 @@ void trajectory_autofocus_config::validate() const
     if (!(std::isfinite(significance) && significance >= 0.0 && significance <= 100.0))
         throw_param("significance", significance, "must be in [0, 100]");
     check_finite_points("gcp", gcp, max_gcp);
+    if (!(std::isfinite(gcp_along_track_se_m) && gcp_along_track_se_m >= 0.0 &&
+          gcp_along_track_se_m <= 1.0))
+        throw_param("gcp_along_track_se_m", gcp_along_track_se_m, "must be in [0, 1]");
     if (!(std::isnan(range_band_cycles) ||
           (range_band_cycles >= 0.0 && range_band_cycles <= 1.0)))
         throw_param("range_band_cycles", range_band_cycles, "must be in [0, 1] (or NaN: auto)");
@@ -237,6 +240,7 @@ bool calibrate_gcp(const gr_complex* pulses,
                    unsigned n,
                    const bp_grid& grid,
                    const std::vector<vec3>& gcps,
+                   double gcp_along_track_se_m,
                    bp_focuser& one,
                    const std::vector<unsigned>& len,
                    unsigned h,
@@ -258,6 +262,8 @@ bool calibrate_gcp(const gr_complex* pulses,
         double c, s;   // constant at the middle pulse [m], slope [m / pulse]
         double v;      // per-pulse variance of the history [m^2]
         double a2;     // coherent power per pulse
+        double uy;     // line of sight's y at the middle pulse
+        vec3 du;       // least-squares slope of the line of sight over the pulses [1 / pulse]
     };
     std::vector<fix> fixes;
     constexpr int steps = 6; // the range search: +-1.5 bins in quarter bins
@@ -287,7 +293,12 @@ bool calibrate_gcp(const gr_complex* pulses,
                          a[1] + p[1] - q[1] - m * (a[1] - q[1]),
                          a[2] + p[2] - q[2] - m * (a[2] - q[2]) };
         };
+        vec3 du{};
         for (unsigned i = 0; i < n; ++i) {
+            const vec3& ai = res.antenna[i];
+            const double ri = distance(ai, q);
+            for (int c3 = 0; c3 < 3; ++c3)
+                du[c3] += (ai[c3] - q[c3]) / ri * (i - tm) / stt;
             const vec3 a = moved(i, 0.0, 0.0);
             one.reset(q[1]);
             one.add(pulses + std::size_t(i) * K, 1, &a);
@@ -325,8 +336,8 @@ bool calibrate_gcp(const gr_complex* pulses,
             grid.range_bin_m;
         const double fine = hs.sum / n;
         const double constant = fine + period * std::round((peak - fine) / period);
-        fixes.push_back(
-            { (am[0] - q[0]) / rm, (am[2] - q[2]) / rm, constant, slope, hs.v, hs.a2 });
+        fixes.push_back({ (am[0] - q[0]) / rm, (am[2] - q[2]) / rm, constant, slope, hs.v,
+                          hs.a2, (am[1] - q[1]) / rm, du });
     }
     if (fixes.empty())
         return false;
@@ -356,53 +367,79 @@ bool calibrate_gcp(const gr_complex* pulses,
     // degree of spread leaves millimetres); else along their mean line of sight.
     res.gcp_two_dimensional =
         fixes.size() >= 2 && std::sqrt(std::max(0.0, st2 / sw - (st / sw) * (st / sw))) >= 1e-3;
-    double e0[2], e1[2], g_trace; // (x, z) of the constant and slope; trace of G^-1
-    if (res.gcp_two_dimensional) { // weighted least squares, G = sum u u^T / v
-        double axx = 0.0, axz = 0.0, azz = 0.0, bx0 = 0.0, bz0 = 0.0, bx1 = 0.0, bz1 = 0.0;
-        for (const fix& f : fixes) {
-            axx += f.ux * f.ux / f.v;
-            axz += f.ux * f.uz / f.v;
-            azz += f.uz * f.uz / f.v;
-            bx0 += f.ux * f.c / f.v;
-            bz0 += f.uz * f.c / f.v;
-            bx1 += f.ux * f.s / f.v;
-            bz1 += f.uz * f.s / f.v;
-        }
-        const double det = axx * azz - axz * axz;
-        e0[0] = (azz * bx0 - axz * bz0) / det;
-        e0[1] = (axx * bz0 - axz * bx0) / det;
-        e1[0] = (azz * bx1 - axz * bz1) / det;
-        e1[1] = (axx * bz1 - axz * bx1) / det;
-        g_trace = (axx + azz) / det;
-    } else { // along the mean line of sight m
-        double mx = 0.0, mz = 0.0;
-        for (const fix& f : fixes) {
-            mx += f.ux / f.v;
-            mz += f.uz / f.v;
-        }
-        const double mn = std::hypot(mx, mz);
-        mx /= mn;
-        mz /= mn;
-        double num0 = 0.0, num1 = 0.0, den = 0.0;
-        for (const fix& f : fixes) {
-            const double um = f.ux * mx + f.uz * mz;
-            num0 += um * f.c / f.v;
-            num1 += um * f.s / f.v;
-            den += um * um / f.v;
-        }
-        e0[0] = num0 / den * mx;
-        e0[1] = num0 / den * mz;
-        e1[0] = num1 / den * mx;
-        e1[1] = num1 / den * mz;
-        g_trace = 1.0 / den;
+    // Weighted least squares in (x, z), G = sum u u^T / v, or along the mean line of sight m.
+    double axx = 0.0, axz = 0.0, azz = 0.0, mx = 0.0, mz = 0.0, den = 0.0;
+    for (const fix& f : fixes) {
+        axx += f.ux * f.ux / f.v;
+        axz += f.ux * f.uz / f.v;
+        azz += f.uz * f.uz / f.v;
+        mx += f.ux / f.v;
+        mz += f.uz / f.v;
     }
-    // The constant averages n pulses, the slope sum (p - tm)^2 of them.
-    res.gcp_offset_se_m = std::sqrt(g_trace / n);
-    res.gcp_drift_se_m = std::sqrt(g_trace / stt);
-    res.gcp_offset_m = { e0[0], 0.0, e0[1] };
+    const double det = axx * azz - axz * axz, mn = std::hypot(mx, mz);
+    mx /= mn;
+    mz /= mn;
+    for (const fix& f : fixes) {
+        const double um = f.ux * mx + f.uz * mz;
+        den += um * um / f.v;
+    }
+    // (x, z) of the solution of u_i . e = value(fix i); trace of G^-1 (1 / den along m).
+    auto solve = [&](auto value) -> std::array<double, 2> {
+        if (res.gcp_two_dimensional) {
+            double bx = 0.0, bz = 0.0;
+            for (const fix& f : fixes) {
+                bx += f.ux * value(f) / f.v;
+                bz += f.uz * value(f) / f.v;
+            }
+            return { (azz * bx - axz * bz) / det, (axx * bz - axz * bx) / det };
+        }
+        double num = 0.0;
+        for (const fix& f : fixes)
+            num += (f.ux * mx + f.uz * mz) * value(f) / f.v;
+        return { num / den * mx, num / den * mz };
+    };
+    const double g_trace = res.gcp_two_dimensional ? (axx + azz) / det : 1.0 / den;
+    std::array<double, 2> e0 = solve([](const fix& f) { return f.c; });
+    // The along-track offset e_y: each constant holds u_y e_y (docs/blocks/bp_focuser.md,
+    // "The along-track offset"). Its column less its (x, z) fit, r, is what GCPs spread
+    // along track add (Frisch-Waugh: e_y = sum r c / v / sum r^2 / v, variance 1 / (n sum
+    // r^2 / v)); solved only where that predicted standard error is below
+    // gcp_along_track_se_m, else y stays and e_y stays in the drift as before.
+    const std::array<double, 2> by = solve([](const fix& f) { return f.uy; });
+    double ryy = 0.0, ryc = 0.0;
+    for (const fix& f : fixes) {
+        const double r = f.uy - (f.ux * by[0] + f.uz * by[1]);
+        ryy += r * r / f.v;
+        ryc += r * f.c / f.v;
+    }
+    const double se_y = ryy > 0.0 ? std::sqrt(1.0 / (n * ryy)) : INFINITY;
+    res.gcp_along_track = se_y < gcp_along_track_se_m;
+    double ey = 0.0, offset_var_y = 0.0, drift_var_y = 0.0;
+    std::array<double, 2> e1;
+    if (res.gcp_along_track) {
+        ey = ryc / ryy;
+        e0 = { e0[0] - ey * by[0], e0[1] - ey * by[1] };
+        // The offset o turns each line of sight over the aperture: the slope holds du . o
+        // besides the drift (for e_y: v T e_y / R).
+        const vec3 o{ e0[0], ey, e0[1] };
+        e1 = solve([&](const fix& f) { return f.s - (f.du[0] * o[0] + f.du[1] * o[1] +
+                                                     f.du[2] * o[2]); });
+        const std::array<double, 2> bd = solve([](const fix& f) { return f.du[1]; });
+        offset_var_y = (by[0] * by[0] + by[1] * by[1]) * se_y * se_y;
+        drift_var_y = (bd[0] * bd[0] + bd[1] * bd[1]) * se_y * se_y;
+        res.gcp_offset_y_se_m = se_y;
+    } else {
+        e1 = solve([](const fix& f) { return f.s; });
+    }
+    // The constant averages n pulses, the slope sum (p - tm)^2 of them; e_y's noise moves
+    // both through its (x, z) fits (uncorrelated with the base solution's).
+    res.gcp_offset_se_m = std::sqrt(g_trace / n + offset_var_y);
+    res.gcp_drift_se_m = std::sqrt(g_trace / stt + drift_var_y);
+    res.gcp_offset_m = { e0[0], ey, e0[1] };
     res.gcp_drift_m = { e1[0], 0.0, e1[1] };
     for (unsigned i = 0; i < n; ++i) {
         res.antenna[i][0] -= e0[0] + e1[0] * (i - tm);
+        res.antenna[i][1] -= ey;
         res.antenna[i][2] -= e0[1] + e1[1] * (i - tm);
     }
     return true;
@@ -612,7 +649,8 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         res.displacement_m.assign(n, vec3{ 0.0, 0.0, 0.0 });
     }
     const bool calibrated = !cfg.gcp.empty() && calibrate_gcp(hist_pulses.data(), n, grid,
-                                                              cfg.gcp, one, len, h, res);
+                                                              cfg.gcp, cfg.gcp_along_track_se_m,
+                                                              one, len, h, res);
     if (calibrated || !(img_is_nav && !res.accepted))
         image_along(res.antenna);
     std::copy(img.begin(), img.end(), image_out);

@@ -265,9 +265,10 @@ def image_results(opts, chain, sc, runtime_s):
         if opts.autofocus_gcp:
             # the navigation error's constant (at the latest aperture's middle pulse) and
             # drift the ground control points fixed, (x, y, z); None where no GCP lay in
-            # that aperture's image; y 0: GCPs at one along-track position see an
-            # along-track offset as a drift, and take it out as one (docs/blocks/
-            # bp_focuser.md, "The along-track offset")
+            # that aperture's image; the offset's y 0 unless GCPs spread along track solved
+            # it (autofocus_gcp_offset_y_se_m its standard error, else None): GCPs at one
+            # along-track position see an along-track offset as a drift, and take it out
+            # as one (docs/blocks/bp_focuser.md, "The along-track offset")
             foc = chain["focuser"]
             result["autofocus_gcp_used"] = foc.trajectory_gcp_used()
             for key, v in (("offset_m", foc.trajectory_gcp_offset_m()),
@@ -277,6 +278,7 @@ def image_results(opts, chain, sc, runtime_s):
             se = foc.trajectory_gcp_se()
             result["autofocus_gcp_offset_se_m"] = _json_number(se[0])
             result["autofocus_gcp_drift_se_mps"] = _json_number(se[1])
+            result["autofocus_gcp_offset_y_se_m"] = _json_number(se[2])
         af_rms = 4.0 * math.pi * los / sc.geo.wavelength_m()
     result["autofocus_phase_rms_rad"] = _json_number(af_rms)
     # symbols a radio's overflow lost, zeroed by ofdm_demod (docs/recording.md, "Gaps")

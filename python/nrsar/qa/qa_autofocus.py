@@ -538,7 +538,8 @@ class qa_autofocus(gr_unittest.TestCase):
         self.assertLess(gcp["peak_error_m"], 0.1)
         self.assertLess(gcp["nmse_db"], alone["nmse_db"])
         self.assertEqual(len(gcp["autofocus_gcp_offset_m"]), 3)
-        self.assertEqual(gcp["autofocus_gcp_offset_m"][1], 0.0)
+        self.assertEqual(gcp["autofocus_gcp_offset_m"][1], 0.0)  # one GCP: e_y not solved
+        self.assertIsNone(gcp["autofocus_gcp_offset_y_se_m"])
         self.assertGreater(gcp["autofocus_gcp_drift_se_mps"], 0.0)
         self.assertNotIn("autofocus_los_rms_m", runs["pga"])
         self.assertNotIn("autofocus_los_se_m", runs["pga"])

@@ -50,6 +50,12 @@ struct NRSAR_API trajectory_autofocus_config {
     //! ambiguity of about lambda / 2 from their range peak); empty: none, the trend stays.
     std::vector<std::array<double, 3>> gcp;
     static constexpr unsigned max_gcp = 16;
+    //! The GCPs also solve the along-track offset e_y (its u_y e_y in each constant) when its
+    //! predicted standard error, from their spread along track and phase noise, is below this
+    //! [m], [0, 1] (0: never); else e_y stays in the drift (docs/blocks/bp_focuser.md, "The
+    //! along-track offset"). 5 cm: under half a GNSS class's e_y (0.2-0.35 m); two GCPs
+    //! 25 m apart along track at 10 dB give 4 mm.
+    double gcp_along_track_se_m = 0.05;
 
     void validate() const;
 };
@@ -76,14 +82,17 @@ struct NRSAR_API trajectory_autofocus_result {
     bool accepted = false;
     //! cfg.gcp: the GCPs in the image whose history was used (0: no calibration).
     unsigned gcp_used = 0;
-    //! The navigation error's constant (x, 0, z) at the middle pulse [m] and drift per
-    //! pulse (x, 0, z) [m] the GCPs gave, taken off antenna (along their mean line of
-    //! sight unless gcp_two_dimensional); zero without.
+    //! The navigation error's constant (x, y, z) at the middle pulse [m] and drift per
+    //! pulse (x, 0, z) [m] the GCPs gave, taken off antenna ((x, z) along their mean line
+    //! of sight unless gcp_two_dimensional; y 0 unless gcp_along_track); zero without.
     std::array<double, 3> gcp_offset_m{};
     std::array<double, 3> gcp_drift_m{};
     bool gcp_two_dimensional = false; //!< GCPs at spread look angles: x and z solved
     double gcp_offset_se_m = 0.0;     //!< standard error of gcp_offset_m (rms of x, z)
     double gcp_drift_se_m = 0.0;      //!< of gcp_drift_m [m / pulse]
+    //! GCPs spread along track: the constant's y (e_y) solved (cfg.gcp_along_track_se_m).
+    bool gcp_along_track = false;
+    double gcp_offset_y_se_m = 0.0; //!< standard error of gcp_offset_m's y (0: not solved)
 };
 
 /*!
@@ -110,8 +119,9 @@ struct NRSAR_API trajectory_autofocus_result {
  * navigation is kept. Ground control points (cfg.gcp) then fix the trend: each one's
  * history along the corrected path, referenced to its surveyed position, is R_nav -
  * R_true itself; its constant (the integer of ~lambda / 2 from its range peak) and slope over
- * the pulses, solved for x and z (look angles spread) or along their line of sight, are
- * taken off the path before the last back-projection.
+ * the pulses, solved for x and z (look angles spread) or along their line of sight, and
+ * the along-track offset where the GCPs' spread along track determines it, are taken
+ * off the path before the last back-projection.
  * pulses: n x K line-major; image_out: M x K, the image along the corrected path.
  */
 NRSAR_API trajectory_autofocus_result
