@@ -214,6 +214,7 @@ void bp_focuser_impl::process_aperture()
         tc.tolerance_m = d_cfg.autofocus_tolerance_m;
         tc.significance = d_cfg.autofocus_significance;
         tc.gcp = d_cfg.autofocus_gcp;
+        tc.gcp_along_track_se_m = d_cfg.autofocus_gcp_along_track_se_m;
         tc.smooth_pulses = static_cast<unsigned>(
             std::clamp(std::round(0.04 / d_T), 1.0, static_cast<double>(d_fill)));
         const auto r = kernel::trajectory_autofocus(

@@ -60,6 +60,7 @@ void bp_config::validate() const
     check_range("autofocus_significance", autofocus_significance, 0.0, 100.0);
     check_finite_points(
         "autofocus_gcp", autofocus_gcp, kernel::trajectory_autofocus_config::max_gcp);
+    check_range("autofocus_gcp_along_track_se_m", autofocus_gcp_along_track_se_m, 0.0, 1.0);
 }
 
 namespace kernel {

@@ -99,7 +99,8 @@ def bp_config_of(opts, cfg, autofocus=False):
                      autofocus_points=opts.autofocus_points,
                      autofocus_tolerance_m=opts.autofocus_tolerance_m,
                      autofocus_significance=opts.autofocus_significance,
-                     autofocus_gcp=parse_gcps(opts.autofocus_gcp) if autofocus else [])
+                     autofocus_gcp=parse_gcps(opts.autofocus_gcp) if autofocus else [],
+                     autofocus_gcp_along_track_se_m=opts.autofocus_gcp_along_track_se_m)
 
 
 def check_gcps_in_image(opts, geo, foc, cfg, symbols):

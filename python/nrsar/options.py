@@ -430,6 +430,10 @@ class SimOptions(Options):
         f"at X, Y[, Z] in the scene frame [m] inside the image; repeatable, at most {MAX_GCP}: "
         "they fix the navigation error's constant and drift, which focus cannot see (JSON "
         "autofocus_gcp_*; docs/blocks/bp_focuser.md)", metavar="X,Y[,Z]")
+    autofocus_gcp_along_track_se_m: float = option(
+        0.05, "--autofocus-gcp: solve the navigation's along-track offset e_y when GCPs spread "
+        "along track predict its standard error below this [m] (0: never; docs/blocks/"
+        "bp_focuser.md, \"Solving e_y\")", at_least=0.0, at_most=1.0)
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "

@@ -86,6 +86,9 @@ struct NRSAR_API bp_config {
     //! used by the aperture whose image holds it): they fix the navigation error's constant
     //! and drift (kernel gcp); empty: none.
     std::vector<std::array<double, 3>> autofocus_gcp;
+    //! The GCPs solve the along-track offset e_y where its predicted standard error is below
+    //! this [m] ([0, 1]; 0: never; kernel gcp_along_track_se_m).
+    double autofocus_gcp_along_track_se_m = 0.05;
 
     void validate() const;
 };

@@ -479,6 +479,10 @@ RULES = [
     # a prefix under a regular file (the interpreter): fails for every user, root included
     ("image_sink", "prefix folder is a file",
      lambda: nrsar.image_sink(8, sys.executable + "/img"), "is not a folder"),
+    # bp_focuser's GCP gate on e_y (docs/blocks/bp_focuser.md, "Solving e_y")
+    ("bp_config", "along-track GCP gate above 1 m",
+     lambda: nrsar.bp_config(autofocus_gcp_along_track_se_m=1.5).validate(),
+     "autofocus_gcp_along_track_se_m = 1.5 must be in [0, 1]"),
 ]
 
 
