@@ -195,7 +195,8 @@ nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c, const std::uint8_t* n
     // scale, so their LLRs keep their resolution and the strong ones saturate (they are
     // reliable). 8 partial sums vectorise.
     float part[8] = {}, cnt[8] = {};
-    const std::size_t n8 = received_sums(llr, d_simd ? root_sums_avx2 : root_sums_generic, part, cnt);
+    const std::size_t n8 =
+        received_sums(llr, d_simd ? root_sums_avx2 : root_sums_generic, part, cnt);
     double sum = 0.0, count = 0.0;
     for (unsigned j = 0; j < 8; j++) {
         sum += part[j];
@@ -254,7 +255,8 @@ bool nr_ldpc_decoder::near_codeword(const nr_ldpc_decode_result& res)
     return true;
 }
 
-std::size_t nr_ldpc_decoder::received_sums(const float* llr, sums_fn fn, float* part, float* cnt) const
+std::size_t
+nr_ldpc_decoder::received_sums(const float* llr, sums_fn fn, float* part, float* cnt) const
 {
     // Over runs of received columns widened to multiples of 8 (the skipped values are 0 or
     // NaN and add nothing): lane = index mod 8, the 8 partial sums of all n8 values.
@@ -286,7 +288,8 @@ bool nr_ldpc_decoder::above_capacity(const float* llr, const nr_ldpc_decode_resu
     // channel carried per bit) against the code rate tells the two apart, whatever the
     // modulation. Fillers (+inf) add 1 to both the information and K.
     float part[8] = {}, cnt[8] = {};
-    const std::size_t n8 = received_sums(llr, d_simd ? info_sums_avx2 : info_sums_generic, part, cnt);
+    const std::size_t n8 =
+        received_sums(llr, d_simd ? info_sums_avx2 : info_sums_generic, part, cnt);
     float tail[8] = {};
     std::copy(llr + n8, llr + n(), tail);
     info_sums_generic(tail, 8, part, cnt);
