@@ -9,6 +9,7 @@
 #include "param_check.h"
 #include <gnuradio/nrsar/kernel/nr_ldpc_decoder.h>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -80,6 +81,32 @@ void root_sums_generic(const float* in, std::size_t n8, float* part, float* cnt)
             const bool use = a > 0.0f && a < INFINITY; // NaN fails both
             part[j] += use ? std::sqrt(a) : 0.0f;
             cnt[j] += use ? 1.0f : 0.0f;
+        }
+}
+
+const float* info_table()
+{
+    static const auto table = [] {
+        std::array<float, info_bins> t{};
+        for (unsigned i = 1; i < info_bins; i++) {
+            const double q = 1.0 / (1.0 + std::exp((i + 0.5) / info_step)); // P(wrong sign)
+            t[i] = static_cast<float>(1.0 + q * std::log2(q) + (1.0 - q) * std::log2(1.0 - q));
+        }
+        t[info_bins - 1] = 1.0f;
+        return t;
+    }();
+    return table.data();
+}
+
+void info_sums_generic(const float* in, std::size_t n8, float* part, float* cnt)
+{
+    const float* table = info_table();
+    for (std::size_t k = 0; k < n8; k += 8)
+        for (unsigned j = 0; j < 8; j++) {
+            const float v = in[k + j];
+            const float a = v == v ? std::fabs(v) : 0.0f;
+            part[j] += table[static_cast<int>(std::min(a * info_step, info_bins - 1.0f))];
+            cnt[j] += a > 0.0f ? 1.0f : 0.0f;
         }
 }
 
@@ -166,29 +193,10 @@ nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c, const std::uint8_t* n
     // Gaussian cluster (BPSK, QPSK) that is about the mean magnitude; for the bit levels of
     // 16- to 256-QAM, whose magnitudes differ by up to 8x, it stays near the weak levels'
     // scale, so their LLRs keep their resolution and the strong ones saturate (they are
-    // reliable). 8 partial sums vectorise; lane = index mod 8 over runs of received
-    // columns widened to multiples of 8 (the skipped values are 0 or NaN and add nothing),
-    // so the sums are those over all N values.
+    // reliable). 8 partial sums vectorise.
     float part[8] = {}, cnt[8] = {};
-    const std::size_t n8 = n / 8 * 8;
-    std::size_t done = 0;
-    for (std::size_t j = 2; j < d_cols;) {
-        std::size_t e = j;
-        while (e < d_cols && d_received[e])
-            e++;
-        if (e > j) {
-            const std::size_t lo = std::max(done, (j - 2) * d_zc / 8 * 8);
-            const std::size_t hi = std::min(n8, ((e - 2) * d_zc + 7) / 8 * 8);
-            if (lo < hi) {
-                if (d_simd)
-                    root_sums_avx2(llr + lo, hi - lo, part, cnt);
-                else
-                    root_sums_generic(llr + lo, hi - lo, part, cnt);
-                done = hi;
-            }
-        }
-        j = e + 1;
-    }
+    const std::size_t n8 =
+        received_sums(llr, d_simd ? root_sums_avx2 : root_sums_generic, part, cnt);
     double sum = 0.0, count = 0.0;
     for (unsigned j = 0; j < 8; j++) {
         sum += part[j];
@@ -217,7 +225,7 @@ nr_ldpc_decoder::decode(const float* llr, std::uint8_t* c, const std::uint8_t* n
         const float scale = scale_of(fixed<std::int8_t>::target_gain);
         set_offset(scale);
         const nr_ldpc_decode_result res = quantize_and_run<std::int8_t>(llr, scale, c);
-        if (!near_codeword(res))
+        if (!near_codeword(res) && !above_capacity(llr, res))
             return res;
         set_offset(wide_scale);
         return redecoded(quantize_and_run<std::int16_t>(llr, wide_scale, c));
@@ -245,6 +253,52 @@ bool nr_ldpc_decoder::near_codeword(const nr_ldpc_decode_result& res)
             return false;
     }
     return true;
+}
+
+std::size_t
+nr_ldpc_decoder::received_sums(const float* llr, sums_fn fn, float* part, float* cnt) const
+{
+    // Over runs of received columns widened to multiples of 8 (the skipped values are 0 or
+    // NaN and add nothing): lane = index mod 8, the 8 partial sums of all n8 values.
+    const std::size_t n8 = n() / 8 * 8;
+    std::size_t done = 0;
+    for (std::size_t j = 2; j < d_cols;) {
+        std::size_t e = j;
+        while (e < d_cols && d_received[e])
+            e++;
+        if (e > j) {
+            const std::size_t lo = std::max(done, (j - 2) * d_zc / 8 * 8);
+            const std::size_t hi = std::min(n8, ((e - 2) * d_zc + 7) / 8 * 8);
+            if (lo < hi) {
+                fn(llr + lo, hi - lo, part, cnt);
+                done = hi;
+            }
+        }
+        j = e + 1;
+    }
+    return n8;
+}
+
+bool nr_ldpc_decoder::above_capacity(const float* llr, const nr_ldpc_decode_result& res) const
+{
+    if (res.parity_ok)
+        return false;
+    // A word fails far from a codeword below the code's threshold, but also, rarely, above
+    // it, where int16 decodes it: the mean mutual information of the received LLRs (what the
+    // channel carried per bit) against the code rate tells the two apart, whatever the
+    // modulation. Fillers (+inf) add 1 to both the information and K.
+    float part[8] = {}, cnt[8] = {};
+    const std::size_t n8 =
+        received_sums(llr, d_simd ? info_sums_avx2 : info_sums_generic, part, cnt);
+    float tail[8] = {};
+    std::copy(llr + n8, llr + n(), tail);
+    info_sums_generic(tail, 8, part, cnt);
+    double info = 0.0, count = 0.0;
+    for (unsigned j = 0; j < 8; j++) {
+        info += part[j];
+        count += cnt[j];
+    }
+    return info - static_cast<double>(k()) >= capacity_margin * count;
 }
 
 nr_ldpc_decode_result nr_ldpc_decoder::redecoded(nr_ldpc_decode_result res)

@@ -234,6 +234,25 @@ void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
     _mm256_storeu_ps(cnt, c);
 }
 
+void info_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
+{
+    const float* table = info_table();
+    __m256 p = _mm256_loadu_ps(part), c = _mm256_loadu_ps(cnt);
+    const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
+    const __m256 step = _mm256_set1_ps(info_step), one = _mm256_set1_ps(1.0f);
+    const __m256 last = _mm256_set1_ps(static_cast<float>(info_bins - 1));
+    for (std::size_t k = 0; k < n8; k += 8) {
+        const __m256 v = _mm256_loadu_ps(in + k);
+        // NaN -> 0 before the index (min_ps would pass it on)
+        const __m256 a = _mm256_and_ps(_mm256_andnot_ps(sign, v), _mm256_cmp_ps(v, v, _CMP_ORD_Q));
+        const __m256i i = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_mul_ps(a, step), last));
+        p = _mm256_add_ps(p, _mm256_i32gather_ps(table, i, 4));
+        c = _mm256_add_ps(c, _mm256_and_ps(one, _mm256_cmp_ps(a, zero, _CMP_GT_OQ)));
+    }
+    _mm256_storeu_ps(part, p);
+    _mm256_storeu_ps(cnt, c);
+}
+
 } // namespace ldpc_detail
 } // namespace kernel
 } // namespace nrsar
@@ -266,6 +285,10 @@ bool any_received_avx2(const float* in, unsigned n) { return any_received_generi
 void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
 {
     root_sums_generic(in, n8, part, cnt);
+}
+void info_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt)
+{
+    info_sums_generic(in, n8, part, cnt);
 }
 unsigned unsatisfied_avx2(const std::int8_t* t, unsigned deg, unsigned zp, unsigned zc)
 {

@@ -77,6 +77,23 @@ bool any_received_avx2(const float* in, unsigned n);
 void root_sums_generic(const float* in, std::size_t n8, float* part, float* cnt);
 void root_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt);
 
+/*!
+ * The mutual information of a bit with its LLR L, 1 - h2(1 / (1 + e^|L|)) (calibrated LLRs):
+ * info_table()[i] for |L| in [i / info_step, (i + 1) / info_step), at the bin's middle, 0 for
+ * i = 0 (unreceived zeros add nothing), 1 for the last bin (|L| >= 32, +-inf).
+ */
+constexpr unsigned info_bins = 256;
+constexpr float info_step = 8.0f;
+const float* info_table();
+
+/*!
+ * Sums of info_table()'s value of in[k] (NaN counts as 0) and counts of the non-zero non-NaN
+ * in[k], k < n8 (a multiple of 8), in 8 partial sums part[k % 8], cnt[k % 8] (added to), the
+ * same floats in both paths.
+ */
+void info_sums_generic(const float* in, std::size_t n8, float* part, float* cnt);
+void info_sums_avx2(const float* in, std::size_t n8, float* part, float* cnt);
+
 //! The number of lanes below zc in which the product of the signs of the deg gathered
 //! columns of t is negative (a row's unsatisfied parity checks on its hard decisions).
 template <typename T>
