@@ -70,15 +70,9 @@ nr_isac_tx_impl::nr_isac_tx_impl(const numerology& num,
     d_stage.reserve(d_grid.num_subcarriers() * d_grid.mapper().bits_per_symbol() / 8 + 16);
     message_port_register_in(pdus_port());
     set_msg_handler(pdus_port(), [this](const pmt::pmt_t& msg) { handle_pdu(msg); });
-    // The stream from symbol 0 has drawn whole bytes up to bit B = data_bits_before(start)
-    // and staged the B mod 8 bits of the last byte it has not mapped yet.
-    const std::uint64_t bits = d_grid.data_bits_before(start_symbol);
-    d_prbs.discard(bits / 8 * 8);
-    if (bits % 8) {
-        d_stage.resize(1);
-        d_prbs.generate_packed(d_stage.data(), 1);
-        d_stage_bit = bits % 8;
-    }
+    // The stage always holds the PRBS from the next unmapped bit on, so starting the PRBS
+    // at bit data_bits_before(start) gives the stream from symbol 0's bits.
+    d_prbs.discard(d_grid.data_bits_before(start_symbol));
 }
 
 bool nr_isac_tx_impl::check_topology(int ninputs, int /*noutputs*/)

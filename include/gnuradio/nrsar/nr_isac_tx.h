@@ -39,8 +39,8 @@ namespace nrsar {
  *
  * start_symbol > 0: output item 0 is symbol start_symbol of the stream from symbol 0, and
  * every later item and tag is that stream's, bit for bit (tag values stay absolute, offsets
- * move by start_symbol): the PRBS jumps to the bits the symbols before it would have
- * drawn (kernel::gold_sequence::discard). Only the PRBS grid is defined from a later
+ * move by start_symbol): the PRBS jumps past the bits the symbols before it map
+ * (kernel::gold_sequence::discard). Only the PRBS grid is defined from a later
  * symbol: with input 0 connected the block refuses to start (std::invalid_argument), and
  * PDUs are dropped and counted (their bits' place is defined from symbol 0 only).
  */

@@ -229,7 +229,7 @@ class qa_nr_isac_tx(gr_unittest.TestCase):
 
     def test_start_symbol_is_the_tail_of_the_stream_from_0(self):
         # Inside a slot, at a slot and SRS-period boundary, in the third frame (DMRS of
-        # other slots of the frame); 61 x 6 bits per symbol leave part of a byte staged.
+        # other slots of the frame); 61 x 6 bits per symbol: starts off the byte grid.
         srs = nrsar.make_srs(start_subcarrier=5, num_rb=3, comb=4, comb_offset=2,
                              period_slots=3, symbol_in_slot=13)
         total = 2 * 280 + 60
