@@ -18,11 +18,18 @@ namespace nrsar {
 
 namespace {
 
+constexpr std::uint64_t max_start_symbol = std::uint64_t{ 1 } << 40;
+
 // Checks everything the constructor needs before the base class is built (the output
 // item size depends on num), so a bad parameter raises std::invalid_argument first.
-int checked_itemsize(const numerology& num, std::uint64_t seed)
+int checked_itemsize(const numerology& num, std::uint64_t seed, std::uint64_t start_symbol)
 {
     num.validate();
+    if (start_symbol > max_start_symbol)
+        throw_param("start_symbol",
+                    start_symbol,
+                    "must be in [0, 2^40] (about a year of symbols; keeps the PRBS bit "
+                    "count of the symbols before it in 64 bits)");
     if (seed > kernel::gold_sequence::max_c_init)
         throw_param("seed",
                     seed,
@@ -36,9 +43,11 @@ nr_isac_tx::sptr nr_isac_tx::make(const numerology& num,
                                   tx_mode mode,
                                   const srs_config& srs,
                                   std::uint64_t seed,
-                                  const dmrs_config& dmrs)
+                                  const dmrs_config& dmrs,
+                                  std::uint64_t start_symbol)
 {
-    return gnuradio::make_block_sptr<nr_isac_tx_impl>(num, mod, mode, srs, seed, dmrs);
+    return gnuradio::make_block_sptr<nr_isac_tx_impl>(
+        num, mod, mode, srs, seed, dmrs, start_symbol);
 }
 
 nr_isac_tx_impl::nr_isac_tx_impl(const numerology& num,
@@ -46,24 +55,35 @@ nr_isac_tx_impl::nr_isac_tx_impl(const numerology& num,
                                  tx_mode mode,
                                  const srs_config& srs,
                                  std::uint64_t seed,
-                                 const dmrs_config& dmrs)
+                                 const dmrs_config& dmrs,
+                                 std::uint64_t start_symbol)
     : gr::block("nr_isac_tx",
                 gr::io_signature::make(0, 1, sizeof(std::uint8_t)),
-                gr::io_signature::make(1, 1, checked_itemsize(num, seed))),
+                gr::io_signature::make(1, 1, checked_itemsize(num, seed, start_symbol))),
       d_grid(num, mod, mode, srs, dmrs),
-      d_prbs(static_cast<std::uint32_t>(seed))
+      d_prbs(static_cast<std::uint32_t>(seed)),
+      d_start(start_symbol),
+      d_symbol(start_symbol)
 {
     // Input bytes have no per-symbol meaning: their tags are not carried to the grid.
     set_tag_propagation_policy(TPP_DONT);
     d_stage.reserve(d_grid.num_subcarriers() * d_grid.mapper().bits_per_symbol() / 8 + 16);
     message_port_register_in(pdus_port());
     set_msg_handler(pdus_port(), [this](const pmt::pmt_t& msg) { handle_pdu(msg); });
+    // The stage always holds the PRBS from the next unmapped bit on, so starting the PRBS
+    // at bit data_bits_before(start) gives the stream from symbol 0's bits.
+    d_prbs.discard(d_grid.data_bits_before(start_symbol));
 }
 
 bool nr_isac_tx_impl::check_topology(int ninputs, int /*noutputs*/)
 {
     gr::thread::scoped_lock guard(d_setlock);
     d_stream_input = ninputs > 0;
+    if (d_stream_input && d_start > 0)
+        throw_param("start_symbol",
+                    d_start,
+                    "must be 0 with input 0 connected (the payload's bits are placed from "
+                    "symbol 0 on)");
     if (d_stream_input && d_grid.mode() == tx_mode::SRS)
         d_logger->warn("input 0 is connected but mode SRS carries no data: input ignored");
     return true;
@@ -84,6 +104,10 @@ void nr_isac_tx_impl::handle_pdu(const pmt::pmt_t& msg)
     gr::thread::scoped_lock guard(d_setlock);
     if (d_stream_input) {
         drop_pdu("input 0 is connected, PDUs are not used");
+        return;
+    }
+    if (d_start > 0) {
+        drop_pdu("start_symbol > 0: PDU bits are placed from symbol 0 on");
         return;
     }
     if (!pmt::is_pair(msg) || !pmt::is_u8vector(pmt::cdr(msg))) {
@@ -147,11 +171,12 @@ void nr_isac_tx_impl::tag_symbol(std::uint64_t m)
     if (m % sps != 0)
         return;
     const std::uint64_t slot = m / sps;
-    add_item_tag(0, m, tags::symbol_key(), pmt::from_uint64(m));
-    add_item_tag(0, m, tags::slot_key(), pmt::from_uint64(slot));
+    const std::uint64_t item = m - d_start;
+    add_item_tag(0, item, tags::symbol_key(), pmt::from_uint64(m));
+    add_item_tag(0, item, tags::slot_key(), pmt::from_uint64(slot));
     const std::uint64_t spf = d_grid.num().slots_per_frame;
     if (slot % spf == 0)
-        add_item_tag(0, m, tags::frame_key(), pmt::from_uint64(slot / spf));
+        add_item_tag(0, item, tags::frame_key(), pmt::from_uint64(slot / spf));
 }
 
 void nr_isac_tx_impl::forecast(int noutput_items, gr_vector_int& ninput_items_required)

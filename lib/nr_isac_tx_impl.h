@@ -32,7 +32,8 @@ private:
     std::deque<std::vector<std::uint8_t>> d_pdus;
     std::size_t d_pdu_offset = 0; // bytes of d_pdus.front() already staged
 
-    std::uint64_t d_symbol = 0; // absolute index of the next output symbol
+    const std::uint64_t d_start;  // absolute index of output item 0
+    std::uint64_t d_symbol;       // absolute index of the next output symbol
     // Counters read by the getters from other threads without d_setlock.
     std::atomic<std::uint64_t> d_payload_bytes{ 0 };
     std::atomic<std::uint64_t> d_pdus_dropped{ 0 };
@@ -54,7 +55,8 @@ public:
                     tx_mode mode,
                     const srs_config& srs,
                     std::uint64_t seed,
-                    const dmrs_config& dmrs);
+                    const dmrs_config& dmrs,
+                    std::uint64_t start_symbol);
 
     bool check_topology(int ninputs, int noutputs) override;
     void forecast(int noutput_items, gr_vector_int& ninput_items_required) override;

@@ -92,3 +92,38 @@ TEST(GoldSequence, RejectsWideCInit)
 {
     EXPECT_THROW(gold_sequence(0x80000000u), std::invalid_argument);
 }
+
+TEST(GoldSequence, DiscardEqualsTheSkippedStream)
+{
+    // Jumps inside the 32-bit buffer, across it, off the word grid, and far (1e6).
+    for (std::uint32_t c_init : { 0u, 0x12345u, 0x7fffffffu }) {
+        const std::size_t len = 256;
+        const auto ref = reference_gold(c_init, 1000000 + 64 + len);
+        for (std::uint64_t lead : { 0u, 5u, 32u }) {
+            for (std::uint64_t n : { 0u, 3u, 27u, 33u, 1000u, 1000000u }) {
+                gold_sequence g(c_init);
+                for (std::uint64_t i = 0; i < lead; i++)
+                    g.next_bits(1);
+                g.discard(n);
+                ASSERT_EQ(g.position(), lead + n);
+                for (std::size_t i = 0; i < len; i++)
+                    ASSERT_EQ(g.next_bits(1), ref[lead + n + i])
+                        << "c_init " << c_init << " lead " << lead << " n " << n << " i " << i;
+            }
+        }
+    }
+}
+
+TEST(GoldSequence, DiscardByWholePeriodsReturnsToTheStart)
+{
+    // Both registers are m-sequences of period 2^31 - 1 (primitive polynomials), so a jump
+    // of k periods plus t lands on c(t): checks jumps far beyond any stream we could step.
+    const std::uint64_t period = (std::uint64_t{ 1 } << 31) - 1;
+    const auto ref = reference_gold(0x5a5a5u, 512);
+    for (std::uint64_t k : { 1u, 3u, 1000u }) {
+        gold_sequence g(0x5a5a5u);
+        g.discard(k * period + 100);
+        for (std::size_t i = 100; i < 512; i++)
+            ASSERT_EQ(g.next_bits(1), ref[i]) << "k " << k << " i " << i;
+    }
+}

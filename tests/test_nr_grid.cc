@@ -115,6 +115,22 @@ TEST(NrGrid, DataSrsCarriesDataInOrderAroundPilots)
     EXPECT_EQ(g.fill(14, bytes.data(), 0, col.data()), 6u * 64u);
 }
 
+TEST(NrGrid, DataBitsBeforeIsTheSumOfDataBits)
+{
+    const auto num = numerology::preset("tiny");
+    const auto dmrs = dmrs_config::preset("pusch2");
+    const srs_config srs = make_srs(5, 3, 4, 2, 3, 13);
+    for (tx_mode mode : { tx_mode::DATA, tx_mode::DATA_SRS, tx_mode::SRS }) {
+        nr_grid g(num, modulation::QAM64, mode, srs, dmrs);
+        std::uint64_t sum = 0;
+        for (std::uint64_t s = 0; s <= 1000003; s++) {
+            if (s < 200 || s % 99991 == 0 || s == 1000003)
+                ASSERT_EQ(g.data_bits_before(s), sum) << "mode " << int(mode) << " s " << s;
+            sum += g.data_bits(s);
+        }
+    }
+}
+
 TEST(NrGrid, LowPaprSequenceMatchesZcFormula)
 {
     for (unsigned len : { 72u, 36u, 144u, 50u }) {

@@ -29,6 +29,48 @@ const std::array<std::uint8_t, 256>& reverse_table()
     }();
     return table;
 }
+
+// Characteristic polynomials of 38.211 5.2.1 (bit i = coefficient of D^i).
+constexpr std::uint64_t p1 = (std::uint64_t{ 1 } << 31) | (1u << 3) | 1u;
+constexpr std::uint64_t p2 = (std::uint64_t{ 1 } << 31) | (1u << 3) | (1u << 2) | (1u << 1) | 1u;
+
+// a * b mod p over GF(2), a and b of degree < 31.
+std::uint64_t mulmod(std::uint64_t a, std::uint64_t b, std::uint64_t p)
+{
+    std::uint64_t r = 0;
+    for (; b; b >>= 1, a <<= 1)
+        if (b & 1u)
+            r ^= a;
+    for (int i = 61; i >= 31; i--)
+        if ((r >> i) & 1u)
+            r ^= p << (i - 31);
+    return r;
+}
+
+// x(31..63) of the window from x(0..30) by the recursion of p (its taps below D^31).
+std::uint64_t extend_window(std::uint64_t x, std::uint64_t p)
+{
+    for (unsigned n = 0; n + 31 < 64; n++) {
+        const std::uint64_t b = static_cast<std::uint64_t>(
+            __builtin_parityll((x >> n) & p & 0x7fffffffu));
+        x |= b << (n + 31);
+    }
+    return x;
+}
+
+// The window x(m + n .. m + n + 63) from the window x(m .. m + 63): with r(D) = D^n mod
+// p(D), x(m + n + j) = sum_i r_i x(m + i + j) for j < 31 (reads x up to m + 60).
+std::uint64_t jump_window(std::uint64_t x, std::uint64_t n, std::uint64_t p)
+{
+    std::uint64_t r = 1, d = 2; // D^0, D^1
+    for (; n; n >>= 1, d = mulmod(d, d, p))
+        if (n & 1u)
+            r = mulmod(r, d, p);
+    std::uint64_t low = 0;
+    for (unsigned j = 0; j < 31; j++)
+        low |= static_cast<std::uint64_t>(__builtin_parityll((x >> j) & r)) << j;
+    return extend_window(low, p);
+}
 } // namespace
 
 gold_sequence::gold_sequence(std::uint32_t c_init) { reset(c_init); }
@@ -39,15 +81,8 @@ void gold_sequence::reset(std::uint32_t c_init)
         throw_param("c_init", c_init, "must be in [0, 2147483647] (31 bits, TS 38.211 5.2.1)");
     d_c_init = c_init;
     // x(0..30) from the initial conditions, x(31..63) by the plain recursions.
-    d_x1 = 1;
-    d_x2 = c_init;
-    for (unsigned n = 0; n + 31 < 64; n++) {
-        const std::uint64_t b1 = ((d_x1 >> (n + 3)) ^ (d_x1 >> n)) & 1u;
-        const std::uint64_t b2 =
-            ((d_x2 >> (n + 3)) ^ (d_x2 >> (n + 2)) ^ (d_x2 >> (n + 1)) ^ (d_x2 >> n)) & 1u;
-        d_x1 |= b1 << (n + 31);
-        d_x2 |= b2 << (n + 31);
-    }
+    d_x1 = extend_window(1, p1);
+    d_x2 = extend_window(c_init, p2);
     // Skip Nc = 1600 = 50 * 32 values: the windows then start at x(Nc).
     static_assert(Nc % 32 == 0, "Nc must be a multiple of the 32-bit step");
     for (unsigned i = 0; i < Nc / 32; i++)
@@ -55,6 +90,22 @@ void gold_sequence::reset(std::uint32_t c_init)
     d_buf = 0;
     d_buf_bits = 0;
     d_position = 0;
+}
+
+void gold_sequence::discard(std::uint64_t n)
+{
+    d_position += n;
+    if (n < d_buf_bits) {
+        d_buf >>= n;
+        d_buf_bits -= static_cast<unsigned>(n);
+        return;
+    }
+    // The registers are d_buf_bits values ahead of the buffer's first one.
+    n -= d_buf_bits;
+    d_buf = 0;
+    d_buf_bits = 0;
+    d_x1 = jump_window(d_x1, n, p1);
+    d_x2 = jump_window(d_x2, n, p2);
 }
 
 void gold_sequence::generate_packed(std::uint8_t* bytes, std::size_t nbytes)

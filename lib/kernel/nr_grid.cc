@@ -78,6 +78,20 @@ const std::vector<gr_complex>& nr_grid::dmrs_values(std::uint64_t m) const
     return d_dmrs_table[slot * d_dmrs.symbols.size() + static_cast<std::size_t>(idx)];
 }
 
+std::uint64_t nr_grid::data_bits_before(std::uint64_t s) const
+{
+    // data_res repeats every slot (DMRS), or every SRS period in DATA_SRS.
+    const std::uint64_t period = std::uint64_t{ d_num.symbols_per_slot } *
+                                 (d_mode == tx_mode::DATA_SRS ? d_srs.period_slots : 1u);
+    std::uint64_t per_period = 0, rest = 0;
+    for (std::uint64_t m = 0; m < period; m++) {
+        per_period += data_bits(m);
+        if (m < s % period)
+            rest += data_bits(m);
+    }
+    return s / period * per_period + rest;
+}
+
 unsigned nr_grid::data_res(std::uint64_t m) const
 {
     if (is_dmrs_symbol(m))

@@ -459,10 +459,11 @@ def scene_echo_front(tb, opts, sc, grid):
     return echo, (echo, 0), (echo, 1)
 
 
-def make_transmitter(opts, sc):
-    """nr_isac_tx of --mode, --modulation and --seed."""
+def make_transmitter(opts, sc, start_symbol=0):
+    """nr_isac_tx of --mode, --modulation and --seed, its grid from symbol start_symbol on."""
     return nr_isac_tx(sc.num, params.make_modulation(opts.modulation),
-                      params.make_tx_mode(sc.tx_mode), sc.srs, opts.seed)
+                      params.make_tx_mode(sc.tx_mode), sc.srs, opts.seed,
+                      start_symbol=start_symbol)
 
 
 class array_sink(gr.hier_block2):

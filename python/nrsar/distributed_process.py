@@ -10,7 +10,7 @@ as a strip of apertures, each focused by its own graph, on one process or a Dask
     the flight's lines:      |  aperture 0  |  aperture 1  |  aperture 2  | ...
     task a reads:                 [history | aperture a's pulses | look-ahead]
     task a: file_source(offset of the block's first symbol) -> ofdm_demod -> chain.build
-            (the whole flight's geometry; the grid from nr_isac_tx skipped to that symbol;
+            (the whole flight's geometry; nr_isac_tx's grid started at that symbol;
             the focuser told its first aperture, a, and to stop after it)
             -> image lines [a M + s, a M + s + M) of the flight, as one graph makes them
     stitched in aperture order -> strip_image.npy
@@ -171,14 +171,6 @@ def part_of(rec, first, symbols):
     return dataclasses.replace(rec, symbols=symbols, hardware_delay_samples=head, gaps=gaps)
 
 
-def _grid_from(tx, n, first):
-    """nr_isac_tx's grid from symbol `first` on (a hier block for chain.build's tx=)."""
-    hier = gr.hier_block2("grid_from", gr.io_signature(0, 0, 0),
-                          gr.io_signature(1, 1, gr.sizeof_gr_complex * n))
-    hier.connect(tx, blocks.skiphead(gr.sizeof_gr_complex * n, first), hier)
-    return hier
-
-
 def focus_slice(opts, meta_path, sl, reference=False):
     """One task: the image lines of apertures [sl.index, sl.index + sl.apertures) as the
     whole flight's focuser makes them (dict: index, image, compute_s). Raises SliceError
@@ -191,8 +183,8 @@ def focus_slice(opts, meta_path, sl, reference=False):
     sc = dataclasses.replace(sc, symbols=sl.symbols)
     part = part_of(rec, sl.first, sl.symbols)  # file_source's offset, its overflows
     tb = gr.top_block("nrsar-strip")
-    tx = _grid_from(chain.make_transmitter(sim_opts, sc), rec.num.num_subcarriers, sl.first)
-    graph = chain.build(tb, sim_opts, sc, tx=tx, reference=reference,
+    graph = chain.build(tb, sim_opts, sc, tx=chain.make_transmitter(sim_opts, sc, sl.first),
+                        reference=reference,
                         echo_front=process.recording_front(part, reference))
     try:
         if sl.history:
@@ -242,7 +234,7 @@ def prepass_sums(opts, meta_path, first, symbols):
     n = rec.num.num_subcarriers
     tb = gr.top_block("nrsar-prepass")
     head = blocks.head(gr.sizeof_gr_complex * n, symbols)
-    tb.connect(_grid_from(chain.make_transmitter(sim_opts, sc), n, first), head)
+    tb.connect(chain.make_transmitter(sim_opts, sc, first), head)
     _, echo, _ = process.recording_front(part_of(rec, first, symbols), False)(
         tb, sim_opts, sc, head)
     tff = chain.data_filter(sim_opts, n)
@@ -258,8 +250,8 @@ def prepass(opts, rec, lay, client=None):
     """The Layout's slices with the SNR estimator's history at each one's first symbol, as
     one graph over the whole recording has it (--estimate-snr; unchanged without): the sums
     of symbols [0, prepass_symbols()) taken by pre-pass tasks, one part per worker of the
-    client's cluster (in parallel; one part in this process: each part pays a graph and
-    nr_isac_tx's grid from symbol 0, docs/scale.md), replayed in stream order, a part at a
+    client's cluster (in parallel; one part in this process: each part pays a graph, its
+    grid starts at its first symbol, docs/scale.md), replayed in stream order, a part at a
     time (tf_filter.snr_histories: the estimator's own float and double sums in its own
     order, so the estimate is one graph's bit for bit; the client holds one part's sums).
     Returns (slices, pre-pass seconds)."""

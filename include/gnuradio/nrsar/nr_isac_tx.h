@@ -36,6 +36,13 @@ namespace nrsar {
  * Output tags at the first symbol of every slot: tags::symbol_key() (absolute symbol
  * index, uint64) and tags::slot_key() (absolute slot index); at every frame start also
  * tags::frame_key() (frame index). Input tags are not propagated.
+ *
+ * start_symbol > 0: output item 0 is symbol start_symbol of the stream from symbol 0, and
+ * every later item and tag is that stream's, bit for bit (tag values stay absolute, offsets
+ * move by start_symbol): the PRBS jumps past the bits the symbols before it map
+ * (kernel::gold_sequence::discard). Only the PRBS grid is defined from a later
+ * symbol: with input 0 connected the block refuses to start (std::invalid_argument), and
+ * PDUs are dropped and counted (their bits' place is defined from symbol 0 only).
  */
 class NRSAR_API nr_isac_tx : virtual public gr::block
 {
@@ -55,17 +62,19 @@ public:
      * \param dmrs  PUSCH DMRS layout (kernel/dmrs.h): its symbols carry the DMRS on the even
      *              subcarriers, 0 on the odd ones, and no data. Default: none (bit-identical
      *              to the grid without DMRS).
+     * \param start_symbol  absolute index of the first output symbol (default 0).
      */
     static sptr make(const numerology& num = numerology(),
                      modulation mod = modulation::QAM256,
                      tx_mode mode = tx_mode::DATA,
                      const srs_config& srs = srs_config(),
                      std::uint64_t seed = 0,
-                     const dmrs_config& dmrs = dmrs_config());
+                     const dmrs_config& dmrs = dmrs_config(),
+                     std::uint64_t start_symbol = 0);
 
     //! Payload bytes (stream or PDU) taken into the grid so far.
     virtual std::uint64_t payload_bytes_sent() const = 0;
-    //! PDUs dropped (queue full, wrong type, or stream input connected).
+    //! PDUs dropped (queue full, wrong type, stream input connected, or start_symbol > 0).
     virtual std::uint64_t pdus_dropped() const = 0;
     //! Output symbols for which PRBS bits were drawn.
     virtual std::uint64_t prbs_symbols() const = 0;

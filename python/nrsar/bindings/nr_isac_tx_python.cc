@@ -42,13 +42,14 @@ void bind_nr_isac_tx(py::module& m)
              py::arg("srs") = gr::nrsar::srs_config(),
              py::arg("seed") = 0,
              py::arg("dmrs") = gr::nrsar::dmrs_config(),
+             py::arg("start_symbol") = 0,
              D(nr_isac_tx, make))
         .def("payload_bytes_sent",
              &nr_isac_tx::payload_bytes_sent,
              "Payload bytes (stream or PDU) taken into the grid so far")
         .def("pdus_dropped",
              &nr_isac_tx::pdus_dropped,
-             "PDUs dropped (queue full, wrong type, or stream input connected)")
+             "PDUs dropped (queue full, wrong type, stream input connected, or start_symbol > 0)")
         .def("prbs_symbols", &nr_isac_tx::prbs_symbols, "Output symbols that drew PRBS bits")
         .def("queued_pdus", &nr_isac_tx::queued_pdus, "PDUs waiting in the queue")
         .def_readonly_static("max_queued_pdus", &nr_isac_tx::max_queued_pdus);

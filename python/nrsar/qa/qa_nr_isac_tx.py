@@ -210,6 +210,68 @@ class qa_nr_isac_tx(gr_unittest.TestCase):
         self.assertEqual(slot, {m: m // 14 for m in slot_starts})
         self.assertEqual(frame, {m: m // 280 for m in range(0, nsym, 280)})
 
+    # ------------------------------------------------------------ start_symbol
+    def grid_from(self, start, nsym, mode, srs, dmrs, pdu=None):
+        """nsym symbols (and their tags, offset: value) of nr_isac_tx(start_symbol=start)."""
+        num = nrsar.make_numerology("tiny", num_subcarriers=61)  # 61 k bits: not whole bytes
+        tb = gr.top_block()
+        blk = nrsar.nr_isac_tx(num, nrsar.modulation.QAM64, mode, srs, 0x2b1d, dmrs, start)
+        if pdu is not None:
+            blk.to_basic_block()._post(pmt.intern("pdus"),
+                                       pmt.cons(pmt.PMT_NIL, pmt.init_u8vector(len(pdu), pdu)))
+        head = blocks.head(gr.sizeof_gr_complex * 61, nsym)
+        sink = blocks.vector_sink_c(61)
+        tb.connect(blk, head, sink)
+        tb.run()
+        tags = sorted((t.offset, pmt.symbol_to_string(t.key), pmt.to_uint64(t.value))
+                      for t in sink.tags())
+        return blk, np.array(sink.data(), np.complex64).reshape(-1, 61), tags
+
+    def test_start_symbol_is_the_tail_of_the_stream_from_0(self):
+        # Inside a slot, at a slot and SRS-period boundary, in the third frame (DMRS of
+        # other slots of the frame); 61 x 6 bits per symbol: starts off the byte grid.
+        srs = nrsar.make_srs(start_subcarrier=5, num_rb=3, comb=4, comb_offset=2,
+                             period_slots=3, symbol_in_slot=13)
+        total = 2 * 280 + 60
+        for mode in (nrsar.tx_mode.DATA, nrsar.tx_mode.DATA_SRS):
+            for dmrs in ("none", "pusch2"):
+                _, ref, ref_tags = self.grid_from(0, total, mode, srs, nrsar.make_dmrs(dmrs))
+                for start in (0, 5, 42, 575):
+                    with self.subTest(mode=mode, dmrs=dmrs, start=start):
+                        _, out, tags = self.grid_from(start, total - start, mode, srs,
+                                                      nrsar.make_dmrs(dmrs))
+                        np.testing.assert_array_equal(out.view(np.uint64),
+                                                      ref[start:].view(np.uint64))
+                        self.assertEqual(tags, [(o - start, k, v) for o, k, v in ref_tags
+                                                if o >= start])
+
+    def test_start_symbol_far_is_a_jump_of_the_near_one(self):
+        # 10^6 symbols (61 M values) from 0 is too long for a test: a far start must equal
+        # the tail of a start 40 symbols before it, and differ from a start at 0.
+        srs = nrsar.srs_config()
+        far = 10 ** 6 + 3
+        _, near, _ = self.grid_from(far - 40, 60, nrsar.tx_mode.DATA, srs, nrsar.dmrs_config())
+        _, out, tags = self.grid_from(far, 20, nrsar.tx_mode.DATA, srs, nrsar.dmrs_config())
+        np.testing.assert_array_equal(out.view(np.uint64), near[40:].view(np.uint64))
+        first = -far % 14  # the first slot start at or after `far`
+        self.assertEqual(tags[:2], [(first, nrsar.tag_keys.slot, (far + first) // 14),
+                                    (first, nrsar.tag_keys.symbol, far + first)])
+
+    def test_start_symbol_drops_pdus_and_refuses_a_stream(self):
+        blk, out, _ = self.grid_from(5, 10, nrsar.tx_mode.DATA, nrsar.srs_config(),
+                                     nrsar.dmrs_config(), pdu=[1, 2, 3])
+        _, ref, _ = self.grid_from(0, 15, nrsar.tx_mode.DATA, nrsar.srs_config(),
+                                   nrsar.dmrs_config())
+        self.assertEqual(blk.pdus_dropped(), 1)
+        np.testing.assert_array_equal(out.view(np.uint64), ref[5:].view(np.uint64))
+        num = nrsar.make_numerology("tiny")
+        blk = nrsar.nr_isac_tx(num, nrsar.modulation.QPSK, nrsar.tx_mode.DATA,
+                               nrsar.srs_config(), 0, nrsar.dmrs_config(), 3)
+        tb = gr.top_block()
+        tb.connect(blocks.vector_source_b([0] * 100), blk, blocks.null_sink(64 * 8))
+        with self.assertRaisesRegex(ValueError, "start_symbol = 3 must be 0 with input 0"):
+            tb.run()
+
     # ------------------------------------------------------------ payload round trips
     def demap_bytes(self, symbols, name):
         cons = nrsar.constellation(nrsar.make_modulation(name))
@@ -306,6 +368,12 @@ class qa_nr_isac_tx(gr_unittest.TestCase):
         with self.assertRaisesRegex(ValueError, r"seed = 2147483648 must be in \[0, 2147483647\]"):
             self.make(seed=2 ** 31)
         self.make(seed=2 ** 31 - 1)  # the largest c_init is fine
+
+    def test_invalid_start_symbol(self):
+        num = nrsar.make_numerology("small")
+        with self.assertRaisesRegex(ValueError, r"start_symbol = 1099511627777 must be in"):
+            nrsar.nr_isac_tx(num, start_symbol=2 ** 40 + 1)
+        nrsar.nr_isac_tx(num, start_symbol=2 ** 40)
 
     def test_invalid_srs_band_outside_grid(self):
         srs = nrsar.make_srs()  # 1667 + 288 > 512

@@ -68,6 +68,13 @@ public:
     //! The next nbits values, one per byte (0 or 1).
     void generate_unpacked(std::uint8_t* bits, std::size_t nbits);
 
+    /*!
+     * Skips the next n values: the following call returns c(position() + n). A jump of
+     * both registers by D^n mod p(D) over GF(2) (square and multiply, O(log n)), so a far
+     * start costs microseconds, not n / 32 register steps.
+     */
+    void discard(std::uint64_t n);
+
     //! Index n of the next value c(n) that a call returns.
     std::uint64_t position() const { return d_position; }
     std::uint32_t c_init() const { return d_c_init; }

@@ -72,6 +72,8 @@ public:
     {
         return static_cast<std::size_t>(data_res(m)) * d_const.bits_per_symbol();
     }
+    //! Bits symbols 0 .. s - 1 consume (sum of data_bits), in O(one SRS period).
+    std::uint64_t data_bits_before(std::uint64_t s) const;
     //! Comb subcarriers of the SRS band (empty in DATA mode).
     const std::vector<unsigned>& srs_subcarriers() const { return d_srs_sc; }
     //! Pilot values on srs_subcarriers(), in the same order.
