@@ -494,8 +494,9 @@ TEST(ImageMetrics, StripPixelWeightsCountEveryCopyOfACircularBlock)
                     }
                 const double expected = s >= 0.5 * best ? window / s : 0.0;
                 EXPECT_NEAR(w[m * bins + k], expected, 5e-4 * expected + 1e-6) << f << " " << m;
-                if (parabolic)
+                if (parabolic) {
                     EXPECT_NEAR(w[m * bins + k], period / span, 0.02 * period / span);
+                }
             }
         }
     }

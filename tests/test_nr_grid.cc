@@ -124,8 +124,9 @@ TEST(NrGrid, DataBitsBeforeIsTheSumOfDataBits)
         nr_grid g(num, modulation::QAM64, mode, srs, dmrs);
         std::uint64_t sum = 0;
         for (std::uint64_t s = 0; s <= 1000003; s++) {
-            if (s < 200 || s % 99991 == 0 || s == 1000003)
+            if (s < 200 || s % 99991 == 0 || s == 1000003) {
                 ASSERT_EQ(g.data_bits_before(s), sum) << "mode " << int(mode) << " s " << s;
+            }
             sum += g.data_bits(s);
         }
     }

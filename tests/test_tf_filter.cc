@@ -336,10 +336,12 @@ TEST(SnrEstimator, HistoryFromPrepassEqualsTheWholeStream)
             const double e = task.estimated_snr_db(); // NaN before the first estimate
             ASSERT_TRUE(e == est[v] || (std::isnan(e) && std::isnan(est[v]))) << t0 << " " << v;
             ASSERT_TRUE(std::equal(out.begin(), out.end(), &whole_out[v * n])) << t0 << " " << v;
-            if (v == t0 && t0 == 512) // without the history: its own vectors only
+            if (v == t0 && t0 == 512) { // without the history: its own vectors only
                 EXPECT_NE(cold.estimated_snr_db(), est[v]);
-            if (v == t0 && t0 == 590) // inside the gap: no estimate of its own
+            }
+            if (v == t0 && t0 == 590) { // inside the gap: no estimate of its own
                 EXPECT_TRUE(std::isnan(cold.estimated_snr_db()));
+            }
         }
         EXPECT_EQ(task.snr_history(), whole.snr_history()) << t0; // P, sigma^2, buckets
     }
