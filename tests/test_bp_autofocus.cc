@@ -204,6 +204,25 @@ std::vector<vec3> true_path(double h = H)
     return tru;
 }
 
+// The autofocused image against BP of the noise-free echo along the reachable path: the
+// noisy echo along that path is the floor, BP along the navigation what autofocus starts
+// from; the navigation at least 5 dB above the floor, autofocus within 0.5 dB of it.
+void expect_image_near_floor(const std::vector<gr_complex>& pulses,
+                             const std::vector<gr_complex>& clean,
+                             const std::vector<vec3>& nav,
+                             const std::vector<gr_complex>& img,
+                             double h = H)
+{
+    const auto ref = bp_image(clean, truth_plus_trend(h), h);
+    const double floor_db = nmse_db(bp_image(pulses, truth_plus_trend(h), h), ref);
+    const double nav_db = nmse_db(bp_image(pulses, nav, h), ref);
+    const double af_db = nmse_db(img, ref);
+    std::printf("NMSE: reachable path %.2f dB, navigation %.2f dB, autofocus %.2f dB\n",
+                floor_db, nav_db, af_db);
+    EXPECT_GT(nav_db, floor_db + 5.0);
+    EXPECT_LT(af_db, floor_db + 0.5);
+}
+
 } // namespace
 
 TEST(bp_autofocus, recovers_an_injected_path_error)
@@ -245,16 +264,7 @@ TEST(bp_autofocus, recovers_an_injected_path_error)
     EXPECT_LT(err, 1.5e-3);
     EXPECT_TRUE(r.accepted);
 
-    // The image: against BP of the noise-free echo along the reachable path; the noisy
-    // echo along that path is the floor, BP along the navigation what autofocus starts from.
-    const auto ref = bp_image(clean, truth_plus_trend());
-    const double floor_db = nmse_db(bp_image(pulses, truth_plus_trend()), ref);
-    const double nav_db = nmse_db(bp_image(pulses, nav), ref);
-    const double af_db = nmse_db(img, ref);
-    std::printf("NMSE: reachable path %.2f dB, navigation %.2f dB, autofocus %.2f dB\n",
-                floor_db, nav_db, af_db);
-    EXPECT_GT(nav_db, floor_db + 5.0);
-    EXPECT_LT(af_db, floor_db + 0.5);
+    expect_image_near_floor(pulses, clean, nav, img);
 }
 
 TEST(bp_autofocus, solves_x_and_z_on_a_wide_swath)
@@ -306,16 +316,8 @@ TEST(bp_autofocus, solves_x_and_z_on_a_wide_swath)
         EXPECT_LT(err, 3.0 * r.standard_error_m);
     }
 
-    // The image against BP of the noise-free echo along the reachable path: the noisy echo
-    // along it is the floor; a residual of about one standard error costs 0.2-0.3 dB.
-    const auto ref = bp_image(clean, truth_plus_trend(HW), HW);
-    const double floor_db = nmse_db(bp_image(pulses, truth_plus_trend(HW), HW), ref);
-    const double nav_db = nmse_db(bp_image(pulses, nav, HW), ref);
-    const double af_db = nmse_db(img, ref);
-    std::printf("NMSE: reachable path %.2f dB, navigation %.2f dB, autofocus %.2f dB\n",
-                floor_db, nav_db, af_db);
-    EXPECT_GT(nav_db, floor_db + 5.0);
-    EXPECT_LT(af_db, floor_db + 0.5);
+    // The image (a residual of about one standard error costs 0.2-0.3 dB).
+    expect_image_near_floor(pulses, clean, nav, img, HW);
 }
 
 TEST(bp_autofocus, targets_at_one_along_track_position)

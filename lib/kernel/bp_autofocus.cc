@@ -8,7 +8,7 @@
 #include <gnuradio/nrsar/kernel/bp_autofocus.h>
 
 #include "../param_check.h"
-#include <gnuradio/fft/fft.h>
+#include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -146,24 +146,22 @@ tapered(const gr_complex* pulses, unsigned n, const bp_grid& g, double band)
 {
     const unsigned K = g.num_range_bins;
     std::vector<gr_complex> out(pulses, pulses + std::size_t(n) * K);
-    if (band == 0.0)
-        return out;
     std::vector<float> w(K);
     for (unsigned m = 0; m < K; ++m) {
         const double f = std::remainder(double(m) / K - g.range_centre_cycles, 1.0);
         const double c = std::cos(M_PI * f / band);
         w[m] = std::abs(f) < 0.5 * band ? float(c * c / K) : 0.0f; // the inverse FFT's 1 / K
     }
-    gr::fft::fft_complex_fwd fwd(K, 1);
-    gr::fft::fft_complex_rev rev(K, 1);
+    const fft_fwd fwd = make_fft_fwd(int(K));
+    const fft_rev rev = make_fft_rev(int(K));
     for (unsigned p = 0; p < n; ++p) {
         gr_complex* row = out.data() + std::size_t(p) * K;
-        std::copy(row, row + K, fwd.get_inbuf());
-        fwd.execute();
+        std::copy(row, row + K, fwd->get_inbuf());
+        fwd->execute();
         for (unsigned m = 0; m < K; ++m)
-            rev.get_inbuf()[m] = fwd.get_outbuf()[m] * w[m];
-        rev.execute();
-        std::copy(rev.get_outbuf(), rev.get_outbuf() + K, row);
+            rev->get_inbuf()[m] = fwd->get_outbuf()[m] * w[m];
+        rev->execute();
+        std::copy(rev->get_outbuf(), rev->get_outbuf() + K, row);
     }
     return out;
 }
@@ -480,7 +478,10 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     const double band = std::isnan(cfg.range_band_cycles)
                             ? std::min(1.0, 2.0 * std::abs(grid.range_centre_cycles) + 1.0 / K)
                             : cfg.range_band_cycles;
-    const std::vector<gr_complex> hist_pulses = tapered(pulses, n, grid, band);
+    std::vector<gr_complex> tapered_pulses; // none with band 0: the histories read pulses
+    if (band > 0.0)
+        tapered_pulses = tapered(pulses, n, grid, band);
+    const gr_complex* hist_pulses = band > 0.0 ? tapered_pulses.data() : pulses;
 
     bp_focuser bp(grid, num_threads);
     bp_grid g1 = grid; // one line, exact BP: the per-pulse summands of a pixel
@@ -513,7 +514,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
             point& q = pts[i];
             for (unsigned p = 0; p < n; ++p) {
                 one.reset(q.p[1]);
-                one.add(hist_pulses.data() + std::size_t(p) * K, 1, &res.antenna[p]);
+                one.add(hist_pulses + std::size_t(p) * K, 1, &res.antenna[p]);
                 one.image(line.data());
                 // less the pixel's offset from the point, in the phase BP gave it:
                 // 2 pi (2 / lambda + fc_r / rho) (|a - p| - |a - q|)
@@ -648,7 +649,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         res.antenna.assign(antenna, antenna + n);
         res.displacement_m.assign(n, vec3{ 0.0, 0.0, 0.0 });
     }
-    const bool calibrated = !cfg.gcp.empty() && calibrate_gcp(hist_pulses.data(), n, grid,
+    const bool calibrated = !cfg.gcp.empty() && calibrate_gcp(hist_pulses, n, grid,
                                                               cfg.gcp, cfg.gcp_along_track_se_m,
                                                               one, len, h, res);
     if (calibrated || !(img_is_nav && !res.accepted))
