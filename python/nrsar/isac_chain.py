@@ -88,12 +88,15 @@ def common_noise_front(domain, noise_seed):
     return front
 
 
-def build_transmitter(tb, num, opts, payload):
-    """pusch_encoder (the payload queued as PDUs of one TB's capacity each, deterministic)
-    -> nr_isac_tx(dmrs). Returns (encoder, tx, dmrs, chunks)."""
+def build_transmitter(tb, num, opts, payload, rv=0):
+    """pusch_encoder (the payload queued as PDUs of one TB's capacity each, deterministic;
+    rv: the first transmission's) -> nr_isac_tx(dmrs). Returns (encoder, tx, dmrs,
+    chunks). nrsar-process regenerates a recording's grid with it (pusch_meta's fields)."""
     mod = params.make_modulation(opts.modulation)
     dmrs = params.make_dmrs(opts.dmrs, num)
-    enc = pusch_encoder(opts.pusch_config(num, max(1, len(payload) + 1)))
+    cfg = opts.pusch_config(num, max(1, len(payload) + 1))
+    cfg.rv = rv
+    enc = pusch_encoder(cfg)
     tx = nr_isac_tx(num, mod, params.make_tx_mode("data"), srs_config(), opts.seed, dmrs)
     tb.connect(enc, tx)
     per_tb = enc.payload_bits_per_slot() // 8
@@ -193,10 +196,35 @@ def backhaul_results(num, enc, bs, chunks, payload, out_path, repetitions=1):
     }
 
 
-def record_meta(opts, sc, tmp, sink, dmrs, payload):
+def pusch_meta(opts, num, enc, dmrs):
+    """The meta's nrsar:pusch: with nrsar:dmrs and the payload file, what build_transmitter
+    needs to make the grid again bit for bit (docs/recording.md)."""
+    cfg = opts.pusch_config(num)
+    return {"coding": opts.coding, "mcs_table": opts.mcs_table,
+            "mcs": int(cfg.mcs) if opts.coding == "nr-ldpc" else None, "rv": int(cfg.rv),
+            "repetitions": opts.repetitions, "n_rnti": opts.n_rnti, "n_id": opts.n_id,
+            "scrambling": opts.scrambling, "dmrs_scrambling_id": int(dmrs.scrambling_id),
+            "pdu_bytes": int(enc.payload_bits_per_slot() // 8)}
+
+
+def isac_options_of(rec):
+    """The IsacOptions build_transmitter regenerates a recording's PUSCH grid from
+    (recording.read validated its nrsar:dmrs and nrsar:pusch)."""
+    from .options import IsacOptions
+    p = rec.pusch
+    dmrs = params.make_dmrs(rec.dmrs, rec.num, p["dmrs_scrambling_id"])
+    return IsacOptions(preset=rec.preset, modulation=rec.modulation, seed=rec.grid_seed,
+                       dmrs=dmrs, coding=p["coding"],
+                       mcs_table=p["mcs_table"], mcs=p["mcs"], n_rnti=p["n_rnti"],
+                       n_id=p["n_id"], scrambling=p["scrambling"],
+                       repetitions=p["repetitions"])
+
+
+def record_meta(opts, sc, tmp, sink, dmrs, payload, enc):
     """The SigMF meta of nrsar-isac's radar recording (docs/recording.md): td_echo's output
-    (echo and noise) as the radio receives it, the PUSCH grid named by its DMRS and its
-    payload's SHA-256 and path; --record-gap's overflows dropped."""
+    (echo and noise) as the radio receives it, the PUSCH grid named by its DMRS, its
+    payload's SHA-256 and path and its coding (nrsar:pusch); --record-gap's overflows
+    dropped."""
     sink.close()
     gaps = recording.parse_gaps(opts.record_gap or [])
     recording.finish(tmp, sc.symbols * (sc.num.cp_samples + sc.num.fft_size), gaps)
@@ -205,10 +233,10 @@ def record_meta(opts, sc, tmp, sink, dmrs, payload):
         hw="none: simulated by gr-nrsar (pusch_encoder -> nr_isac_tx -> ofdm_mod -> td_echo "
            "with noise)",
         description=f"simulated ISAC flight, preset {opts.preset}, {opts.modulation} PUSCH "
-                    f"with DMRS {opts.dmrs}, LDPC {opts.ldpc_alist() or 'none'}, SNR per RE "
+                    f"with DMRS {opts.dmrs}, coding {opts.coding}, SNR per RE "
                     f"{opts.snr_db:g} dB",
         snr_db=opts.snr_db, dmrs=[int(x) for x in dmrs.symbols],
-        payload=(opts.payload, payload),
+        payload=(opts.payload, payload), pusch=pusch_meta(opts, sc.num, enc, dmrs),
         echo={"model": "td_echo", "taps": opts.echo_taps, "noise": "td_echo",
               "noise_seed": opts.seed + 1},
         gaps=recording.file_gaps(gaps), tx_underruns=recording.SIMULATED_TX_UNDERRUNS)
@@ -265,7 +293,7 @@ def run(opts):
             runtime.run(tb)
         runtime_s = time.perf_counter() - start
         if opts.record is not None:
-            meta = record_meta(opts, sc, tmp, front.sink, dmrs, payload)
+            meta = record_meta(opts, sc, tmp, front.sink, dmrs, payload, enc)
     result = results.image_results(opts, graph, sc, runtime_s)
     if opts.record is not None:
         results.write_json(meta_path, meta)

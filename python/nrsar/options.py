@@ -794,6 +794,10 @@ def _process_fields():
         ("snr_db", typing.Optional[float], option(
             None, "SNR per RE [dB] for the Wiener filter and the theory (default: the "
             "recording's nrsar:snr_db)", at_least=-200.0, at_most=300.0)),
+        ("payload", typing.Optional[str], option(
+            None, "the backhaul payload file of a PUSCH recording (nrsar:dmrs), whose grid is "
+            "regenerated from it (default: the recording's nrsar:payload_path; its SHA-256 "
+            "must be nrsar:payload_sha256)", metavar="FILE")),
         ("nav", typing.Optional[str], option(
             None, "image along this navigation (a CSV file like nrsar-sim's --nav) instead of "
             "the recording's nrsar:navigation", metavar="FILE")),

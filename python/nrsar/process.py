@@ -9,6 +9,10 @@
     nr_isac_tx(recorded seed) -> head ----------+   (transmit grid regenerated)
                        +-> scene_echo (recorded scene, S = 1 reference echo) -> reference
 
+A PUSCH recording (nrsar:dmrs, nrsar-isac's) regenerates its grid as nrsar-isac made it:
+payload file (nrsar:payload_path or --payload, its SHA-256 checked) -> PDUs -> pusch_encoder
+(nrsar:pusch) -> nr_isac_tx(dmrs), isac_chain.build_transmitter.
+
 The recording (recording.read) supplies the numerology, geometry, scene, grid and seed, and
 the flight: the echo flew nrsar:trajectory, the processing images along nrsar:navigation
 (--nav FILE replaces it), as nrsar-sim did; the options (ProcessOptions) are nrsar-sim's
@@ -18,6 +22,7 @@ the recording). The JSON has nrsar-sim's keys, plus the recording's.
 """
 
 import dataclasses
+import hashlib
 import math
 import time
 
@@ -97,6 +102,49 @@ def recording_front(rec, reference=True):
     return front
 
 
+def payload_of(opts, rec):
+    """The bytes of a PUSCH recording's payload file (--payload, else nrsar:payload_path),
+    checked against nrsar:payload_sha256 (ValueError naming the field)."""
+    path = opts.payload or rec.payload_path
+    flag = "--payload" if opts.payload else "global nrsar:payload_path"
+    if path is None:
+        raise OptionError(f"{rec.meta_path}: global nrsar:payload_path is null: give the "
+                          f"payload file with --payload FILE (the grid is its PUSCH)")
+    try:
+        with open(path, "rb") as f:
+            payload = f.read()
+    except OSError as err:
+        raise OptionError(f"{flag} = {path!r} cannot be read ({err.strerror or err}): the "
+                          f"grid of {rec.meta_path} is the PUSCH of that file") from None
+    sha = hashlib.sha256(payload).hexdigest()
+    if sha != rec.payload_sha256:
+        raise OptionError(f"{flag} = {path!r}: its SHA-256 {sha} is not the recording's "
+                          f"global nrsar:payload_sha256 {rec.payload_sha256}: not the file "
+                          f"that was sent")
+    return payload
+
+
+def make_transmitter(opts, rec, sim_opts, sc, tb, start_symbol=0):
+    """The transmit grid of the recording from symbol start_symbol: nr_isac_tx of the seed
+    (chain.make_transmitter), or for a PUSCH recording the payload's PUSCH
+    (isac_chain.build_transmitter, as nrsar-isac built it; from symbol 0 only)."""
+    if rec.dmrs is None:
+        return chain.make_transmitter(sim_opts, sc, start_symbol)
+    if start_symbol:
+        raise OptionError(f"{rec.meta_path}: a PUSCH recording (nrsar:dmrs) is regenerated "
+                          f"from symbol 0 only (pusch_encoder has no start slot)")
+    from . import isac_chain
+    payload = payload_of(opts, rec)
+    enc, tx, _, _ = isac_chain.build_transmitter(tb, rec.num, isac_chain.isac_options_of(
+        rec), payload, rec.pusch["rv"])
+    per_tb = enc.payload_bits_per_slot() // 8
+    if per_tb != rec.pusch["pdu_bytes"]:
+        raise OptionError(f"{rec.meta_path}: global nrsar:pusch pdu_bytes = "
+                          f"{rec.pusch['pdu_bytes']} is not this pusch_encoder's {per_tb} "
+                          f"bytes per TB: the payload would be cut into other PDUs")
+    return tx
+
+
 def run(opts):
     """nrsar-process's JSON dict of one recording (validated ProcessOptions; a strip:
     distributed_process.run)."""
@@ -111,7 +159,8 @@ def run(opts):
     sc = scenario_of(sim_opts, rec)
     check_out_dir(sim_opts.out)
     tb = gr.top_block("nrsar-process")
-    graph = chain.build(tb, sim_opts, sc, echo_front=recording_front(rec))
+    graph = chain.build(tb, sim_opts, sc, tx=make_transmitter(opts, rec, sim_opts, sc, tb),
+                        echo_front=recording_front(rec))
     start = time.perf_counter()
     with progress.polling("symbols", sc.symbols, lambda: graph["filter"].nitems_written(0)):
         runtime.run(tb)

@@ -82,11 +82,12 @@ SIMULATED_TX_UNDERRUNS = 0
 
 
 def build_meta(opts, sc, data_path, *, recorder, hw, description, snr_db=None, echo=None,
-               gaps=(), dmrs=None, payload=None, hardware_delay_s=0.0, start=None,
-               tx_underruns=None):
+               gaps=(), dmrs=None, payload=None, pusch=None, hardware_delay_s=0.0,
+               start=None, tx_underruns=None):
     """The SigMF meta dict of a recording of sc's flight (docs/recording.md). gaps: (sample
     index, lost samples) of each overflow; payload: (path, bytes) of a backhaul payload;
-    tx_underruns: the transmitter's underrun events (None: not counted)."""
+    pusch: its coding (isac_chain.pusch_meta; None: not recorded); tx_underruns: the
+    transmitter's underrun events (None: not counted)."""
     num, geo = sc.num, sc.geo
     sym_len = num.cp_samples + num.fft_size
     delay = int(round(hardware_delay_s * num.sample_rate_hz()))
@@ -110,6 +111,7 @@ def build_meta(opts, sc, data_path, *, recorder, hw, description, snr_db=None, e
         "nrsar:grid_seed": opts.seed,
         "nrsar:payload_sha256": hashlib.sha256(payload[1]).hexdigest() if payload else None,
         "nrsar:payload_path": os.path.abspath(payload[0]) if payload else None,
+        "nrsar:pusch": pusch,
         "nrsar:scene": target_dicts(sc.scene),
         "nrsar:reference_target": target_dicts(sc.scene)[0],
         "nrsar:geometry": {k: getattr(geo, k) for k in GEOMETRY_FIELDS},
@@ -324,6 +326,10 @@ class Recording:
     datetime: str
     trajectory: typing.Any = None  # the true path of nrsar:trajectory; None: the straight track
     navigation: typing.Any = None  # the path of nrsar:navigation; None: the truth
+    dmrs: list = None              # nrsar:dmrs (None: no DMRS, the PRBS grid of grid_seed)
+    pusch: dict = None             # nrsar:pusch of a DMRS recording (PUSCH_FIELDS)
+    payload_sha256: str = None     # of a DMRS recording
+    payload_path: str = None       # of a DMRS recording; None: not recorded
 
 
 class _Meta:
@@ -421,6 +427,63 @@ def _flight_of(m, glob, num, geo, scn, pulse_symbols):
     return truth, nav
 
 
+PUSCH_FIELDS = ("coding", "mcs_table", "mcs", "rv", "repetitions", "n_rnti", "n_id",
+                "scrambling", "dmrs_scrambling_id", "pdu_bytes")
+
+
+def _pusch_of(m, glob, num, modulation, mode):
+    """(dmrs, pusch, payload SHA-256, payload path) of a PUSCH recording (nrsar:dmrs set:
+    the grid is pusch_encoder's of the payload file, isac_chain.pusch_meta), or Nones. Every
+    field checked against the limits of IsacOptions and pusch_config."""
+    dmrs = m.get(glob, "nrsar:dmrs", list, "global", optional=True)
+    if not dmrs:
+        if glob.get("nrsar:pusch") is not None:
+            m.fail("global nrsar:pusch", "must be null without nrsar:dmrs (a PRBS grid)")
+        return None, None, None, None
+    if not all(isinstance(s, int) and not isinstance(s, bool) for s in dmrs):
+        m.fail("global nrsar:dmrs", f"= {dmrs!r} must be a list of whole numbers")
+    if mode != "data":
+        m.fail("global nrsar:mode", f"= {mode!r} must be data with nrsar:dmrs (a PUSCH grid)")
+    sha = m.get(glob, "nrsar:payload_sha256", str, "global", optional=True)
+    if sha is None:
+        m.fail("global nrsar:payload_sha256", "is null: the grid of a DMRS recording is the "
+               "PUSCH of its payload, which the recorder did not record (a radio graph's "
+               "PDUs): nrsar-process cannot regenerate it")
+    if len(sha) != 64 or any(c not in "0123456789abcdef" for c in sha):
+        m.fail("global nrsar:payload_sha256", f"= {sha!r} must be 64 lower-case hex digits")
+    path = m.get(glob, "nrsar:payload_path", str, "global", optional=True)
+    sub = m.get(glob, "nrsar:pusch", dict, "global")
+    where = "global nrsar:pusch"
+    p = {k: m.get(sub, k, str if k in ("coding", "mcs_table", "scrambling") else int, where,
+                  optional=k == "mcs") for k in PUSCH_FIELDS}
+    choices = {"coding": ("nr-ldpc", "none"), "mcs_table": ("qam64", "qam256"),
+               "scrambling": ("standard", "per-slot"), "repetitions": (1, 2, 4, 8)}
+    for key, allowed in choices.items():
+        if p[key] not in allowed:
+            m.fail(f"{where} {key}", f"= {p[key]!r} must be one of "
+                   f"{', '.join(str(a) for a in allowed)}")
+    limits = {"rv": (0, 3), "n_rnti": (0, 65535), "n_id": (0, 1023),
+              "dmrs_scrambling_id": (0, 65535), "pdu_bytes": (1, 65535)}
+    for key, (lo, hi) in limits.items():
+        if not lo <= p[key] <= hi:
+            m.fail(f"{where} {key}", f"= {p[key]} must be within {lo} .. {hi}")
+    if (p["mcs"] is None) != (p["coding"] == "none"):
+        m.fail(f"{where} mcs", f"= {p['mcs']!r} must be null with coding none and a whole "
+               f"number with nr-ldpc (coding {p['coding']!r})")
+    if p["coding"] == "none" and p["repetitions"] != 1:
+        m.fail(f"{where} repetitions", f"= {p['repetitions']} must be 1 with coding none")
+    try:
+        params.make_pusch_config(num, modulation, dmrs, p["coding"], p["mcs_table"],
+                                       p["mcs"], rv=p["rv"], repetitions=p["repetitions"],
+                                       n_rnti=p["n_rnti"], n_id=p["n_id"],
+                                       scrambling=p["scrambling"])
+        params.make_dmrs(dmrs, num, p["dmrs_scrambling_id"])
+    except ValueError as err:  # the MCS's Qm against nrsar:modulation, DMRS positions, ...
+        m.fail(where, f"with nrsar:dmrs {dmrs} and nrsar:modulation {modulation!r} is "
+               f"invalid: {err}")
+    return dmrs, p, sha, path
+
+
 def read(meta_path):
     """The Recording of NAME.sigmf-meta (and NAME.sigmf-data beside it), validated: the
     SigMF core fields, the nrsar fields and their consistency, and the data file's size.
@@ -488,9 +551,7 @@ def read(meta_path):
             srs.validate(num)
     except ValueError as err:
         m.fail("global nrsar:srs", f"is invalid: {err}")
-    if m.get(glob, "nrsar:dmrs", list, "global", optional=True):
-        m.fail("global nrsar:dmrs", "must be null: nrsar-process regenerates grids without "
-               "DMRS only (an ISAC recording's PUSCH grid needs its payload)")
+    dmrs, pusch, sha, payload_path = _pusch_of(m, glob, num, modulation, mode)
     seed = m.get(glob, "nrsar:grid_seed", int, "global")
     scn = _scene_of(m, glob)
     symbols = m.get(glob, "nrsar:symbols", int, "global")
@@ -574,7 +635,8 @@ def read(meta_path):
                      num=num, geo=geo, scene=scn, srs=srs, modulation=modulation, mode=mode,
                      grid_seed=seed, symbols=symbols, symbol_samples=sym_len, samples=samples,
                      hardware_delay_samples=delay, origin=origin_text, snr_db=snr_db,
-                     gaps=gaps, datetime=when, trajectory=truth, navigation=nav)
+                     gaps=gaps, datetime=when, trajectory=truth, navigation=nav, dmrs=dmrs,
+                     pusch=pusch, payload_sha256=sha, payload_path=payload_path)
 
 
 def rx_time_value(t):
