@@ -79,11 +79,11 @@ bool nr_isac_tx_impl::check_topology(int ninputs, int /*noutputs*/)
 {
     gr::thread::scoped_lock guard(d_setlock);
     d_stream_input = ninputs > 0;
-    if (d_stream_input && d_start > 0)
-        throw_param("start_symbol",
-                    d_start,
-                    "must be 0 with input 0 connected (the payload's bits are placed from "
-                    "symbol 0 on)");
+    // the input starts at the first data bit of start_symbol's slot (the header)
+    const std::uint64_t slot_start = d_start - d_start % d_grid.num().symbols_per_slot;
+    d_skip_bits = d_stream_input ? static_cast<std::size_t>(d_grid.data_bits_before(d_start) -
+                                                            d_grid.data_bits_before(slot_start))
+                                 : 0;
     if (d_stream_input && d_grid.mode() == tx_mode::SRS)
         d_logger->warn("input 0 is connected but mode SRS carries no data: input ignored");
     return true;
@@ -184,7 +184,7 @@ void nr_isac_tx_impl::forecast(int noutput_items, gr_vector_int& ninput_items_re
     if (ninput_items_required.empty())
         return;
     // Exactly the bytes the next noutput_items symbols need beyond the staged bits.
-    std::size_t bits = 0;
+    std::size_t bits = d_skip_bits;
     for (int i = 0; i < noutput_items; i++)
         bits += d_grid.data_bits(d_symbol + static_cast<std::uint64_t>(i));
     const std::size_t have = staged_bits();
@@ -207,7 +207,7 @@ int nr_isac_tx_impl::general_work(int noutput_items,
     int produced = 0;
     for (; produced < noutput_items; produced++) {
         const std::uint64_t m = d_symbol;
-        const std::size_t need = d_grid.data_bits(m);
+        const std::size_t need = d_grid.data_bits(m) + d_skip_bits;
         if (staged_bits() < need) {
             if (d_stream_input) {
                 const std::size_t nbytes = (need - staged_bits() + 7) / 8;
@@ -220,6 +220,8 @@ int nr_isac_tx_impl::general_work(int noutput_items,
                 d_prbs_symbols++;
             }
         }
+        d_stage_bit += d_skip_bits; // once: the start slot's bits before start_symbol
+        d_skip_bits = 0;
         d_stage_bit = d_grid.fill(
             m, d_stage.data(), d_stage_bit, out + static_cast<std::size_t>(produced) * n_sc);
         compact_stage();

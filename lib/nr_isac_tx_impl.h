@@ -34,6 +34,7 @@ private:
 
     const std::uint64_t d_start;  // absolute index of output item 0
     std::uint64_t d_symbol;       // absolute index of the next output symbol
+    std::size_t d_skip_bits = 0;  // input bits of the start slot's symbols before d_start
     // Counters read by the getters from other threads without d_setlock.
     std::atomic<std::uint64_t> d_payload_bytes{ 0 };
     std::atomic<std::uint64_t> d_pdus_dropped{ 0 };

@@ -26,7 +26,8 @@ pusch_encoder_impl::pusch_encoder_impl(const pusch_config& cfg)
                 gr::io_signature::make(1, 1, sizeof(std::uint8_t))),
       d_cfg(cfg),
       d_codec(cfg),
-      d_max_queued(cfg.max_queued_bytes)
+      d_max_queued(cfg.max_queued_bytes),
+      d_slot(cfg.first_slot)
 {
     d_tb.resize(d_codec.tb_bytes());
     d_tb_bits.resize(d_codec.slot_bits());
@@ -112,9 +113,10 @@ void pusch_encoder_impl::next_tb()
 
 void pusch_encoder_impl::encode_slot()
 {
-    // a new TB every repetitions slots; each slot sends it with the rv of its position
+    // a new TB every repetitions slots (and in the first slot, which may lie inside a TB's
+    // repetitions: first_slot); each slot sends it with the rv of its position
     const auto pos = static_cast<unsigned>(d_slot % d_cfg.repetitions);
-    if (pos == 0) {
+    if (pos == 0 || d_slot == d_cfg.first_slot) {
         next_tb();
         d_tbs++;
     }

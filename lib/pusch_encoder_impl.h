@@ -26,7 +26,7 @@ private:
 
     std::deque<std::vector<std::uint8_t>> d_pdus;
     std::size_t d_pdu_offset = 0;
-    std::uint64_t d_slot = 0;
+    std::uint64_t d_slot;                  // absolute index of the next slot
     std::uint8_t d_sn = 0;                 // RLC SN of the next segmented PDU (6 bits)
 
     std::vector<std::uint8_t> d_tb;        // the MAC PDU of the current TB

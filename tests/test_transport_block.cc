@@ -292,6 +292,8 @@ TEST(transport_block, bad_parameters)
         { [](pusch_config& c) { c.n_id = 1024; }, "n_id = 1024" },
         { [](pusch_config& c) { c.n_rnti = 65536; }, "n_rnti = 65536" },
         { [](pusch_config& c) { c.mod = modulation::PSK8; }, "mod" },
+        { [](pusch_config& c) { c.first_slot = (std::uint64_t{ 1 } << 40) + 1; },
+          "first_slot = 1099511627777 must be at most 2^40" },
     };
     for (const auto& [breaks, message] : cases) {
         auto c = tiny_cfg(pusch_coding::NR_LDPC);

@@ -54,6 +54,8 @@ void pusch_config::validate() const
         throw_param("freq_window", freq_window, "must be odd and >= 1");
     check_at_least("max_iterations", max_iterations, 1u);
     check_at_least("max_queued_bytes", max_queued_bytes, std::uint64_t{ 1 });
+    if (first_slot > (std::uint64_t{ 1 } << 40))
+        throw_param("first_slot", first_slot, "must be at most 2^40");
     if (coding == pusch_coding::NR_LDPC) {
         const auto e = kernel::nr_mcs(kernel::nr_parse_mcs_table(mcs_table), mcs);
         const unsigned qm = kernel::constellation::bits_per_symbol(mod);

@@ -183,7 +183,8 @@ def focus_slice(opts, meta_path, sl, reference=False):
     sc = dataclasses.replace(sc, symbols=sl.symbols)
     part = part_of(rec, sl.first, sl.symbols)  # file_source's offset, its overflows
     tb = gr.top_block("nrsar-strip")
-    graph = chain.build(tb, sim_opts, sc, tx=chain.make_transmitter(sim_opts, sc, sl.first),
+    graph = chain.build(tb, sim_opts, sc,
+                        tx=process.make_transmitter(opts, rec, sim_opts, sc, tb, sl.first),
                         reference=reference,
                         echo_front=process.recording_front(part, reference))
     try:
@@ -234,7 +235,7 @@ def prepass_sums(opts, meta_path, first, symbols):
     n = rec.num.num_subcarriers
     tb = gr.top_block("nrsar-prepass")
     head = blocks.head(gr.sizeof_gr_complex * n, symbols)
-    tb.connect(chain.make_transmitter(sim_opts, sc, first), head)
+    tb.connect(process.make_transmitter(opts, rec, sim_opts, sc, tb, first), head)
     _, echo, _ = process.recording_front(part_of(rec, first, symbols), False)(
         tb, sim_opts, sc, head)
     tff = chain.data_filter(sim_opts, n)

@@ -88,22 +88,27 @@ def common_noise_front(domain, noise_seed):
     return front
 
 
-def build_transmitter(tb, num, opts, payload, rv=0):
+def build_transmitter(tb, num, opts, payload, rv=0, start_symbol=0):
     """pusch_encoder (the payload queued as PDUs of one TB's capacity each, deterministic;
     rv: the first transmission's) -> nr_isac_tx(dmrs). Returns (encoder, tx, dmrs,
-    chunks). nrsar-process regenerates a recording's grid with it (pusch_meta's fields)."""
+    chunks). nrsar-process regenerates a recording's grid with it (pusch_meta's fields);
+    start_symbol > 0: the grid from that symbol on, the same (the encoder starts at its
+    slot, given the PDUs from that slot's TB on)."""
     mod = params.make_modulation(opts.modulation)
     dmrs = params.make_dmrs(opts.dmrs, num)
     cfg = opts.pusch_config(num, max(1, len(payload) + 1))
     cfg.rv = rv
+    cfg.first_slot = start_symbol // num.symbols_per_slot
     enc = pusch_encoder(cfg)
-    tx = nr_isac_tx(num, mod, params.make_tx_mode("data"), srs_config(), opts.seed, dmrs)
+    tx = nr_isac_tx(num, mod, params.make_tx_mode("data"), srs_config(), opts.seed, dmrs,
+                    start_symbol)
     tb.connect(enc, tx)
     per_tb = enc.payload_bits_per_slot() // 8
     if per_tb <= 0:
         raise ValueError(f"payload bytes per TB = {per_tb} must be > 0")
     chunks = [payload[i:i + per_tb] for i in range(0, len(payload), per_tb)]
-    for chunk in chunks:  # queued before start: chunk s goes out in TB s (one MAC SDU each)
+    # queued before start: chunk s goes out in TB s (one MAC SDU each)
+    for chunk in chunks[cfg.first_slot // opts.repetitions:]:
         enc.to_basic_block()._post(pmt.intern("pdus"), backhaul.make_pdu(chunk))
     return enc, tx, dmrs, chunks
 

@@ -127,16 +127,14 @@ def payload_of(opts, rec):
 def make_transmitter(opts, rec, sim_opts, sc, tb, start_symbol=0):
     """The transmit grid of the recording from symbol start_symbol: nr_isac_tx of the seed
     (chain.make_transmitter), or for a PUSCH recording the payload's PUSCH
-    (isac_chain.build_transmitter, as nrsar-isac built it; from symbol 0 only)."""
+    (isac_chain.build_transmitter, as nrsar-isac built it; from a later symbol the encoder
+    starts at its slot with the payload from that slot's TB on)."""
     if rec.dmrs is None:
         return chain.make_transmitter(sim_opts, sc, start_symbol)
-    if start_symbol:
-        raise OptionError(f"{rec.meta_path}: a PUSCH recording (nrsar:dmrs) is regenerated "
-                          f"from symbol 0 only (pusch_encoder has no start slot)")
     from . import isac_chain
     payload = payload_of(opts, rec)
     enc, tx, _, _ = isac_chain.build_transmitter(tb, rec.num, isac_chain.isac_options_of(
-        rec), payload, rec.pusch["rv"])
+        rec), payload, rec.pusch["rv"], start_symbol)
     per_tb = enc.payload_bits_per_slot() // 8
     if per_tb != rec.pusch["pdu_bytes"]:
         raise OptionError(f"{rec.meta_path}: global nrsar:pusch pdu_bytes = "

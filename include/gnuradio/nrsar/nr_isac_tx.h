@@ -40,9 +40,12 @@ namespace nrsar {
  * start_symbol > 0: output item 0 is symbol start_symbol of the stream from symbol 0, and
  * every later item and tag is that stream's, bit for bit (tag values stay absolute, offsets
  * move by start_symbol): the PRBS jumps past the bits the symbols before it map
- * (kernel::gold_sequence::discard). Only the PRBS grid is defined from a later
- * symbol: with input 0 connected the block refuses to start (std::invalid_argument), and
- * PDUs are dropped and counted (their bits' place is defined from symbol 0 only).
+ * (kernel::gold_sequence::discard). With input 0 connected, the input's first bit is the
+ * first data bit of the slot holding start_symbol (pusch_encoder's stream from that slot,
+ * pusch_config::first_slot): the data bits of the slot's symbols before start_symbol are read
+ * and dropped, so the grid is the tail of the one from symbol 0 whenever the input is the tail
+ * of its bit stream. PDUs are dropped and counted (their bits' place is defined from symbol 0
+ * only).
  */
 class NRSAR_API nr_isac_tx : virtual public gr::block
 {

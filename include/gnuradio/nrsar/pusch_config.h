@@ -59,6 +59,10 @@ struct NRSAR_API pusch_config {
     unsigned freq_window = 3;      //!< receiver: DMRS REs per channel estimate (odd >= 1)
     unsigned max_iterations = 8;   //!< receiver: LDPC iterations (>= 1)
     std::uint64_t max_queued_bytes = 1u << 20; //!< encoder: bound of the PDU queue (>= 1)
+    //! encoder: absolute index of its first slot (scrambling, rv position; the first slot
+    //! starts a TB even inside a TB's repetitions), so that with the PDUs from that slot's TB
+    //! on it continues the stream of an encoder from slot 0 (nrsar-process's strip tasks)
+    std::uint64_t first_slot = 0;
 
     //! Throws std::invalid_argument naming the field, its value and the limit.
     void validate() const;

@@ -33,7 +33,8 @@ namespace nrsar {
  * Ports: message in "pdus" (pmt pair (meta . u8vector), 1 .. 65535 bytes; queued while the
  * queued bytes stay <= max_queued_bytes, otherwise dropped, counted and logged);
  * output 0: bytes, MSB first, G bits per slot as one continuous bit stream (G need not be a
- * multiple of 8), slot 0 first.
+ * multiple of 8), slot cfg.first_slot first (0: the stream's start; later, with the PDUs from
+ * that slot's TB on, the rest of that stream: nr_isac_tx's start_symbol with input 0).
  */
 class NRSAR_API pusch_encoder : virtual public gr::block
 {

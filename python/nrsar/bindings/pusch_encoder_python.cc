@@ -50,10 +50,11 @@ void bind_pusch_encoder(py::module& m)
                          const std::string& mcs_table, unsigned mcs, unsigned rv,
                          unsigned repetitions, unsigned n_rnti, unsigned n_id,
                          pusch_scrambling scrambling, unsigned freq_window,
-                         unsigned max_iterations, std::uint64_t max_queued_bytes) {
+                         unsigned max_iterations, std::uint64_t max_queued_bytes,
+                         std::uint64_t first_slot) {
                  return pusch_config{ num, mod, dmrs, coding, mcs_table, mcs, rv, repetitions,
                                       n_rnti, n_id, scrambling, freq_window, max_iterations,
-                                      max_queued_bytes };
+                                      max_queued_bytes, first_slot };
              }),
              py::arg("num") = d.num, py::arg("mod") = d.mod, py::arg("dmrs") = d.dmrs,
              py::arg("coding") = d.coding, py::arg("mcs_table") = d.mcs_table,
@@ -62,7 +63,8 @@ void bind_pusch_encoder(py::module& m)
              py::arg("n_id") = d.n_id, py::arg("scrambling") = d.scrambling,
              py::arg("freq_window") = d.freq_window,
              py::arg("max_iterations") = d.max_iterations,
-             py::arg("max_queued_bytes") = d.max_queued_bytes)
+             py::arg("max_queued_bytes") = d.max_queued_bytes,
+             py::arg("first_slot") = d.first_slot)
         .def_readwrite("num", &pusch_config::num)
         .def_readwrite("mod", &pusch_config::mod)
         .def_readwrite("dmrs", &pusch_config::dmrs)
@@ -77,6 +79,7 @@ void bind_pusch_encoder(py::module& m)
         .def_readwrite("freq_window", &pusch_config::freq_window)
         .def_readwrite("max_iterations", &pusch_config::max_iterations)
         .def_readwrite("max_queued_bytes", &pusch_config::max_queued_bytes)
+        .def_readwrite("first_slot", &pusch_config::first_slot)
         .def("validate", &pusch_config::validate)
         .def("rv_of", &pusch_config::rv_of, py::arg("pos"),
              "rv of the transmission at position pos of a TB's repetitions");

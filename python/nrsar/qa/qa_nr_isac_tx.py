@@ -257,20 +257,39 @@ class qa_nr_isac_tx(gr_unittest.TestCase):
         self.assertEqual(tags[:2], [(first, nrsar.tag_keys.slot, (far + first) // 14),
                                     (first, nrsar.tag_keys.symbol, far + first)])
 
-    def test_start_symbol_drops_pdus_and_refuses_a_stream(self):
+    def test_start_symbol_drops_pdus(self):
         blk, out, _ = self.grid_from(5, 10, nrsar.tx_mode.DATA, nrsar.srs_config(),
                                      nrsar.dmrs_config(), pdu=[1, 2, 3])
         _, ref, _ = self.grid_from(0, 15, nrsar.tx_mode.DATA, nrsar.srs_config(),
                                    nrsar.dmrs_config())
         self.assertEqual(blk.pdus_dropped(), 1)
         np.testing.assert_array_equal(out.view(np.uint64), ref[5:].view(np.uint64))
-        num = nrsar.make_numerology("tiny")
-        blk = nrsar.nr_isac_tx(num, nrsar.modulation.QPSK, nrsar.tx_mode.DATA,
-                               nrsar.srs_config(), 0, nrsar.dmrs_config(), 3)
-        tb = gr.top_block()
-        tb.connect(blocks.vector_source_b([0] * 100), blk, blocks.null_sink(64 * 8))
-        with self.assertRaisesRegex(ValueError, "start_symbol = 3 must be 0 with input 0"):
+
+    def test_start_symbol_with_a_stream_is_the_tail(self):
+        # Input 0 from the first data bit of start_symbol's slot (what pusch_encoder with
+        # first_slot gives): the grid is the tail of the one from symbol 0 fed the whole
+        # stream. QAM64 on 61 subcarriers, DMRS {2, 11}: 366 bits per data symbol, so the
+        # symbols skipped inside the start slot end off the byte grid.
+        num = nrsar.make_numerology("tiny", num_subcarriers=61)
+        per_slot = 12 * 61 * 6
+        total = 4 * 14
+        bits = np.random.default_rng(5).integers(0, 2, total * 61 * 6, np.uint8)
+
+        def grid(start, stream_bits):
+            tb = gr.top_block()
+            blk = nrsar.nr_isac_tx(num, nrsar.modulation.QAM64, nrsar.tx_mode.DATA,
+                                   nrsar.srs_config(), 0, nrsar.make_dmrs("pusch2"), start)
+            sink = blocks.vector_sink_c(61)
+            tb.connect(blocks.vector_source_b(np.packbits(stream_bits).tolist()), blk,
+                       blocks.head(gr.sizeof_gr_complex * 61, total - start), sink)
             tb.run()
+            return np.array(sink.data(), np.complex64).reshape(-1, 61)
+
+        ref = grid(0, bits)
+        for start in (1, 3, 14, 17, 40):
+            with self.subTest(start=start):
+                out = grid(start, bits[start // 14 * per_slot:])
+                np.testing.assert_array_equal(out.view(np.uint64), ref[start:].view(np.uint64))
 
     # ------------------------------------------------------------ payload round trips
     def demap_bytes(self, symbols, name):

@@ -251,6 +251,28 @@ class qa_pusch_encoder(gr_unittest.TestCase):
             tb = bits[slot * g:(slot + 1) * g] ^ c
             self.assertEqual(np.packbits(tb[:8])[0], 0x3F)  # the padding subheader
 
+    def test_first_slot_continues_the_stream(self):
+        # An encoder from slot s given the PDUs from slot s's TB on continues the stream of
+        # one from slot 0 at bit s G: per-slot scrambling and each repetition's rv at the
+        # absolute slot, a TB begun inside its repetitions (s odd), filler past the payload.
+        # QPSK pusch1 on 61 subcarriers: G = 1586 bits, slots start off the byte grid.
+        num = nrsar.make_numerology("tiny")
+        num.num_subcarriers = 61
+        cfg = nrsar.make_pusch_config(num, "qpsk", "pusch1", "nr-ldpc", "qam256", 4,
+                                      repetitions=2, scrambling="per-slot")
+        g, slots = 13 * 61 * 2, 14
+        per_tb = nrsar.pusch_encoder(cfg).payload_bits_per_slot() // 8
+        rng = np.random.default_rng(3)
+        chunks = [bytes(rng.integers(0, 256, per_tb, np.uint8)) for _ in range(4)]
+        pdus = [backhaul.make_pdu(c) for c in chunks]
+        _, ref = run_encoder(cfg, pdus, -(-slots * g // 8))
+        for s in (1, 2, 5, 8, 11):
+            with self.subTest(first_slot=s):
+                cfg.first_slot = s
+                enc, bits = run_encoder(cfg, pdus[s // 2:], -(-(slots - s) * g // 8))
+                np.testing.assert_array_equal(bits[:(slots - s) * g], ref[s * g:slots * g])
+                self.assertEqual(enc.payload_bytes_sent(), sum(map(len, chunks[s // 2:])))
+
     def test_queue_bound_drops_counted(self):
         cfg = pusch_cfg(nrsar.make_numerology("tiny"), "qam256", max_queued_bytes=250)
         pdus = ([backhaul.make_pdu(bytes(100))] * 5 + [pmt.intern("junk")]
@@ -285,6 +307,7 @@ class qa_pusch_encoder(gr_unittest.TestCase):
             (dict(repetitions=2, coding=nrsar.pusch_coding.NONE), "repetitions = 2 needs"),
             (dict(n_rnti=65536), "n_rnti = 65536 must be in [0, 65535]"),
             (dict(n_id=1024), "n_id = 1024 must be in [0, 1023]"),
+            (dict(first_slot=2 ** 40 + 1), "first_slot = 1099511627777 must be at most 2^40"),
         ]
         for kw, text in cases:
             args = dict(num=num, mod=nrsar.make_modulation("qam16"), dmrs=nrsar.make_dmrs("pusch2"),
