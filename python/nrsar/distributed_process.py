@@ -10,7 +10,8 @@ as a strip of apertures, each focused by its own graph, on one process or a Dask
     the flight's lines:      |  aperture 0  |  aperture 1  |  aperture 2  | ...
     task a reads:                 [history | aperture a's pulses | look-ahead]
     task a: file_source(offset of the block's first symbol) -> ofdm_demod -> chain.build
-            (the whole flight's geometry; nr_isac_tx's grid started at that symbol;
+            (the whole flight's geometry; nr_isac_tx's grid started at that symbol, an
+            ISAC recording's PUSCH from pusch_encoder started at its slot;
             the focuser told its first aperture, a, and to stop after it)
             -> image lines [a M + s, a M + s + M) of the flight, as one graph makes them
     stitched in aperture order -> strip_image.npy

@@ -219,9 +219,8 @@ def isac_options_of(rec):
     p = rec.pusch
     dmrs = params.make_dmrs(rec.dmrs, rec.num, p["dmrs_scrambling_id"])
     return IsacOptions(preset=rec.preset, modulation=rec.modulation, seed=rec.grid_seed,
-                       dmrs=dmrs, coding=p["coding"],
-                       mcs_table=p["mcs_table"], mcs=p["mcs"], n_rnti=p["n_rnti"],
-                       n_id=p["n_id"], scrambling=p["scrambling"],
+                       dmrs=dmrs, coding=p["coding"], mcs_table=p["mcs_table"], mcs=p["mcs"],
+                       n_rnti=p["n_rnti"], n_id=p["n_id"], scrambling=p["scrambling"],
                        repetitions=p["repetitions"])
 
 

@@ -473,10 +473,9 @@ def _pusch_of(m, glob, num, modulation, mode):
     if p["coding"] == "none" and p["repetitions"] != 1:
         m.fail(f"{where} repetitions", f"= {p['repetitions']} must be 1 with coding none")
     try:
-        params.make_pusch_config(num, modulation, dmrs, p["coding"], p["mcs_table"],
-                                       p["mcs"], rv=p["rv"], repetitions=p["repetitions"],
-                                       n_rnti=p["n_rnti"], n_id=p["n_id"],
-                                       scrambling=p["scrambling"])
+        params.make_pusch_config(num, modulation, dmrs, p["coding"], p["mcs_table"], p["mcs"],
+                                 rv=p["rv"], repetitions=p["repetitions"], n_rnti=p["n_rnti"],
+                                 n_id=p["n_id"], scrambling=p["scrambling"])
         params.make_dmrs(dmrs, num, p["dmrs_scrambling_id"])
     except ValueError as err:  # the MCS's Qm against nrsar:modulation, DMRS positions, ...
         m.fail(where, f"with nrsar:dmrs {dmrs} and nrsar:modulation {modulation!r} is "
