@@ -130,6 +130,10 @@ def make_transmitter(opts, rec, sim_opts, sc, tb, start_symbol=0):
     (isac_chain.build_transmitter, as nrsar-isac built it; from a later symbol the encoder
     starts at its slot with the payload from that slot's TB on)."""
     if rec.dmrs is None:
+        if opts.payload:
+            raise OptionError(f"--payload = {opts.payload!r} needs a PUSCH recording: "
+                              f"{rec.meta_path} has no nrsar:dmrs (its grid is the PRBS of "
+                              f"nrsar:grid_seed)")
         return chain.make_transmitter(sim_opts, sc, start_symbol)
     from . import isac_chain
     payload = payload_of(opts, rec)

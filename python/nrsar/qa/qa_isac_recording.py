@@ -158,6 +158,11 @@ class qa_isac_recording(gr_unittest.TestCase):
         proc = self.process(self.copy("gone2", meta), "gone2", "--payload", self.payload,
                             "--images", "none")
         self.assertEqual(proc.returncode, 0, proc.stderr)
+        # and has no place in a PRBS grid's recording
+        for key in ("nrsar:dmrs", "nrsar:pusch"):
+            meta["global"][key] = None
+        proc = self.process(self.copy("prbs", meta), "bad", "--payload", self.payload)
+        self.assert_refused(proc, f"--payload = {self.payload!r} needs a PUSCH recording")
 
     def test_005_bad_grid_fields(self):
         """Each nrsar:pusch / nrsar:dmrs defect is one line naming the field, its value and
