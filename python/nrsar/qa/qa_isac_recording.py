@@ -218,6 +218,35 @@ class qa_isac_recording(gr_unittest.TestCase):
         self.assertLess(156, self.isac["payload_slots"] * 14)
         np.testing.assert_array_equal(np.load(res["strip_image_npy"]), whole["image"])
 
+    def test_007_repetitions_strip(self):
+        """Two slots per TB and per-slot scrambling: nrsar-process gives nrsar-isac's image,
+        and the strip's task from symbol 156 (slot 11: the second slot of TB 5) starts its
+        encoder inside that TB's repetitions; the strip equals one graph bit for bit."""
+        from gnuradio.nrsar import distributed_process as dp, recording
+        from gnuradio.nrsar.options import ProcessOptions
+        rec_dir = os.path.join(self.dir, "rec_rep")
+        isac = run_app("nrsar-isac", FLIGHT + ["--payload", self.payload, "--record", rec_dir,
+                                               "--repetitions", "2", "--scrambling",
+                                               "per-slot", "--json", "--quiet",
+                                               "--out", os.path.join(self.dir, "isac_rep")])
+        self.assertEqual(isac.returncode, 0, isac.stderr)
+        self.assertEqual(json.loads(isac.stdout)["payload_slots"],
+                         2 * self.isac["payload_slots"])
+        meta = os.path.join(rec_dir, "flight.sigmf-meta")
+        proc = self.process(meta, "proc_rep")
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        np.testing.assert_array_equal(np.load(json.loads(proc.stdout)["image_npy"]),
+                                      np.load(os.path.join(self.dir, "isac_rep", "image.npy")))
+        opts = ProcessOptions(recording=meta, strip_aperture_s=0.0125, strip_overlap_s=0.001,
+                              out=os.path.join(self.dir, "strip_rep")).validate()
+        rec = recording.read(meta)
+        lay = dp.layout(opts, rec)
+        self.assertEqual([sl.first for sl in lay.slices], [0, 156, 456, 756])
+        res = dp.run(opts)
+        np.testing.assert_array_equal(
+            np.load(res["strip_image_npy"]),
+            dp.focus_slice(opts, meta, dp.whole(opts, rec, lay))["image"])
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_isac_recording)
