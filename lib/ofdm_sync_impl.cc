@@ -156,9 +156,10 @@ const gr_complex* ofdm_sync_impl::lock_window(std::int64_t symbol_start, double 
     const std::int64_t at = symbol_start + d_matcher.window_delay() - d_acq.buffer_start();
     if (at < 0 || at + std::int64_t(d_check.size()) > std::int64_t(d_acq.buffered()))
         return nullptr;
-    const gr_complex* x = d_acq.buffer() + at;
-    for (std::size_t k = 0; k < d_check.size(); k++)
-        d_check[k] = x[k] * gr_complex(std::polar(1.0, -2.0 * M_PI * cfo * double(k)));
+    // The house rotator: a sincos per 512 samples instead of per sample, phase error below
+    // 5e-5 rad over the window (test_ofdm_modem: phase_rotator.lock_window_matches_polar).
+    kernel::phase_rotator derotate(-cfo);
+    derotate.rotate(d_acq.buffer() + at, d_check.data(), d_check.size());
     return d_check.data();
 }
 

@@ -9,10 +9,12 @@
 // windowed-sinc sum and against a known band-limited signal, and the focus of a synthetic
 // point target (exact range history) at its true position with the predicted peak.
 
+#include <gnuradio/nrsar/kernel/fft_size.h>
 #include <gnuradio/nrsar/kernel/rd_focuser.h>
 #include <gnuradio/nrsar/kernel/sinc_interpolator.h>
 #include <gnuradio/nrsar/params.h>
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <random>
@@ -220,6 +222,58 @@ TEST(rd_focuser, band_restriction_keeps_peak)
     EXPECT_NEAR(20 * std::log10(pa / pb), 0.0, 0.1);
     EXPECT_LT(a.band_bins(), b.band_bins());
     EXPECT_EQ(b.band_bins(), b.fft_size());
+}
+
+TEST(rd_focuser, configured_band_bins_is_the_kernels)
+{
+    // What sizes memory before any kernel is built (aperture_focuser::band_bins, the
+    // Python memory estimate) against the kernel's own count, and against the integers j in
+    // [lo / df, hi / df], df = 1 / (nfft T), one bin each (at least one: the bin nearest to
+    // the centre; every bin for FULL or a band of the pulse rate or more). The Python copy
+    // it replaces, min(nfft, ceil((hi - lo) nfft T) + 1), said 2 for the two narrow bands
+    // and one bin more than the kernel for most others. At 1600 lines df = 0.25 Hz.
+    scenario s;
+    s.K = 8; // the band does not depend on the range bins
+    struct band_case {
+        double lo, hi;
+        doppler_band band;
+        bool fast;
+        unsigned lines;
+        bool on_bins; // edges on bin frequencies: rounding decides, the kernel's count only
+    };
+    const band_case cases[] = {
+        { -96.1, 117.3, doppler_band::SCENE, true, 1600, false },    // 854 bins
+        { 190.1, 230.3, doppler_band::SCENE, true, 1600, false },    // across PRF / 2: 161
+        { 10.0, 10.05, doppler_band::SCENE, true, 1600, false },     // inside one bin: 1
+        { 10.01, 10.2, doppler_band::SCENE, true, 1600, false },     // between bins: 1
+        { -25.0, 25.0, doppler_band::SCENE, true, 1600, true },
+        { -96.1, 117.3, doppler_band::FULL, true, 1600, false },     // 1600
+        { -96.1, 117.3, doppler_band::ESTIMATE, true, 1600, false }, // the fallback: 854
+        { -300.0, 150.0, doppler_band::SCENE, true, 1600, false },   // over the PRF: 1600
+        { -96.1, 117.3, doppler_band::SCENE, false, 1601, false },   // nfft = 1601
+        { -96.1, 117.3, doppler_band::SCENE, true, 1601, false },    // nfft 7-smooth > 1601
+    };
+    for (const auto& c : cases) {
+        focuser_config cfg;
+        cfg.band = c.band;
+        cfg.fast_fft_size = c.fast;
+        s.M = c.lines;
+        rd_block blk = block_of(s);
+        blk.band_lo_hz = c.lo;
+        blk.band_hi_hz = c.hi;
+        const unsigned got = rd_focuser::configured_band_bins(cfg, blk);
+        const rd_focuser kernel(cfg, blk);
+        EXPECT_EQ(got, kernel.band_bins()) << c.lo << " " << c.hi << " " << c.lines;
+        const unsigned nfft = kernel.fft_size();
+        EXPECT_EQ(nfft, c.fast ? gr::nrsar::kernel::fast_fft_size(c.lines) : c.lines);
+        if (c.on_bins)
+            continue;
+        const double df = 1.0 / (nfft * s.T);
+        const bool full = c.band == doppler_band::FULL || c.hi - c.lo >= 1.0 / s.T;
+        const long inside = static_cast<long>(std::floor(c.hi / df) - std::ceil(c.lo / df)) + 1;
+        EXPECT_EQ(got, full ? nfft : static_cast<unsigned>(std::max(1L, inside)))
+            << c.lo << " " << c.hi << " " << c.lines;
+    }
 }
 
 TEST(rd_focuser, range_major_input_gives_the_same_image)

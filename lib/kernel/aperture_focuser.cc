@@ -419,8 +419,8 @@ unsigned aperture_focuser::band_bins() const
     if (d_kernel)
         return d_kernel->band_bins();
     // Before the first block (e.g. to size a display of the rd_map port): the band of a
-    // kernel built for the current parameters (ESTIMATE: the scene band it falls back to).
-    return rd_focuser(d_cfg, make_block()).band_bins();
+    // kernel built for the current parameters, without building one (FFT plans, tables).
+    return rd_focuser::configured_band_bins(d_cfg, make_block());
 }
 double aperture_focuser::max_migration_bins() const
 {

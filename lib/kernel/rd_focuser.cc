@@ -101,7 +101,7 @@ rd_focuser::rd_focuser(const focuser_config& cfg, const rd_block& blk)
 {
     d_cfg.validate();
     d_blk.validate();
-    d_nfft = cfg.fast_fft_size ? fast_fft_size(blk.num_lines) : blk.num_lines;
+    d_nfft = fft_size_of(cfg, blk);
     const unsigned K = blk.num_range_bins;
     d_fwd = make_fft_fwd(d_nfft, 1);
     d_rev = make_fft_rev(d_nfft, 1);
@@ -120,11 +120,23 @@ rd_focuser::rd_focuser(const focuser_config& cfg, const rd_block& blk)
     build_filter();
 }
 
+unsigned rd_focuser::fft_size_of(const focuser_config& cfg, const rd_block& blk)
+{
+    return cfg.fast_fft_size ? fast_fft_size(blk.num_lines) : blk.num_lines;
+}
+
+namespace {
+double alias_near(unsigned p, unsigned nfft, double pulse_interval_s, double centre)
+{
+    const double prf = 1.0 / pulse_interval_s;
+    const double f = prf * p / nfft;
+    return centre + std::remainder(f - centre, prf);
+}
+} // namespace
+
 double rd_focuser::doppler_hz(unsigned p) const
 {
-    const double prf = 1.0 / d_blk.pulse_interval_s;
-    const double f = prf * p / d_nfft;
-    return d_centre + std::remainder(f - d_centre, prf);
+    return alias_near(p, d_nfft, d_blk.pulse_interval_s, d_centre);
 }
 
 double rd_focuser::migration_bins(unsigned k, double f_hz) const
@@ -264,22 +276,47 @@ void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
     }
 }
 
+std::vector<unsigned> rd_focuser::bins_in_band(const focuser_config& cfg,
+                                               unsigned nfft,
+                                               double pulse_interval_s,
+                                               double centre,
+                                               double lo,
+                                               double hi)
+{
+    std::vector<unsigned> bins;
+    const double prf = 1.0 / pulse_interval_s;
+    const auto band = configured_band(cfg, lo, hi, prf);
+    const bool full = band.second - band.first >= prf;
+    for (unsigned p = 0; p < nfft; ++p) {
+        const double f = alias_near(p, nfft, pulse_interval_s, centre);
+        if (full || (f >= lo && f <= hi))
+            bins.push_back(p);
+    }
+    if (bins.empty()) {
+        // A band narrower than one Doppler bin: take the bin nearest to its centre.
+        const double f = std::fmod(std::fmod(centre, prf) + prf, prf);
+        bins.push_back(static_cast<unsigned>(std::lround(f / prf * nfft)) % nfft);
+    }
+    return bins;
+}
+
+unsigned rd_focuser::configured_band_bins(const focuser_config& cfg, const rd_block& blk)
+{
+    blk.validate();
+    return static_cast<unsigned>(bins_in_band(cfg,
+                                              fft_size_of(cfg, blk),
+                                              blk.pulse_interval_s,
+                                              0.5 * (blk.band_lo_hz + blk.band_hi_hz),
+                                              blk.band_lo_hz,
+                                              blk.band_hi_hz)
+                                     .size());
+}
+
 void rd_focuser::select_band()
 {
-    d_band_bins.clear();
-    const double prf = 1.0 / d_blk.pulse_interval_s;
-    const auto band = configured_band(d_cfg, d_band_lo, d_band_hi, prf);
-    const bool full = band.second - band.first >= prf;
-    for (unsigned p = 0; p < d_nfft; ++p) {
-        const double f = doppler_hz(p);
-        if (full || (f >= d_band_lo && f <= d_band_hi))
-            d_band_bins.push_back(p);
-    }
-    if (d_band_bins.empty()) {
-        // A band narrower than one Doppler bin: take the bin nearest to its centre.
-        const double f = std::fmod(std::fmod(d_centre, prf) + prf, prf);
-        d_band_bins.push_back(static_cast<unsigned>(std::lround(f / prf * d_nfft)) % d_nfft);
-    }
+    d_band_bins =
+        bins_in_band(d_cfg, d_nfft, d_blk.pulse_interval_s, d_centre, d_band_lo, d_band_hi);
+    const auto band = configured_band(d_cfg, d_band_lo, d_band_hi, 1.0 / d_blk.pulse_interval_s);
     d_band_lo = band.first;
     d_band_hi = band.second;
 }

@@ -5,7 +5,8 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
-// Inner loops of kernel::multipath_fir shared by td_echo.cc and td_echo_avx2.cc.
+// Inner loops of kernel::multipath_fir shared by td_echo.cc, td_echo_avx2.cc and
+// td_echo_avx512.cc.
 
 #ifndef INCLUDED_NRSAR_KERNEL_TD_ECHO_IMPL_H
 #define INCLUDED_NRSAR_KERNEL_TD_ECHO_IMPL_H

@@ -157,13 +157,8 @@ def memory_estimate_bytes(rif, foc, symbols, keep):
         block = k * (3 * m + 64 * foc.config().upsample)
         sinks = 2 * (k * symbols + k * m) if keep else 0
         return int(8 * (2 * block + sinks))
-    # The band's Doppler bins from its edges, at most one more than band_bins(): before the
-    # first block that builds a whole focusing kernel (FFT plans, buffers), 0.03-0.17 s for a
-    # strip task's sdr20 aperture, 2 s at `small`, 14 s with its full band (docs/scale.md).
-    nfft = foc.fft_size()
-    band = min(nfft, math.ceil((foc.band_hi_hz() - foc.band_lo_hz()) * foc.pulse_interval_s()
-                               * nfft) + 1)
-    block = k * (foc.overlap_before() + 2 * m + foc.overlap_after() + 2.5 * band)
+    # The kernel's own band selection (before the first block it builds no kernel).
+    block = k * (foc.overlap_before() + 2 * m + foc.overlap_after() + 2.5 * foc.band_bins())
     if foc.config().band == doppler_band.ESTIMATE:
         block += k * foc.fft_size()
     sinks = 2 * (k * symbols + foc.num_output_bins() * m) if keep else 0

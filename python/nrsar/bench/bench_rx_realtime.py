@@ -39,6 +39,7 @@ import os
 import tempfile
 import threading
 import time
+from dataclasses import dataclass
 
 import numpy as np
 from gnuradio import blocks, gr
@@ -141,14 +142,25 @@ def replay(opts, sc, time_domain, symbols=HELD, folder=None):
     return sources[0], sources[1], out.nitems_read(0) // symbols
 
 
+@dataclass
+class VariantRun:
+    """What one run_variant measured."""
+    radio_s: float  # radio time of the symbols run
+    wall_s: float  # the flowgraph's wall time, start-up and drain included
+    process_cpu_s: float
+    profile: dict  # {block name: (its thread's CPU s, its work() s)}
+    steady: float  # steady processing rate, radio s per s (ThreadCpu.steady_rate)
+    others: list  # [(other thread, CPU s)], busiest first
+    cpu: ThreadCpu
+    blocks: dict  # {block name: the block profiled}
+
+
 def run_variant(preset, time_domain, transmit, symbols, chunk=0, fuse="off", flight=None,
                 presum="cheby"):
-    """One run: (radio s, wall s, process CPU s, {block: (thread CPU s, work() s)},
-    steady processing rate in radio s per s, [(other thread, CPU s)] busiest first, the
-    ThreadCpu, {name: the blocks profiled}). fuse: --rx-fuse (range_compress in place of
-    tf_filter -> range_ifft). flight: a folder; one aperture is replayed from files there
-    and image_sink writes its images there (symbols: a whole number of apertures). presum:
-    the presummer's method (--presum)."""
+    """One run: a VariantRun. fuse: --rx-fuse (range_compress in place of tf_filter ->
+    range_ifft). flight: a folder; one aperture is replayed from files there and image_sink
+    writes its images there (symbols: a whole number of apertures). presum: the presummer's
+    method (--presum)."""
     opts = SimOptions(preset=preset, images="none", presum=presum, decim=10, rx_fuse=fuse)
     sc = scenario.of(opts.validate())
     n = sc.num.num_subcarriers
@@ -199,8 +211,8 @@ def run_variant(preset, time_domain, transmit, symbols, chunk=0, fuse="off", fli
     mine = {f"{b.name()}{b.unique_id()}"[:15] for b in named.values()}
     others = sorted(((c, s) for c, s in cpu.spent().values() if c not in mine),
                     key=lambda cs: -cs[1])
-    return (symbols * sc.num.symbol_s(), wall, proc, profile,
-            cpu.steady_rate(symbols) * sc.num.symbol_s(), others, cpu, named)
+    return VariantRun(symbols * sc.num.symbol_s(), wall, proc, profile,
+                      cpu.steady_rate(symbols) * sc.num.symbol_s(), others, cpu, named)
 
 
 # ofdm_demod asks for a whole symbol (4384 samples at paper) per output, and GNU Radio's
@@ -218,17 +230,17 @@ FUSED = (("paper TF, range_compress", "paper", False, False),
 def run(quick=False):
     symbols = 4800 if quick else 24000
     rows, unfused = [], {}
-    radio, _, proc_default = run_variant("paper", True, False, symbols)[:3]
+    default = run_variant("paper", True, False, symbols)
     for label, preset, td, tx in VARIANTS:
-        radio, wall, proc, profile, steady = run_variant(preset, td, tx, symbols,
-                                                         CHUNK if td else 0)[:5]
+        v = run_variant(preset, td, tx, symbols, CHUNK if td else 0)
+        radio, proc, profile = v.radio_s, v.process_cpu_s, v.profile
         extra = {f"{k}_cpu_per_radio_s": round(c / radio, 4) for k, (c, _) in profile.items()}
         extra.update({f"{k}_work_per_radio_s": round(w / radio, 4)
                       for k, (_, w) in profile.items()})
         rows.append(benchutil.row(
-            f"radar rx path {label}: radio s per s", steady,
+            f"radar rx path {label}: radio s per s", v.steady,
             "real time (the radio's rate)", 1.0, unit="radio s / s (steady)", radio_s=radio,
-            wall_s=round(wall, 3), process_cpu_s=round(proc, 3),
+            wall_s=round(v.wall_s, 3), process_cpu_s=round(proc, 3),
             load_average=round(os.getloadavg()[0], 1), **extra))
         rows.append(benchutil.row(
             f"radar rx path {label}: radio s per CPU s", radio / proc,
@@ -236,30 +248,30 @@ def run(quick=False):
         if label == "paper TD":
             rows.append(benchutil.row(
                 f"radar rx path paper TD, {CHUNK}-symbol sample buffer", radio / proc,
-                "GNU Radio's default sample buffer", radio / proc_default,
+                "GNU Radio's default sample buffer", default.radio_s / default.process_cpu_s,
                 unit="radio s / CPU s"))
         if label.startswith("paper"):
             unfused[label] = radio / proc
     for label, preset, td, tx in FUSED:
-        radio, wall, proc, profile, steady = run_variant(
-            preset, td, tx, symbols, CHUNK if td else 0, fuse="on")[:5]
+        v = run_variant(preset, td, tx, symbols, CHUNK if td else 0, fuse="on")
         rows.append(benchutil.row(
-            f"radar rx path {label}: radio s per CPU s", radio / proc,
+            f"radar rx path {label}: radio s per CPU s", v.radio_s / v.process_cpu_s,
             "tf_filter > range_ifft (run before)", unfused[label.split(",")[0]],
-            unit="radio s / CPU s", **{f"{k}_cpu_per_radio_s": round(c / radio, 4)
-                                       for k, (c, _) in profile.items()}))
+            unit="radio s / CPU s", **{f"{k}_cpu_per_radio_s": round(c / v.radio_s, 4)
+                                       for k, (c, _) in v.profile.items()}))
     return rows
 
 
-def print_profile(label, radio, wall, proc, profile, steady, others):
+def print_profile(label, v):
+    radio, wall, proc, profile = v.radio_s, v.wall_s, v.process_cpu_s, v.profile
     print(f"{label}: radio {radio:.3f} s, wall {wall:.3f} s with start-up, steady rate "
-          f"x{steady:.2f} real time; process CPU {proc:.3f} s = {proc / radio:.2f} CPU s "
+          f"x{v.steady:.2f} real time; process CPU {proc:.3f} s = {proc / radio:.2f} CPU s "
           f"per radio s; load {os.getloadavg()[0]:.1f}")
     for k, (c, w) in sorted(profile.items(), key=lambda kv: -kv[1][0]):
         print(f"  {k:14s} thread CPU {c:7.3f} s ({c / radio:5.2f} per radio s)  "
               f"work() {w:7.3f} s")
     print(f"  other threads  {proc - sum(c for c, _ in profile.values()):7.3f} s: " +
-          ", ".join(f"{comm} {s:.3f}" for comm, s in others[:6]))
+          ", ".join(f"{comm} {s:.3f}" for comm, s in v.others[:6]))
 
 
 def flight(seconds, presum="cheby"):
@@ -279,11 +291,11 @@ def flight(seconds, presum="cheby"):
                          f"(2 apertures of {aperture_s:g} s)")
     print(f"load {os.getloadavg()[0]:.1f} before generating one aperture of echo")
     with tempfile.TemporaryDirectory(prefix="nrsar-flight-") as folder:
-        radio, wall, proc, profile, steady, others, cpu, named = run_variant(
-            "sdr20", True, True, apertures * sc.symbols, CHUNK, flight=folder, presum=presum)
-        print_profile(f"sdr20 TD + TX, {presum} presum, {apertures} apertures", radio, wall,
-                      proc, profile, steady, others)
-        print(f"processing s per radio s {wall / radio:.3f} (with start-up and drain); "
+        v = run_variant("sdr20", True, True, apertures * sc.symbols, CHUNK, flight=folder,
+                        presum=presum)
+        cpu, named = v.cpu, v.blocks
+        print_profile(f"sdr20 TD + TX, {presum} presum, {apertures} apertures", v)
+        print(f"processing s per radio s {v.wall_s / v.radio_s:.3f} (with start-up and drain); "
               f"transmitted {named['ofdm_mod'].nitems_written(0)} samples")
         total = apertures * sc.symbols
         quarters = [[r for _, n, r in cpu.track if q * total / 4 <= n <= (q + 1) * total / 4]
@@ -323,8 +335,8 @@ def main():
     for label, preset, td, tx in (VARIANTS + FUSED +
                                   (("paper TD, default buffer", "paper", True, False),)):
         chunk = CHUNK if td and "default" not in label else 0
-        print_profile(label, *run_variant(
-            preset, td, tx, symbols, chunk, fuse="on" if "range_compress" in label else "off")[:6])
+        print_profile(label, run_variant(
+            preset, td, tx, symbols, chunk, fuse="on" if "range_compress" in label else "off"))
 
 
 if __name__ == "__main__":

@@ -28,6 +28,7 @@ except ImportError:
     sys.path.append(os.path.join(dirname, "..", "bindings"))
     from gnuradio import nrsar
 
+from gnuradio.nrsar import chain
 from gnuradio.nrsar.focus_scenario import (LAM, V, H, N_SUB, NFFT, RHO, K, R_FIRST, SPP,
                                           NUM, T, geometry, echo)
 
@@ -419,6 +420,34 @@ class qa_rd_focuser(gr_unittest.TestCase):
         strong = a.max(axis=1) > 0.3 * a.max()
         self.assertGreater(strong.sum(), b // 4)
         self.assertLessEqual(np.abs(a[strong].argmax(axis=1) - k_true).max(), 1.0)
+
+    def test_007d_memory_estimate_counts_the_kernels_doppler_bins(self):
+        # chain.memory_estimate_bytes before the run (no kernel built yet) takes as many band
+        # bins as the kernel processes in it, and these are the FFT bins j / (nfft T) inside
+        # [lo, hi] (every bin for FULL; at least one). The band edges' old Python count,
+        # ceil((hi - lo) nfft T) + 1, said 246, 173 and 3 for the first three.
+        m = 480
+        y = V * T * m / 2
+        rif = type("range_bins", (), {"num_bins": staticmethod(lambda: K)})
+        for target, kw in (((800.0, y), {}), ((800.0, y), {"band_margin_hz": 0.0}),
+                           ((800.0, 10000.0), {"band_margin_hz": 0.0}),  # 1.6 bins wide
+                           ((800.0, y), {"band": nrsar.doppler_band.FULL})):
+            scn = nrsar.make_scene([target])
+            blk = nrsar.rd_focuser(NUM, geometry(m * T), scn, K, R_FIRST, RHO, self.cfg(**kw))
+            before = chain.memory_estimate_bytes(rif, blk, m, False)
+            tb = gr.top_block()
+            data = np.asarray(echo([(*target, 1.0)], m), np.complex64).ravel()
+            tb.connect(blocks.vector_source_c(data.tolist(), False, K), blk,
+                       blocks.null_sink(gr.sizeof_gr_complex * K))
+            tb.run()
+            bins = blk.band_bins()  # the kernel's, after its blocks
+            lines = blk.overlap_before() + 2 * m + blk.overlap_after()
+            self.assertEqual(before, int(8 * 2 * K * (lines + 2.5 * bins)), (target, kw))
+            nfft, lo, hi = blk.fft_size(), blk.band_lo_hz(), blk.band_hi_hz()
+            df = 1.0 / (nfft * T)
+            inside = max(1, math.floor(hi / df) - math.ceil(lo / df) + 1)
+            self.assertEqual(bins, nfft if "band" in kw else inside, (target, kw))
+        self.assertEqual(bins, nfft)
 
     def test_007b_pulse_interval_change_mid_stream(self):
         # A pulse_interval tag in the middle of aperture 1 applies from aperture 2.

@@ -134,6 +134,12 @@ public:
     configured_band(const focuser_config& cfg, double lo, double hi, double prf);
     //! Number of Doppler bins processed by the last focus() call.
     unsigned band_bins() const { return static_cast<unsigned>(d_band_bins.size()); }
+    /*!
+     * The band_bins() of a kernel built from cfg and blk, before its first focus() (ESTIMATE:
+     * the configured band it falls back to), without its FFT plans and tables: the one
+     * selection the kernel itself makes, for sizing memory and displays.
+     */
+    static unsigned configured_band_bins(const focuser_config& cfg, const rd_block& blk);
     //! Largest migration over the processed band [range bins].
     double max_migration_bins() const { return d_max_migration; }
     //! Whether the last focus() applied RCMC (enabled and migration above the threshold).
@@ -212,6 +218,15 @@ private:
     void compensate_motion(const gr_complex* in, size_t row_stride);
     // Slow-time resampling onto the uniform along-track grid into d_moco (moco_resample).
     void resample_along_track(const gr_complex* in, size_t row_stride);
+    static unsigned fft_size_of(const focuser_config& cfg, const rd_block& blk);
+    // The FFT bins whose Doppler alias nearest to centre lies in [lo, hi] (every bin for a
+    // band of the pulse rate or more; the bin nearest to centre for one narrower than a bin).
+    static std::vector<unsigned> bins_in_band(const focuser_config& cfg,
+                                              unsigned nfft,
+                                              double pulse_interval_s,
+                                              double centre,
+                                              double lo,
+                                              double hi);
     void select_band(); // from the configuration (SCENE / FULL)
     void estimate_band();
     void build_filter();
