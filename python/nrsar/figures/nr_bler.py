@@ -197,14 +197,18 @@ def qam_labels(qm):
 def exact_llrs(y, qm, nv):
     """Exact bit LLRs, positive = 0, [symbols, Qm] of received symbols y (1-D complex) of the
     38.211 constellation of Qm at noise variance nv per complex symbol: the log-sum-exp over
-    the points whose bit j is 0 minus that over those where it is 1, of -|y - s|^2 / nv."""
+    the points whose bit j is 0 minus that over those where it is 1, of -|y - s|^2 / nv. The
+    38.211 QAMs are square, the even bits set the real part and the odd bits the imaginary
+    part (5.1.3-5.1.5), so the sums factor and each bit's LLR is that of its axis's levels
+    (sqrt(2^Qm) terms instead of 2^Qm)."""
     points, labels = qam_labels(qm)
-    metric = -np.abs(y[:, None] - points[None, :]) ** 2 / nv  # [symbol, point]
     out = np.empty((y.size, qm))
     for j in range(qm):
+        axis, part = (points.real, y.real) if j % 2 == 0 else (points.imag, y.imag)
         lse = []
         for bit in (0, 1):
-            m = metric[:, labels[:, j] == bit]
+            levels = np.unique(np.round(axis[labels[:, j] == bit], 12))
+            m = -(part[:, None] - levels[None, :]) ** 2 / nv
             top = m.max(axis=1)
             lse.append(top + np.log(np.exp(m - top[:, None]).sum(axis=1)))
         out[:, j] = lse[0] - lse[1]
