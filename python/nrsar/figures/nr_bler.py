@@ -142,17 +142,17 @@ LENA = {
 # and mapper: both QPSK bits see the same channel, so any interleaver gives the same BLER.
 # {name: (cell, k, n, Qm, 5.4.2.2 interleaver, their decoder, [(Eb/N0 dB, BLER, blocks), ...])}
 SIONNA_NOTEBOOK = {
-    "QPSK": ("In[19] run_ber", 600, 1200, 2, True, "BP boxplus-phi", [
+    "QPSK": ("In[7] run_ber", 600, 1200, 2, True, "BP boxplus-phi", [
         (0.75, 0.759, 1000), (1.0, 0.478, 1000), (1.25, 0.196, 1000), (1.5, 0.058, 1000),
         (1.75, 0.016667, 3000), (2.0, 1.697e-3, 33000)]),
-    "16-QAM, 5.4.2.2 interleaver": ("In[41] model_output_interleaver", 600, 1200, 4, True,
+    "16-QAM, 5.4.2.2 interleaver": ("In[16] model_output_interleaver", 600, 1200, 4, True,
                                     "BP boxplus", [
         (2.75, 0.814, 1000), (3.0, 0.559, 1000), (3.25, 0.329, 1000), (3.5, 0.112, 1000),
         (3.75, 0.047, 2000), (4.0, 0.0127, 10000), (4.25, 2.9333e-3, 30000)]),
-    "16-QAM, no interleaver": ("In[35] model_baseline_16", 600, 1200, 4, False, "BP boxplus", [
+    "16-QAM, no interleaver": ("In[13] model_baseline_16", 600, 1200, 4, False, "BP boxplus", [
         (3.0, 0.746, 1000), (3.25, 0.517, 1000), (3.5, 0.274, 1000), (3.75, 0.091, 2000),
         (4.0, 0.03425, 4000), (4.25, 7.2667e-3, 15000)]),
-    "16-QAM, no interleaver, min-sum": ("In[48] model_allzero_16_ms", 600, 1200, 4, False,
+    "16-QAM, no interleaver, min-sum": ("In[20] model_allzero_16_ms", 600, 1200, 4, False,
                                         "min-sum", [
         (3.5, 0.95, 1000), (4.0, 0.657, 1000), (4.5, 0.156, 1000), (5.0, 0.0135, 2000),
         (5.5, 1.8e-4, 50000)]),

@@ -300,7 +300,7 @@ class qa_nr_coding(gr_unittest.TestCase):
         # (figures.nr_bler.SIONNA_NOTEBOOK / SIONNA_TABLE: exact LLRs, 20 iterations of flooding
         # BP; code_block_bler reproduces the codeword, the 5.4.2.2 interleaver and Es/N0). The
         # issue's criterion: within 0.5 dB of the published curve at 10 %, both ways.
-        # 16-QAM, k 600, n 1200 (BICM notebook, In[41]): published 10 % at Eb/N0 3.53 dB. 0.5 dB
+        # 16-QAM, k 600, n 1200 (BICM notebook, In[16]): published 10 % at Eb/N0 3.53 dB. 0.5 dB
         # past it a chain just 0.5 dB worse fails 10 %: at most 15 of 300 reject it (binomial
         # P(X <= 15) = 1.3e-3); ours (about 1 %) passes with P = 1 - 3e-6. 0.5 dB before it a
         # chain 0.5 dB better fails 10 %: at least 20 of 100 must fail (P(X >= 20) = 2e-3 for
