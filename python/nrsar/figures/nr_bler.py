@@ -394,7 +394,7 @@ class NrBlerOptions(Options):
     harq: bool = option(False, "HARQ gain instead: qam64 MCS 13 sent once (rv 0) and twice "
                         "(rv 0 + rv 2, combined)")
     floor: bool = option(False, "instead: the short BG2 code of PUBLISHED (K' 512) from 2.0 to "
-                         "3.0 dB, --blocks frames per point, FER with its 95 % interval")
+                         "3.0 dB, --blocks frames per point, FER with its 95-percent interval")
     lena: bool = option(False, "instead: BLER against 5G-LENA's published AWGN tables (LENA), "
                         "--blocks TBs per point")
     sionna: bool = option(False, "instead: one code block's BLER against Sionna's published "
