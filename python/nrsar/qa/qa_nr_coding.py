@@ -316,8 +316,9 @@ class qa_nr_coding(gr_unittest.TestCase):
         self.assertGreaterEqual(nr_bler.code_block_bler(k, n, qm, es - 0.5, 100, seed=42), 20)
         snr, bler = nr_bler.SIONNA_TABLE[("qam256", 20)][1]
         self.assertEqual(bler, 0.0753)
-        n = 3008  # ceil(k / (R Qm)) Qm
-        self.assertLessEqual(nr_bler.code_block_bler(2000, n, 8, snr + 0.5, 200, seed=43), 5)
+        qm, rate = nrsar.mcs("qam256", 20)
+        n = int(np.ceil(2000 / (rate * qm))) * qm  # CodedAWGNChannelNR's n: 3008
+        self.assertLessEqual(nr_bler.code_block_bler(2000, n, qm, snr + 0.5, 200, seed=43), 5)
 
     def test_no_error_floor_on_short_codes(self):
         # BG2 Zc 64 K' 512 at rate 1/2 (AFF3CT's set-up of test_fer_against_published_curves),
