@@ -18,6 +18,7 @@ Run: /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler [--blocks 100] [--max-it
      /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --floor [--blocks 100000]
      /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --lena [--blocks 1000] [--max-iter 20]
      /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --sionna [--blocks 1000] [--max-iter 20]
+       [--max-log]
 --published: the decoder against AFF3CT's published 5G NR LDPC curves (PUBLISHED).
 --lena: the chain against 5G-LENA's published AWGN BLER of one code block per MCS (LENA), one
 case per modulation, at the same MCS and TBS, SNR = Es/N0 per RE as LENA's SINR.
@@ -216,17 +217,18 @@ def exact_llrs(y, qm, nv):
 
 
 def code_block_bler(k, e, qm, esn0_db, frames, max_iter=20, interleave=True, seed=1,
-                    llr_max=20.0):
+                    llr_max=20.0, max_log=False):
     """Block errors of nrsar.ldpc_decode in Sionna's set-up (SIONNA_NOTEBOOK): one code block
     of k random bits (K' = k, base graph of 38.212 6.2.2 for A = k, R = k / e), ldpc_encode,
     rate_match(rv 0) to e bits, with interleave the bit interleaver of 38.212 5.4.2.2 at Qm
     (else the e bits in order), Qm bits per 38.211 symbol, AWGN at Es/N0 esn0_db, exact LLRs
-    clipped at +-llr_max, rate_recover, at most max_iter iterations. Returns the number of
-    frames whose k bits came back wrong."""
+    (max_log: nrsar.soft_demapper's max-log ones) clipped at +-llr_max, rate_recover,
+    at most max_iter iterations. Returns the number of frames whose k bits came back wrong."""
     bg = nrsar.select_base_graph(k, k / e)
     s = nrsar.segment_sizes(k, bg)
     q = qm if interleave else 1  # the interleaver's Qm
     points = qam_labels(qm)[0]
+    demap = nrsar.soft_demapper(MODS[qm])
     weights = 2 ** np.arange(qm - 1, -1, -1)
     rng = np.random.default_rng(seed)
     nv = 10 ** (-esn0_db / 10)  # unit-energy symbols
@@ -238,7 +240,9 @@ def code_block_bler(k, e, qm, esn0_db, frames, max_iter=20, interleave=True, see
         x = np.array([nrsar.rate_match(d[f], e, 0, q, bg) for f in range(n)])
         sym = points[x.reshape(-1, qm) @ weights]
         y = sym + np.sqrt(nv / 2) * (rng.normal(size=sym.size) + 1j * rng.normal(size=sym.size))
-        llr = np.clip(exact_llrs(y, qm, nv), -llr_max, llr_max).astype(np.float32).reshape(n, e)
+        llr = (np.array(demap.demap(y.astype(np.complex64).tolist(), [nv])) if max_log
+               else exact_llrs(y, qm, nv))
+        llr = np.clip(llr, -llr_max, llr_max).astype(np.float32).reshape(n, e)
         soft = np.array([nrsar.rate_recover(llr[f], bg, s["Zc"], k, 0, q) for f in range(n)])
         c, _, _ = nrsar.ldpc_decode(soft, bg, max_iter)
         errors += int(np.count_nonzero(np.any(c[:, :k] != info, axis=1)))
@@ -343,9 +347,10 @@ def snr_at(curve, target=0.1):
     return None
 
 
-def sionna_tables(blocks, max_iter):
+def sionna_tables(blocks, max_iter, max_log=False):
     """Prints the --sionna tables: ours (code_block_bler) on a 0.125 dB grid beside each
-    published case, at Sionna's 10 % point (SIONNA_NOTEBOOK) or at its BLER (SIONNA_TABLE)."""
+    published case, at Sionna's 10 % point (SIONNA_NOTEBOOK) or at its BLER (SIONNA_TABLE);
+    max_log: our max-log LLRs instead of their exact ones."""
     def db(x, sign=""):
         return "n/a" if x is None else f"{x:{sign}.2f} dB"
     print("| Sionna notebook case (cell) | k / n, Qm, BG, Zc | their decoder | Eb/N0 (dB): "
@@ -356,7 +361,8 @@ def sionna_tables(blocks, max_iter):
         offset = 10 * np.log10(qm * k / n)  # Es/N0 - Eb/N0 of ebnodb2no
         pts = np.round(np.arange(pub[0][0] - 0.5, pub[-1][0] + 0.01, 0.125), 3)
         c = {"snr_db": list(pts), "bler": [
-            code_block_bler(k, n, qm, p + offset, blocks, max_iter, inter) / blocks for p in pts]}
+            code_block_bler(k, n, qm, p + offset, blocks, max_iter, inter, max_log=max_log)
+            / blocks for p in pts]}
         ours = snr_at(c)
         at = snr_at({"snr_db": [p for p, _, _ in pub], "bler": [b for _, b, _ in pub]})
         print(f"| {name} ({cell}) | {k} / {n}, {qm}, BG{bg}, {nrsar.segment_sizes(k, bg)['Zc']} | "
@@ -374,7 +380,8 @@ def sionna_tables(blocks, max_iter):
         snr, bler = next((p, b) for p, b in pub if 0 < b < 1)
         pts = np.round(np.arange(snr - 1.0, snr + 0.51, 0.125), 4)
         c = {"snr_db": list(pts), "bler": [
-            code_block_bler(k, n, qm, p, blocks, max_iter) / blocks for p in pts]}
+            code_block_bler(k, n, qm, p, blocks, max_iter, max_log=max_log) / blocks
+            for p in pts]}
         ours = snr_at(c, bler)
         name = "PDSCH_table1" if table == "qam64" else "PDSCH_table2"
         print(f"| {name}, {mcs} ({qm}, {rate:.3f}) | {k} / {n}, "
@@ -399,6 +406,8 @@ class NrBlerOptions(Options):
                         "--blocks TBs per point")
     sionna: bool = option(False, "instead: one code block's BLER against Sionna's published "
                           "QAM curves (SIONNA_NOTEBOOK, SIONNA_TABLE), --blocks per point")
+    max_log: bool = option(False, "with --sionna: max-log LLRs (nrsar.soft_demapper) instead "
+                           "of Sionna's exact ones")
 
     def check(self):
         cases = [f"{t}:{m}" for t, m, _ in CASES]
@@ -467,7 +476,7 @@ def main(argv=None):
                   f"{db(None if ours is None else ours - na, '+')} | {db(theirs - na, '+')} |")
         return 0
     if args.sionna:
-        sionna_tables(args.blocks, args.max_iter)
+        sionna_tables(args.blocks, args.max_iter, args.max_log)
         return 0
     if args.harq:
         print("| transmissions | SNR (dB): BLER | BLER 10 % at |")
