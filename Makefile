@@ -120,6 +120,8 @@ bench: build install
 		> docs/bench/nr_bler_published.md
 	/usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --lena --blocks 1000 \
 		> docs/bench/nr_bler_lena.md
+	/usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --sionna --blocks 1000 \
+		> docs/bench/nr_bler_sionna.md
 
 # perf: soak test (issue #8), on demand, not in make test: 10 minutes of radar time at
 # paper scale through the whole chain; fails when the RSS grows (docs/soak.md).

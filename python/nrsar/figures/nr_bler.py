@@ -17,9 +17,13 @@ Run: /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler [--blocks 100] [--max-it
      /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --published [--blocks 1000]
      /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --floor [--blocks 100000]
      /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --lena [--blocks 1000] [--max-iter 20]
+     /usr/bin/python3 -m gnuradio.nrsar.figures.nr_bler --sionna [--blocks 1000] [--max-iter 20]
+       [--max-log]
 --published: the decoder against AFF3CT's published 5G NR LDPC curves (PUBLISHED).
 --lena: the chain against 5G-LENA's published AWGN BLER of one code block per MCS (LENA), one
 case per modulation, at the same MCS and TBS, SNR = Es/N0 per RE as LENA's SINR.
+--sionna: the decoder against NVIDIA Sionna's published QPSK / 16-QAM / 64-QAM BLER of one 38.212
+code block (SIONNA_NOTEBOOK, SIONNA_TABLE) in their set-up: exact LLRs, Es/N0 from their Eb/N0.
 --floor: the FER of PUBLISHED's BG2 K' 512 code down to 1e-5, where an error floor would show.
 """
 
@@ -126,6 +130,125 @@ LENA = {
 }
 
 
+# Published BLER of one 38.212 code block with QAM over AWGN, set-up stated in code: NVIDIA
+# Sionna (github.com/NVlabs/sionna, read at 20d2bca, v1.2.1), the printed outputs of
+# tutorials/phy/Bit_Interleaved_Coded_Modulation.ipynb (the same numbers in
+# docs/v2.1.0/phy/tutorials/notebooks/). k information bits (no CRC, K' = k), LDPC5GEncoder(k, n):
+# BG, Zc and fillers of 38.212 5.2.2 / 5.3.2, the 2 Zc first bits punctured, fillers skipped, the
+# next n bits sent (rate_match at rv 0 with N_cb = N), with num_bits_per_symbol the output
+# interleaver of 38.212 5.4.2.2, without it the n bits in their order, Qm per symbol; 38.211
+# Gray QAM, AWGN, exact ("app") LLRs; LDPC5GDecoder: flooding schedule, 20 iterations without
+# syndrome stop, LLRs clipped at +-20; no = 1 / (k/n Qm 10^(Eb/N0 / 10)) (ebnodb2no), i.e.
+# Es/N0 = Eb/N0 + 10 log10(Qm k / n). The QPSK cell puts a random interleaver between encoder
+# and mapper: both QPSK bits see the same channel, so any interleaver gives the same BLER.
+# {name: (cell, k, n, Qm, 5.4.2.2 interleaver, their decoder, [(Eb/N0 dB, BLER, blocks), ...])}
+SIONNA_NOTEBOOK = {
+    "QPSK": ("In[7] run_ber", 600, 1200, 2, True, "BP boxplus-phi", [
+        (0.75, 0.759, 1000), (1.0, 0.478, 1000), (1.25, 0.196, 1000), (1.5, 0.058, 1000),
+        (1.75, 0.016667, 3000), (2.0, 1.697e-3, 33000)]),
+    "16-QAM, 5.4.2.2 interleaver": ("In[16] model_output_interleaver", 600, 1200, 4, True,
+                                    "BP boxplus", [
+        (2.75, 0.814, 1000), (3.0, 0.559, 1000), (3.25, 0.329, 1000), (3.5, 0.112, 1000),
+        (3.75, 0.047, 2000), (4.0, 0.0127, 10000), (4.25, 2.9333e-3, 30000)]),
+    "16-QAM, no interleaver": ("In[13] model_baseline_16", 600, 1200, 4, False, "BP boxplus", [
+        (3.0, 0.746, 1000), (3.25, 0.517, 1000), (3.5, 0.274, 1000), (3.75, 0.091, 2000),
+        (4.0, 0.03425, 4000), (4.25, 7.2667e-3, 15000)]),
+    "16-QAM, no interleaver, min-sum": ("In[20] model_allzero_16_ms", 600, 1200, 4, False,
+                                        "min-sum", [
+        (3.5, 0.95, 1000), (4.0, 0.657, 1000), (4.5, 0.156, 1000), (5.0, 0.0135, 2000),
+        (5.5, 1.8e-4, 50000)]),
+}
+
+# Sionna's published BLER tables of its PHY abstraction, src/sionna/sys/bler_tables/
+# PDSCH_table1.json and PDSCH_table2.json (since v1.0.1, unchanged at 20d2bca): MCS tables 1 and 2
+# of 38.214 (5.1.3.1-1 "qam64", 5.1.3.1-2 "qam256"), code block size CBS = k, written by
+# PHYAbstraction.new_bler_table with CodedAWGNChannelNR (src/sionna/phy/nr/utils.py):
+# LDPC5GEncoder(k, n = ceil(k / (R Qm)) Qm, num_bits_per_symbol = Qm) as above, exact LLRs,
+# LDPC5GDecoder boxplus-phi, 20 iterations, SNR = Es/N0 (their Eb/N0 = SNR - 10 log10(Qm R) with
+# the R of the encoder's target). The BLERs are multiples of 1/3000 (one of 1/6000). The SNR grid
+# is 15 points from -5 to 20 dB (table 1) or 20 from -5 to 25 dB (table 2), 1.79 / 1.58 dB
+# apart: one point per MCS inside the waterfall, where ours is held to it at their BLER. (The
+# PUSCH tables beside them are decoded by Sionna's MCSDecoderNR with transform_precoding=True,
+# its call's default: 38.214 Table 6.1.4.1-1 / -2, R one step up from 5.1.3.1-1 from MCS 17.)
+# CBS 2000, the waterfall point with the grid points beside it: {(table, mcs): [(SNR dB, BLER)]}
+SIONNA_TABLE = {
+    ("qam64", 6): [(-1.4286, 1.0), (0.3571, 0.2092), (2.1429, 0.0)],
+    ("qam64", 13): [(3.9286, 1.0), (5.7143, 0.5867), (7.5, 0.0)],
+    ("qam64", 17): [(7.5, 1.0), (9.2857, 0.035), (11.0714, 0.0)],
+    ("qam64", 23): [(12.8571, 1.0), (14.6429, 0.0577), (16.4286, 0.0)],
+    ("qam64", 25): [(14.6429, 1.0), (16.4286, 0.1477), (18.2143, 0.0)],
+    ("qam256", 7): [(4.4737, 1.0), (6.0526, 0.1), (7.6316, 0.0)],
+    ("qam256", 12): [(9.2105, 1.0), (10.7895, 0.066), (12.3684, 0.0)],
+    ("qam256", 17): [(13.9474, 1.0), (15.5263, 0.1023), (17.1053, 0.0)],
+    ("qam256", 20): [(17.1053, 1.0), (18.6842, 0.0753), (20.2632, 0.0)],
+    ("qam256", 22): [(18.6842, 1.0), (20.2632, 0.038), (21.8421, 0.0)],
+    ("qam256", 24): [(20.2632, 1.0), (21.8421, 0.348), (23.4211, 3.3e-4)],
+    ("qam256", 27): [(23.4211, 1.0), (25.0, 0.1503)],
+}
+SIONNA_TABLE_CBS = 2000
+
+
+def qam_labels(qm):
+    """(points, labels[point, bit]) of the 38.211 constellation of Qm: point p carries the
+    bits of p, the first bit the most significant."""
+    points = np.array(nrsar.constellation(MODS[qm]).points(), np.complex128)
+    return points, (np.arange(points.size)[:, None] >> np.arange(qm - 1, -1, -1)) & 1
+
+
+def exact_llrs(y, qm, nv):
+    """Exact bit LLRs, positive = 0, [symbols, Qm] of received symbols y (1-D complex) of the
+    38.211 constellation of Qm at noise variance nv per complex symbol: the log-sum-exp over
+    the points whose bit j is 0 minus that over those where it is 1, of -|y - s|^2 / nv. The
+    38.211 QAMs are square, the even bits set the real part and the odd bits the imaginary
+    part (5.1.3-5.1.5), so the sums factor and each bit's LLR is that of its axis's levels
+    (sqrt(2^Qm) terms instead of 2^Qm)."""
+    points, labels = qam_labels(qm)
+    out = np.empty((y.size, qm))
+    for j in range(qm):
+        axis, part = (points.real, y.real) if j % 2 == 0 else (points.imag, y.imag)
+        lse = []
+        for bit in (0, 1):
+            levels = np.unique(np.round(axis[labels[:, j] == bit], 12))
+            m = -(part[:, None] - levels[None, :]) ** 2 / nv
+            top = m.max(axis=1)
+            lse.append(top + np.log(np.exp(m - top[:, None]).sum(axis=1)))
+        out[:, j] = lse[0] - lse[1]
+    return out
+
+
+def code_block_bler(k, e, qm, esn0_db, frames, max_iter=20, interleave=True, seed=1,
+                    llr_max=20.0, max_log=False):
+    """Block errors of nrsar.ldpc_decode in Sionna's set-up (SIONNA_NOTEBOOK): one code block
+    of k random bits (K' = k, base graph of 38.212 6.2.2 for A = k, R = k / e), ldpc_encode,
+    rate_match(rv 0) to e bits, with interleave the bit interleaver of 38.212 5.4.2.2 at Qm
+    (else the e bits in order), Qm bits per 38.211 symbol, AWGN at Es/N0 esn0_db, exact LLRs
+    (max_log: nrsar.soft_demapper's max-log ones) clipped at +-llr_max, rate_recover,
+    at most max_iter iterations. Returns the number of frames whose k bits came back wrong."""
+    bg = nrsar.select_base_graph(k, k / e)
+    s = nrsar.segment_sizes(k, bg)
+    q = qm if interleave else 1  # the interleaver's Qm
+    points = qam_labels(qm)[0]
+    demap = nrsar.soft_demapper(MODS[qm])
+    weights = 2 ** np.arange(qm - 1, -1, -1)
+    rng = np.random.default_rng(seed)
+    nv = 10 ** (-esn0_db / 10)  # unit-energy symbols
+    errors = 0
+    for start in range(0, frames, 100):  # 100 frames per call
+        n = min(100, frames - start)
+        info = rng.integers(0, 2, (n, k)).astype(np.int8)
+        d = nrsar.ldpc_encode(np.hstack([info, -np.ones((n, s["K"] - k), np.int8)]), bg)
+        x = np.array([nrsar.rate_match(d[f], e, 0, q, bg) for f in range(n)])
+        sym = points[x.reshape(-1, qm) @ weights]
+        y = sym + np.sqrt(nv / 2) * (rng.normal(size=sym.size) + 1j * rng.normal(size=sym.size))
+        llr = (np.array(demap.demap(y.astype(np.complex64).tolist(), [nv])) if max_log
+               else exact_llrs(y, qm, nv))
+        llr = np.clip(llr, -llr_max, llr_max).astype(np.float32).reshape(n, e)
+        soft = np.array([nrsar.rate_recover(llr[f], bg, s["Zc"], k, 0, q) for f in range(n)])
+        c, _, _ = nrsar.ldpc_decode(soft, bg, max_iter)
+        errors += int(np.count_nonzero(np.any(c[:, :k] != info, axis=1)))
+    return errors
+
+
 def bpsk_fer(bg, zc, k_prime, e, ebn0_db, frames, max_iter=10, seed=1, failures=None):
     """Frame error rate of nrsar.ldpc_decode over BPSK-AWGN in the set-up of PUBLISHED:
     K' random bits and K - K' fillers, ldpc_encode, rate_match(rv 0) to E bits, LLRs
@@ -177,21 +300,16 @@ def bicm_capacity_dispersion(qm, snr_db, symbols=100000, seed=7):
     i = 1 - log2(1 + exp(-(1 - 2b) L)); C = its mean over the Qm bit levels, V = the mean of
     the levels' variances (a codeword spreads its bits equally over the levels, so the
     levels' different means add nothing random)."""
-    points = np.array(nrsar.constellation(MODS[qm]).points(), np.complex128)
-    labels = (np.arange(points.size)[:, None] >> np.arange(qm - 1, -1, -1)) & 1  # [point, bit]
+    points, labels = qam_labels(qm)
     rng = np.random.default_rng(seed)
     nv = 10 ** (-snr_db / 10)
     sent = rng.integers(0, points.size, symbols)
     y = points[sent] + np.sqrt(nv / 2) * (rng.normal(size=symbols) + 1j * rng.normal(size=symbols))
-    metric = -np.abs(y[:, None] - points[None, :]) ** 2 / nv  # [symbol, point]
-    like = np.exp(metric - metric.max(axis=1, keepdims=True))
+    llrs = exact_llrs(y, qm, nv)
     c, v = [], []
     for j in range(qm):
-        with np.errstate(divide="ignore"):  # a subset that underflows: a certain bit, L = +-inf
-            llr = (np.log(like[:, labels[:, j] == 0].sum(axis=1))
-                   - np.log(like[:, labels[:, j] == 1].sum(axis=1)))
         b = labels[sent, j]
-        info = 1.0 - np.logaddexp(0.0, -(1 - 2 * b) * llr) / np.log(2)
+        info = 1.0 - np.logaddexp(0.0, -(1 - 2 * b) * llrs[:, j]) / np.log(2)
         c.append(info.mean())
         v.append(info.var())
     return float(np.mean(c)), float(np.mean(v))
@@ -229,6 +347,50 @@ def snr_at(curve, target=0.1):
     return None
 
 
+def sionna_tables(blocks, max_iter, max_log=False):
+    """Prints the --sionna tables: ours (code_block_bler) on a 0.125 dB grid beside each
+    published case, at Sionna's 10 % point (SIONNA_NOTEBOOK) or at its BLER (SIONNA_TABLE);
+    max_log: our max-log LLRs instead of their exact ones."""
+    def db(x, sign=""):
+        return "n/a" if x is None else f"{x:{sign}.2f} dB"
+    print("| Sionna notebook case (cell) | k / n, Qm, BG, Zc | their decoder | Eb/N0 (dB): "
+          "BLER, ours | ours 10 % | Sionna 10 % | ours - Sionna |")
+    print("|---|---|---|---|---|---|---|")
+    for name, (cell, k, n, qm, inter, theirs, pub) in SIONNA_NOTEBOOK.items():
+        bg = nrsar.select_base_graph(k, k / n)
+        offset = 10 * np.log10(qm * k / n)  # Es/N0 - Eb/N0 of ebnodb2no
+        pts = np.round(np.arange(pub[0][0] - 0.5, pub[-1][0] + 0.01, 0.125), 3)
+        c = {"snr_db": list(pts), "bler": [
+            code_block_bler(k, n, qm, p + offset, blocks, max_iter, inter, max_log=max_log)
+            / blocks for p in pts]}
+        ours = snr_at(c)
+        at = snr_at({"snr_db": [p for p, _, _ in pub], "bler": [b for _, b, _ in pub]})
+        print(f"| {name} ({cell}) | {k} / {n}, {qm}, BG{bg}, {nrsar.segment_sizes(k, bg)['Zc']} | "
+              f"{theirs}, 20 it. | "
+              + ", ".join(f"{p:g}: {b:.3f}" for p, b in zip(c["snr_db"], c["bler"]))
+              + f" | {db(ours)} | {db(at)} | {db(None if ours is None else ours - at, '+')} |")
+    print()
+    print("| Sionna table, MCS (Qm, R) | k / n, BG | Sionna: SNR (dB): BLER | ours: SNR (dB): "
+          "BLER | ours at Sionna's BLER | ours - Sionna |")
+    print("|---|---|---|---|---|---|")
+    k = SIONNA_TABLE_CBS
+    for (table, mcs), pub in SIONNA_TABLE.items():
+        qm, rate = nrsar.mcs(table, mcs)
+        n = int(np.ceil(k / (rate * qm))) * qm
+        snr, bler = next((p, b) for p, b in pub if 0 < b < 1)
+        pts = np.round(np.arange(snr - 1.0, snr + 0.51, 0.125), 4)
+        c = {"snr_db": list(pts), "bler": [
+            code_block_bler(k, n, qm, p, blocks, max_iter, max_log=max_log) / blocks
+            for p in pts]}
+        ours = snr_at(c, bler)
+        name = "PDSCH_table1" if table == "qam64" else "PDSCH_table2"
+        print(f"| {name}, {mcs} ({qm}, {rate:.3f}) | {k} / {n}, "
+              f"BG{nrsar.select_base_graph(k, k / n)} | "
+              + ", ".join(f"{p:g}: {b:.4g}" for p, b in pub) + " | "
+              + ", ".join(f"{p:g}: {b:.3f}" for p, b in zip(c["snr_db"], c["bler"]))
+              + f" | {db(ours)} | {db(None if ours is None else ours - snr, '+')} |")
+
+
 @dataclasses.dataclass
 class NrBlerOptions(Options):
     blocks: int = option(100, "transport blocks per SNR", at_least=1, at_most=10 ** 7)
@@ -239,9 +401,13 @@ class NrBlerOptions(Options):
     harq: bool = option(False, "HARQ gain instead: qam64 MCS 13 sent once (rv 0) and twice "
                         "(rv 0 + rv 2, combined)")
     floor: bool = option(False, "instead: the short BG2 code of PUBLISHED (K' 512) from 2.0 to "
-                         "3.0 dB, --blocks frames per point, FER with its 95 % interval")
+                         "3.0 dB, --blocks frames per point, FER with its 95-percent interval")
     lena: bool = option(False, "instead: BLER against 5G-LENA's published AWGN tables (LENA), "
                         "--blocks TBs per point")
+    sionna: bool = option(False, "instead: one code block's BLER against Sionna's published "
+                          "QAM curves (SIONNA_NOTEBOOK, SIONNA_TABLE), --blocks per point")
+    max_log: bool = option(False, "with --sionna: max-log LLRs (nrsar.soft_demapper) instead "
+                           "of Sionna's exact ones")
 
     def check(self):
         cases = [f"{t}:{m}" for t, m, _ in CASES]
@@ -308,6 +474,9 @@ def main(argv=None):
                   f"{pts} | {db(ours)} | {db(theirs)} | "
                   f"{db(None if ours is None else ours - theirs, '+')} | {db(na)} | "
                   f"{db(None if ours is None else ours - na, '+')} | {db(theirs - na, '+')} |")
+        return 0
+    if args.sionna:
+        sionna_tables(args.blocks, args.max_iter, args.max_log)
         return 0
     if args.harq:
         print("| transmissions | SNR (dB): BLER | BLER 10 % at |")
