@@ -938,6 +938,13 @@ TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_speed)
     EXPECT_EQ(r0.gcp_offset_m[1], r.gcp_offset_m[1]); // e_y from the constants alone
     for (unsigned n = 0; n < M; ++n)
         ASSERT_EQ(r0.antenna[n][1], nav[n][1] - r0.gcp_offset_m[1]);
+    // d_y only with e_y (e_y left in the slopes would bias it by about 10 mm/s here)
+    trajectory_autofocus_config no_ey = cfg;
+    no_ey.gcp_along_track_se_m = 0.0;
+    std::vector<gr_complex> img1(img.size());
+    const auto r1 = trajectory_autofocus(pulses.data(), M, nav.data(), grid(), no_ey, img1.data());
+    EXPECT_FALSE(r1.gcp_along_track_speed);
+    EXPECT_EQ(r1.gcp_drift_m[1], 0.0);
     // The images against the perfectly navigated one, same noise (error energy over its
     // energy, one complex scale fitted): what the navigation left, not the noise.
     const auto perfect = bp_image(pulses, tru);

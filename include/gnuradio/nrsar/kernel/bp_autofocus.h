@@ -57,11 +57,12 @@ struct NRSAR_API trajectory_autofocus_config {
     //! along-track offset"). 5 cm: under half a GNSS class's e_y (0.2-0.35 m); two GCPs
     //! 25 m apart along track at 10 dB give 4 mm.
     double gcp_along_track_se_m = 0.05;
-    //! The GCPs also solve the along-track speed error d_y (its u_y d_y in each slope) when
-    //! n times its predicted standard error per pulse (the along-track stretch it would
-    //! leave from the first pulse to the last) is below this [m], [0, 1] (0: never); else
-    //! d_y stays (docs/blocks/bp_focuser.md, "The along-track speed"). 2 cm: a GNSS class's
-    //! 0.1 m/s stretches a 1 s aperture by 10 cm; the GCPs that solve e_y to 3 mm give 11 mm.
+    //! The GCPs also solve the along-track speed error d_y (its u_y d_y in each slope), with
+    //! e_y only, when n times its predicted standard error per pulse (the along-track
+    //! stretch it would leave from the first pulse to the last) is below this [m], [0, 1]
+    //! (0: never); else d_y stays (docs/blocks/bp_focuser.md, "The along-track speed").
+    //! 2 cm: a GNSS class's 0.1 m/s stretches a 1 s aperture by 10 cm; n se is about
+    //! sqrt(12) e_y's se (the GCPs that solve e_y to 3.2 mm give 11 mm).
     double gcp_speed_se_m = 0.02;
 
     void validate() const;
