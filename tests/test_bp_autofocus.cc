@@ -223,6 +223,39 @@ void expect_image_near_floor(const std::vector<gr_complex>& pulses,
     EXPECT_LT(af_db, floor_db + 0.5);
 }
 
+// The GCPs of the e_y and d_y tests: look angles 1 degree apart, each alone in its range
+// bins, the middle one 25 m along track from the outer two (u_y's pattern not a linear
+// function of the look angle, which x and z would absorb).
+const std::vector<vec3> SPREAD = { { 800.0, 12.53, 1.0 },
+                                   { 830.0, 37.53, 1.0 },
+                                   { 770.0, 37.53, 1.0 } };
+
+// Cramer-Rao-type standard error of the y of a GCP solve (x, y, z) from one estimate per GCP
+// q: sqrt((G^-1)_yy), G = sum u u^T / var over the GCPs (u their line of sight at the middle
+// pulse), var = 1 / ((2 pi cs)^2 2 g a^2 count) the estimate's: the mean phase (count n,
+// the constant) or the slope (count sum (p - p_mid)^2) of a history at SNR g a^2 per pulse;
+// g = 4 / 3 of the echo's snr, the Hann-tapered history (gcp_takes_out_an_along_track_offset).
+double crb_y(const std::vector<vec3>& gcps, double snr, double count)
+{
+    const double cs = 2.0 / LAM + FCR / RHO;
+    const vec3 am = truth(M / 2);
+    double g[3][3] = {};
+    for (const auto& q : gcps) {
+        const vec3 d = { am[0] - q[0], am[1] - q[1], am[2] };
+        const double r = std::hypot(d[0], d[1], d[2]);
+        const double var = 1.0 / (std::pow(2.0 * M_PI * cs, 2) * 2.0 * (4.0 / 3.0) * snr *
+                                  q[2] * q[2] * count);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                g[i][j] += d[i] * d[j] / (r * r * var);
+    }
+    // (G^-1)_yy = cofactor / det
+    const double det = g[0][0] * (g[1][1] * g[2][2] - g[1][2] * g[2][1]) -
+                       g[0][1] * (g[1][0] * g[2][2] - g[1][2] * g[2][0]) +
+                       g[0][2] * (g[1][0] * g[2][1] - g[1][1] * g[2][0]);
+    return std::sqrt((g[0][0] * g[2][2] - g[0][2] * g[2][0]) / det);
+}
+
 } // namespace
 
 TEST(bp_autofocus, recovers_an_injected_path_error)
@@ -509,54 +542,34 @@ TEST(bp_autofocus, validates)
     c = {};
     c.gcp.assign(trajectory_autofocus_config::max_gcp + 1, vec3{ 800.0, 25.0, 0.0 });
     EXPECT_THROW(run(c, M), std::invalid_argument);
-    try {
-        c = {};
-        c.gcp = { { 800.0, 25.0, 0.0 }, { 800.0, std::nan(""), 0.0 } };
-        run(c, M);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("gcp[1] = nan must be finite"), std::string::npos);
-    }
-    try {
-        c = {};
-        c.look_spread_rad = -0.1;
-        run(c, M);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("look_spread_rad = -0.1"), std::string::npos);
-    }
-    try {
-        c = {};
-        c.gcp_along_track_se_m = 1.5;
-        run(c, M);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("gcp_along_track_se_m = 1.5 must be in [0, 1]"),
-                  std::string::npos);
-    }
-    try {
-        c = {};
-        c.gcp_speed_se_m = -0.01;
-        run(c, M);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("gcp_speed_se_m = -0.01 must be in [0, 1]"),
-                  std::string::npos);
-    }
+    // refused with a message holding text
+    auto refused = [&](const trajectory_autofocus_config& cfg, const bp_grid& g,
+                       const std::string& text) {
+        try {
+            trajectory_autofocus(pulses.data(), M, ant.data(), g, cfg, img.data());
+            ADD_FAILURE() << "accepted, expected: " << text;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+        }
+    };
+    c = {};
+    c.gcp = { { 800.0, 25.0, 0.0 }, { 800.0, std::nan(""), 0.0 } };
+    refused(c, grid(), "gcp[1] = nan must be finite");
+    c = {};
+    c.look_spread_rad = -0.1;
+    refused(c, grid(), "look_spread_rad = -0.1");
+    c = {};
+    c.gcp_along_track_se_m = 1.5;
+    refused(c, grid(), "gcp_along_track_se_m = 1.5 must be in [0, 1]");
+    c = {};
+    c.gcp_speed_se_m = -0.01;
+    refused(c, grid(), "gcp_speed_se_m = -0.01 must be in [0, 1]");
     // The automatic taper band, 2 |range_centre_cycles| + 1 / K, assumes subcarriers 0..N-1:
     // a spectrum centred near 0 would get a window of about one bin (1 / 64 + 0.002 here).
     bp_grid centred = grid();
     centred.range_centre_cycles = 0.001;
-    try {
-        trajectory_autofocus(pulses.data(), M, ant.data(), centred, {}, img.data());
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("range_centre_cycles = 0.001 gives the automatic "
-                                             "range_band_cycles 2 |range_centre_cycles| + 1 / "
-                                             "K = 0.017625, below 0.25"),
-                  std::string::npos)
-            << e.what();
-    }
+    refused({}, centred, "range_centre_cycles = 0.001 gives the automatic range_band_cycles 2 "
+                         "|range_centre_cycles| + 1 / K = 0.017625, below 0.25");
     c = {};
     c.range_band_cycles = 0.5; // the band given: taken as it is
     EXPECT_NO_THROW(
@@ -777,29 +790,12 @@ TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_offset)
     // one computed here: (G^-1)_yy of G = sum u u^T / var_c over the GCPs, var_c = 1 / ((2 pi
     // cs)^2 2 g n) the constant's (mean phase of n pulses at SNR g per pulse; g = 4 / 3 of
     // the echo's, the Hann-tapered history, as in gcp_takes_out_an_along_track_offset).
-    const std::vector<vec3> tg = { { 800.0, 12.53, 1.0 },
-                                   { 830.0, 37.53, 1.0 },
-                                   { 770.0, 37.53, 1.0 } };
+    const std::vector<vec3>& tg = SPREAD;
     constexpr double ey = 0.30, snr = 10.0;
     const auto pulses = echo(N / snr, 47, tg);
     const auto tru = true_path();
     const double cs = 2.0 / LAM + FCR / RHO;
-    const vec3 am = tru[M / 2];
-    double g[3][3] = {};
-    for (const auto& q : tg) {
-        const vec3 d = { am[0] - q[0], am[1] - q[1], am[2] };
-        const double r = std::hypot(d[0], d[1], d[2]);
-        const double var = 1.0 / (std::pow(2.0 * M_PI * cs, 2) * 2.0 * (4.0 / 3.0) * snr *
-                                  q[2] * q[2] * M);
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-                g[i][j] += d[i] * d[j] / (r * r * var);
-    }
-    // (G^-1)_yy = cofactor / det
-    const double det = g[0][0] * (g[1][1] * g[2][2] - g[1][2] * g[2][1]) -
-                       g[0][1] * (g[1][0] * g[2][2] - g[1][2] * g[2][0]) +
-                       g[0][2] * (g[1][0] * g[2][1] - g[1][1] * g[2][0]);
-    const double crb = std::sqrt((g[0][0] * g[2][2] - g[0][2] * g[2][0]) / det);
+    const double crb = crb_y(tg, snr, M);
     trajectory_autofocus_config cfg;
     for (const auto& q : tg)
         cfg.gcp.push_back({ q[0], q[1], 0.0 });
@@ -872,9 +868,7 @@ TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_speed)
     // navigated one: with d_y solved, and with the speed gate shut (d_y left: the image
     // stretched by d_y / v); shut, every output is the one before d_y was an unknown (the
     // y path is nav - e_y: no trend).
-    const std::vector<vec3> tg = { { 800.0, 12.53, 1.0 },
-                                   { 830.0, 37.53, 1.0 },
-                                   { 770.0, 37.53, 1.0 } };
+    const std::vector<vec3>& tg = SPREAD;
     constexpr double ey = 0.30, dy = 0.10, snr = 10.0; // dy [m/s]: a GNSS class's
     const auto pulses = echo(N / snr, 47, tg);
     const auto tru = true_path();
@@ -882,21 +876,7 @@ TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_speed)
     double stt = 0.0;
     for (unsigned n = 0; n < M; ++n)
         stt += (n - tm) * (n - tm);
-    const vec3 am = tru[M / 2];
-    double g[3][3] = {};
-    for (const auto& q : tg) {
-        const vec3 d = { am[0] - q[0], am[1] - q[1], am[2] };
-        const double r = std::hypot(d[0], d[1], d[2]);
-        const double var = 1.0 / (std::pow(2.0 * M_PI * cs, 2) * 2.0 * (4.0 / 3.0) * snr *
-                                  q[2] * q[2] * stt);
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-                g[i][j] += d[i] * d[j] / (r * r * var);
-    }
-    const double det = g[0][0] * (g[1][1] * g[2][2] - g[1][2] * g[2][1]) -
-                       g[0][1] * (g[1][0] * g[2][2] - g[1][2] * g[2][0]) +
-                       g[0][2] * (g[1][0] * g[2][1] - g[1][1] * g[2][0]);
-    const double crb = std::sqrt((g[0][0] * g[2][2] - g[0][2] * g[2][0]) / det) / T; // [m/s]
+    const double crb = crb_y(tg, snr, stt) / T; // [m/s]
     std::vector<vec3> nav = tru;
     for (unsigned n = 0; n < M; ++n) {
         const double t = (n - tm) * T;
