@@ -215,6 +215,8 @@ void bp_focuser_impl::process_aperture()
         tc.significance = d_cfg.autofocus_significance;
         tc.gcp = d_cfg.autofocus_gcp;
         tc.gcp_along_track_se_m = d_cfg.autofocus_gcp_along_track_se_m;
+        // the kernel gates n se(d_y), the stretch over the aperture (at most 1 m)
+        tc.gcp_speed_se_m = std::min(1.0, d_cfg.autofocus_gcp_speed_se_mps * d_fill * d_T);
         tc.smooth_pulses = static_cast<unsigned>(
             std::clamp(std::round(0.04 / d_T), 1.0, static_cast<double>(d_fill)));
         const auto r = kernel::trajectory_autofocus(
@@ -232,7 +234,8 @@ void bp_focuser_impl::process_aperture()
             d_gcp_drift[c] = unused * r.gcp_drift_m[c] / d_T;
         }
         d_gcp_se = { unused * r.gcp_offset_se_m, unused * r.gcp_drift_se_m / d_T,
-                     r.gcp_along_track ? r.gcp_offset_y_se_m : s_nan };
+                     r.gcp_along_track ? r.gcp_offset_y_se_m : s_nan,
+                     r.gcp_along_track_speed ? r.gcp_drift_y_se_m / d_T : s_nan };
     } else {
         d_kernel->reset(d_next_y);
         d_kernel->add(d_pulses.data(), d_fill, d_antenna.data());

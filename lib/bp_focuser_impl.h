@@ -45,7 +45,7 @@ private:
     static constexpr double s_nan = std::numeric_limits<double>::quiet_NaN();
     std::array<double, 3> d_gcp_offset{ s_nan, s_nan, s_nan }; // NaN: before, or no GCP used
     std::array<double, 3> d_gcp_drift{ s_nan, s_nan, s_nan };
-    std::array<double, 3> d_gcp_se{ s_nan, s_nan, s_nan };
+    std::array<double, 4> d_gcp_se{ s_nan, s_nan, s_nan, s_nan };
     std::unique_ptr<kernel::bp_focuser> d_kernel;
 
     bool d_pending = false; // axis change from a tag, applied at the next aperture
@@ -120,7 +120,7 @@ public:
     unsigned trajectory_gcp_used() const override { return d_gcp_used; }
     std::array<double, 3> trajectory_gcp_offset_m() const override { return d_gcp_offset; }
     std::array<double, 3> trajectory_gcp_drift_mps() const override { return d_gcp_drift; }
-    std::array<double, 3> trajectory_gcp_se() const override { return d_gcp_se; }
+    std::array<double, 4> trajectory_gcp_se() const override { return d_gcp_se; }
 };
 
 } // namespace nrsar

@@ -223,6 +223,39 @@ void expect_image_near_floor(const std::vector<gr_complex>& pulses,
     EXPECT_LT(af_db, floor_db + 0.5);
 }
 
+// The GCPs of the e_y and d_y tests: look angles 1 degree apart, each alone in its range
+// bins, the middle one 25 m along track from the outer two (u_y's pattern not a linear
+// function of the look angle, which x and z would absorb).
+const std::vector<vec3> SPREAD = { { 800.0, 12.53, 1.0 },
+                                   { 830.0, 37.53, 1.0 },
+                                   { 770.0, 37.53, 1.0 } };
+
+// Cramer-Rao-type standard error of the y of a GCP solve (x, y, z) from one estimate per GCP
+// q: sqrt((G^-1)_yy), G = sum u u^T / var over the GCPs (u their line of sight at the middle
+// pulse), var = 1 / ((2 pi cs)^2 2 g a^2 count) the estimate's: the mean phase (count n,
+// the constant) or the slope (count sum (p - p_mid)^2) of a history at SNR g a^2 per pulse;
+// g = 4 / 3 of the echo's snr, the Hann-tapered history (gcp_takes_out_an_along_track_offset).
+double crb_y(const std::vector<vec3>& gcps, double snr, double count)
+{
+    const double cs = 2.0 / LAM + FCR / RHO;
+    const vec3 am = truth(M / 2);
+    double g[3][3] = {};
+    for (const auto& q : gcps) {
+        const vec3 d = { am[0] - q[0], am[1] - q[1], am[2] };
+        const double r = std::hypot(d[0], d[1], d[2]);
+        const double var = 1.0 / (std::pow(2.0 * M_PI * cs, 2) * 2.0 * (4.0 / 3.0) * snr *
+                                  q[2] * q[2] * count);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                g[i][j] += d[i] * d[j] / (r * r * var);
+    }
+    // (G^-1)_yy = cofactor / det
+    const double det = g[0][0] * (g[1][1] * g[2][2] - g[1][2] * g[2][1]) -
+                       g[0][1] * (g[1][0] * g[2][2] - g[1][2] * g[2][0]) +
+                       g[0][2] * (g[1][0] * g[2][1] - g[1][1] * g[2][0]);
+    return std::sqrt((g[0][0] * g[2][2] - g[0][2] * g[2][0]) / det);
+}
+
 } // namespace
 
 TEST(bp_autofocus, recovers_an_injected_path_error)
@@ -509,31 +542,40 @@ TEST(bp_autofocus, validates)
     c = {};
     c.gcp.assign(trajectory_autofocus_config::max_gcp + 1, vec3{ 800.0, 25.0, 0.0 });
     EXPECT_THROW(run(c, M), std::invalid_argument);
-    try {
-        c = {};
-        c.gcp = { { 800.0, 25.0, 0.0 }, { 800.0, std::nan(""), 0.0 } };
-        run(c, M);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("gcp[1] = nan must be finite"), std::string::npos);
-    }
-    try {
-        c = {};
-        c.look_spread_rad = -0.1;
-        run(c, M);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("look_spread_rad = -0.1"), std::string::npos);
-    }
-    try {
-        c = {};
-        c.gcp_along_track_se_m = 1.5;
-        run(c, M);
-        FAIL();
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("gcp_along_track_se_m = 1.5 must be in [0, 1]"),
-                  std::string::npos);
-    }
+    // refused with a message holding text
+    auto refused = [&](const trajectory_autofocus_config& cfg, const bp_grid& g,
+                       const std::string& text) {
+        try {
+            trajectory_autofocus(pulses.data(), M, ant.data(), g, cfg, img.data());
+            ADD_FAILURE() << "accepted, expected: " << text;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+        }
+    };
+    c = {};
+    c.gcp = { { 800.0, 25.0, 0.0 }, { 800.0, std::nan(""), 0.0 } };
+    refused(c, grid(), "gcp[1] = nan must be finite");
+    c = {};
+    c.look_spread_rad = -0.1;
+    refused(c, grid(), "look_spread_rad = -0.1");
+    c = {};
+    c.gcp_along_track_se_m = 1.5;
+    refused(c, grid(), "gcp_along_track_se_m = 1.5 must be in [0, 1]");
+    c = {};
+    c.gcp_speed_se_m = -0.01;
+    refused(c, grid(), "gcp_speed_se_m = -0.01 must be in [0, 1]");
+    // The automatic taper band, 2 |range_centre_cycles| + 1 / K, assumes subcarriers 0..N-1:
+    // a spectrum centred near 0 would get a window of about one bin (1 / 64 + 0.002 here).
+    bp_grid centred = grid();
+    centred.range_centre_cycles = 0.001;
+    refused({}, centred, "range_centre_cycles = 0.001 gives the automatic range_band_cycles 2 "
+                         "|range_centre_cycles| + 1 / K = 0.017625, below 0.25");
+    c = {};
+    c.range_band_cycles = 0.5; // the band given: taken as it is
+    EXPECT_NO_THROW(
+        trajectory_autofocus(pulses.data(), M, ant.data(), centred, c, img.data()));
+    // the tests' geometry, subcarriers 0..31 of a 64-point IFFT: 2 * 31 / 128 + 1 / 64 = 0.5
+    EXPECT_NO_THROW(run({}, M));
 }
 
 TEST(bp_autofocus, ground_control_points_fix_the_trend)
@@ -748,29 +790,12 @@ TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_offset)
     // one computed here: (G^-1)_yy of G = sum u u^T / var_c over the GCPs, var_c = 1 / ((2 pi
     // cs)^2 2 g n) the constant's (mean phase of n pulses at SNR g per pulse; g = 4 / 3 of
     // the echo's, the Hann-tapered history, as in gcp_takes_out_an_along_track_offset).
-    const std::vector<vec3> tg = { { 800.0, 12.53, 1.0 },
-                                   { 830.0, 37.53, 1.0 },
-                                   { 770.0, 37.53, 1.0 } };
+    const std::vector<vec3>& tg = SPREAD;
     constexpr double ey = 0.30, snr = 10.0;
     const auto pulses = echo(N / snr, 47, tg);
     const auto tru = true_path();
     const double cs = 2.0 / LAM + FCR / RHO;
-    const vec3 am = tru[M / 2];
-    double g[3][3] = {};
-    for (const auto& q : tg) {
-        const vec3 d = { am[0] - q[0], am[1] - q[1], am[2] };
-        const double r = std::hypot(d[0], d[1], d[2]);
-        const double var = 1.0 / (std::pow(2.0 * M_PI * cs, 2) * 2.0 * (4.0 / 3.0) * snr *
-                                  q[2] * q[2] * M);
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-                g[i][j] += d[i] * d[j] / (r * r * var);
-    }
-    // (G^-1)_yy = cofactor / det
-    const double det = g[0][0] * (g[1][1] * g[2][2] - g[1][2] * g[2][1]) -
-                       g[0][1] * (g[1][0] * g[2][2] - g[1][2] * g[2][0]) +
-                       g[0][2] * (g[1][0] * g[2][1] - g[1][1] * g[2][0]);
-    const double crb = std::sqrt((g[0][0] * g[2][2] - g[0][2] * g[2][0]) / det);
+    const double crb = crb_y(tg, snr, M);
     trajectory_autofocus_config cfg;
     for (const auto& q : tg)
         cfg.gcp.push_back({ q[0], q[1], 0.0 });
@@ -799,7 +824,9 @@ TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_offset)
                     1e3 * r.gcp_drift_m[2], 1e3 * r.gcp_drift_se_m);
         EXPECT_NEAR(r.gcp_offset_y_se_m, crb, 0.1 * crb);
         EXPECT_NEAR(r.gcp_offset_m[1], ey, 3.0 * r.gcp_offset_y_se_m);
-        EXPECT_NEAR(r.antenna[M / 2][1], tru[M / 2][1] + ey - r.gcp_offset_m[1], 1e-9);
+        // (the speed gate is open too: d_y, 0 here, solved and taken off with its noise)
+        EXPECT_NEAR(r.antenna[M / 2][1],
+                    tru[M / 2][1] + ey - r.gcp_offset_m[1] - 0.5 * r.gcp_drift_m[1], 1e-9);
         // (x, z): the drift within 3 standard errors (rms of x, z); the offset less the
         // integer k of periods along the GCPs' mean line of sight (|k| <= 1, "The integer").
         const double dx = drift ? 0.05 * T : 0.0, dz = drift ? -0.08 * T : 0.0;
@@ -828,3 +855,111 @@ TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_offset)
         EXPECT_LT(got_db, perfect_db + 0.5);
     }
 }
+
+TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_speed)
+{
+    // Each GCP's slope holds u_y d_y as its constant u_y e_y (d_y the along-track speed
+    // error per pulse): the GCPs of gcps_spread_along_track_solve_the_along_track_offset
+    // solve it as a fourth unknown. Navigation = truth + (x, z) offset and drift + e_y +
+    // d_y (t - t_mid). The kernel's d_y within 3 of its standard error, held against the
+    // Cramer-Rao-type one computed here as e_y's: (G^-1)_yy of G = sum u u^T / var_s,
+    // var_s = 1 / ((2 pi cs)^2 2 g sum (n - n_mid)^2) the slope's (a linear phase over n
+    // pulses at SNR g per pulse, g = 4 / 3 of the echo's). The image against the perfectly
+    // navigated one: with d_y solved, and with the speed gate shut (d_y left: the image
+    // stretched by d_y / v); shut, every output is the one before d_y was an unknown (the
+    // y path is nav - e_y: no trend).
+    const std::vector<vec3>& tg = SPREAD;
+    constexpr double ey = 0.30, dy = 0.10, snr = 10.0; // dy [m/s]: a GNSS class's
+    const auto pulses = echo(N / snr, 47, tg);
+    const auto tru = true_path();
+    const double cs = 2.0 / LAM + FCR / RHO, tm = 0.5 * (M - 1.0);
+    double stt = 0.0;
+    for (unsigned n = 0; n < M; ++n)
+        stt += (n - tm) * (n - tm);
+    const double crb = crb_y(tg, snr, stt) / T; // [m/s]
+    std::vector<vec3> nav = tru;
+    for (unsigned n = 0; n < M; ++n) {
+        const double t = (n - tm) * T;
+        nav[n][0] += 0.12 + 0.05 * t;
+        nav[n][1] += ey + dy * t;
+        nav[n][2] += -0.20 - 0.08 * t;
+    }
+    trajectory_autofocus_config cfg;
+    for (const auto& q : tg)
+        cfg.gcp.push_back({ q[0], q[1], 0.0 });
+    std::vector<gr_complex> img(std::size_t(M) * K), img0(img.size());
+    const auto r = trajectory_autofocus(pulses.data(), M, nav.data(), grid(), cfg, img.data());
+    ASSERT_EQ(r.gcp_used, 3u);
+    ASSERT_TRUE(r.gcp_along_track);
+    ASSERT_TRUE(r.gcp_along_track_speed);
+    const double dy_hat = r.gcp_drift_m[1] / T, se = r.gcp_drift_y_se_m / T;
+    std::printf("d_y %.2f mm/s (true %.2f), se %.2f mm/s (Cramer-Rao %.2f mm/s, n se %.1f mm); "
+                "e_y %.1f mm (true %.1f), se %.2f mm; drift (%.2f, %.2f) mm/s (true (50, -80)), "
+                "se %.2f mm/s\n",
+                1e3 * dy_hat, 1e3 * dy, 1e3 * se, 1e3 * crb, 1e3 * M * r.gcp_drift_y_se_m,
+                1e3 * r.gcp_offset_m[1], 1e3 * ey, 1e3 * r.gcp_offset_y_se_m,
+                1e3 * r.gcp_drift_m[0] / T, 1e3 * r.gcp_drift_m[2] / T,
+                1e3 * r.gcp_drift_se_m / T);
+    EXPECT_NEAR(se, crb, 0.1 * crb);
+    EXPECT_NEAR(dy_hat, dy, 3.0 * se);
+    EXPECT_NEAR(r.gcp_offset_m[1], ey, 3.0 * r.gcp_offset_y_se_m);
+    EXPECT_LT(std::hypot(r.gcp_drift_m[0] - 0.05 * T, r.gcp_drift_m[2] + 0.08 * T),
+              3.0 * r.gcp_drift_se_m);
+    // the path's y: nav less e_y and d_y's trend, bit for bit
+    for (unsigned n = 0; n < M; n += M - 1)
+        EXPECT_EQ(r.antenna[n][1], nav[n][1] - (r.gcp_offset_m[1] + r.gcp_drift_m[1] * (n - tm)));
+
+    trajectory_autofocus_config shut = cfg;
+    shut.gcp_speed_se_m = 0.0;
+    const auto r0 = trajectory_autofocus(pulses.data(), M, nav.data(), grid(), shut, img0.data());
+    EXPECT_FALSE(r0.gcp_along_track_speed);
+    EXPECT_EQ(r0.gcp_drift_m[1], 0.0);
+    EXPECT_EQ(r0.gcp_drift_y_se_m, 0.0);
+    EXPECT_EQ(r0.gcp_offset_m[1], r.gcp_offset_m[1]); // e_y from the constants alone
+    for (unsigned n = 0; n < M; ++n)
+        ASSERT_EQ(r0.antenna[n][1], nav[n][1] - r0.gcp_offset_m[1]);
+    // d_y only with e_y (e_y left in the slopes would bias it by about 10 mm/s here)
+    trajectory_autofocus_config no_ey = cfg;
+    no_ey.gcp_along_track_se_m = 0.0;
+    std::vector<gr_complex> img1(img.size());
+    const auto r1 = trajectory_autofocus(pulses.data(), M, nav.data(), grid(), no_ey, img1.data());
+    EXPECT_FALSE(r1.gcp_along_track_speed);
+    EXPECT_EQ(r1.gcp_drift_m[1], 0.0);
+    // The images against the perfectly navigated one, same noise (error energy over its
+    // energy, one complex scale fitted): what the navigation left, not the noise.
+    const auto perfect = bp_image(pulses, tru);
+    auto rel_db = [&](const std::vector<gr_complex>& im) {
+        cd num(0.0, 0.0);
+        double den = 0.0;
+        for (std::size_t i = 0; i < im.size(); ++i) {
+            num += std::conj(cd(perfect[i])) * cd(im[i]);
+            den += std::norm(cd(perfect[i]));
+        }
+        double e = 0.0;
+        for (std::size_t i = 0; i < im.size(); ++i)
+            e += std::norm(cd(im[i]) - num / den * cd(perfect[i]));
+        return 10.0 * std::log10(e / den);
+    };
+    // The GCPs' constant may miss its lambda / 2 integer (k periods along their mean line
+    // of sight, |k| <= 1; ground_control_points_fix_the_trend): a range shift the path
+    // moved on by k periods takes out, so that what the along-track error leaves shows.
+    const auto m = mean_los();
+    const double k = std::round(((r.gcp_offset_m[0] - 0.12) * m[0] +
+                                 (r.gcp_offset_m[2] + 0.20) * m[1]) * cs);
+    EXPECT_LE(std::abs(k), 1.0);
+    auto right_db = [&](std::vector<vec3> path) {
+        for (auto& v : path) {
+            v[0] += k / cs * m[0];
+            v[2] += k / cs * m[1];
+        }
+        return rel_db(bp_image(pulses, path));
+    };
+    const double got_db = rel_db(img), shut_db = rel_db(img0);
+    const double got_k_db = right_db(r.antenna), shut_k_db = right_db(r0.antenna);
+    std::printf("against the perfectly navigated image: d_y solved %.2f dB, left %.2f dB; the "
+                "integer (%+.0f) right: %.2f / %.2f dB\n",
+                got_db, shut_db, k, got_k_db, shut_k_db);
+    EXPECT_LT(got_db, shut_db);
+    EXPECT_LT(got_k_db, shut_k_db - 3.0);
+}
+

@@ -38,6 +38,8 @@ void trajectory_autofocus_config::validate() const
     if (!(std::isfinite(gcp_along_track_se_m) && gcp_along_track_se_m >= 0.0 &&
           gcp_along_track_se_m <= 1.0))
         throw_param("gcp_along_track_se_m", gcp_along_track_se_m, "must be in [0, 1]");
+    if (!(std::isfinite(gcp_speed_se_m) && gcp_speed_se_m >= 0.0 && gcp_speed_se_m <= 1.0))
+        throw_param("gcp_speed_se_m", gcp_speed_se_m, "must be in [0, 1]");
     if (!(std::isnan(range_band_cycles) ||
           (range_band_cycles >= 0.0 && range_band_cycles <= 1.0)))
         throw_param("range_band_cycles", range_band_cycles, "must be in [0, 1] (or NaN: auto)");
@@ -229,6 +231,68 @@ std::vector<point> prominent(const std::vector<gr_complex>& img,
     return pts;
 }
 
+// The displacement (x, 0, z) at one pulse (antenna a) that the points' line-of-sight
+// values b(i) [m] give: least squares weighted by w in (x, z) (two_d), else along their
+// mean line of sight; var: the solution's variance (x + z) for histories smoothed over len
+// pulses.
+template <class values>
+vec3 solve_pulse(const std::vector<point>& pts,
+                 const vec3& a,
+                 bool two_d,
+                 unsigned len,
+                 values b,
+                 double& var)
+{
+    auto los = [&](const point& q) {
+        const double r = distance(a, q.q);
+        return std::array<double, 2>{ (a[0] - q.q[0]) / r, (a[2] - q.q[2]) / r };
+    };
+    if (two_d) { // normal equations of (d_x, d_z)
+        // and the covariance G^-1 H G^-1 of the solution, H = sum w^2 var u u^T
+        double axx = 0.0, axz = 0.0, azz = 0.0, bx = 0.0, bz = 0.0;
+        double hxx = 0.0, hxz = 0.0, hzz = 0.0;
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            const auto u = los(pts[i]);
+            const double w = pts[i].w, wwv = w * w * pts[i].v / len;
+            axx += w * u[0] * u[0];
+            axz += w * u[0] * u[1];
+            azz += w * u[1] * u[1];
+            bx += w * u[0] * b(i);
+            bz += w * u[1] * b(i);
+            hxx += wwv * u[0] * u[0];
+            hxz += wwv * u[0] * u[1];
+            hzz += wwv * u[1] * u[1];
+        }
+        const double det = axx * azz - axz * axz;
+        // G^-1 = [azz -axz; -axz axx] / det; trace(G^-1 H G^-1)
+        const double gxx = azz / det, gxz = -axz / det, gzz = axx / det;
+        const double cxx = gxx * (gxx * hxx + gxz * hxz) + gxz * (gxx * hxz + gxz * hzz);
+        const double czz = gxz * (gxz * hxx + gzz * hxz) + gzz * (gxz * hxz + gzz * hzz);
+        var = cxx + czz;
+        return { (azz * bx - axz * bz) / det, 0.0, (axx * bz - axz * bx) / det };
+    }
+    // along the mean line of sight m: d = alpha m
+    double mx = 0.0, mz = 0.0;
+    for (const point& q : pts) {
+        const auto u = los(q);
+        mx += q.w * u[0];
+        mz += q.w * u[1];
+    }
+    const double mn = std::hypot(mx, mz);
+    mx /= mn;
+    mz /= mn;
+    double num = 0.0, den = 0.0, vn = 0.0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        const auto u = los(pts[i]);
+        const double um = u[0] * mx + u[1] * mz;
+        num += pts[i].w * um * b(i);
+        den += pts[i].w * um * um;
+        vn += pts[i].w * pts[i].w * um * um * pts[i].v / len;
+    }
+    var = vn / (den * den);
+    return { num / den * mx, 0.0, num / den * mz };
+}
+
 // The ground control points' calibration (docs/blocks/bp_focuser.md, "Ground control
 // points"): each GCP q in the image gives, along res.antenna, the constant c and slope s
 // over the pulses of its line-of-sight error R_nav - R_true; they fix the navigation
@@ -239,6 +303,7 @@ bool calibrate_gcp(const gr_complex* pulses,
                    const bp_grid& grid,
                    const std::vector<vec3>& gcps,
                    double gcp_along_track_se_m,
+                   double gcp_speed_se_m,
                    bp_focuser& one,
                    const std::vector<unsigned>& len,
                    unsigned h,
@@ -413,34 +478,106 @@ bool calibrate_gcp(const gr_complex* pulses,
     const double se_y = ryy > 0.0 ? std::sqrt(1.0 / (n * ryy)) : INFINITY;
     res.gcp_along_track = se_y < gcp_along_track_se_m;
     double ey = 0.0, offset_var_y = 0.0, drift_var_y = 0.0;
-    std::array<double, 2> e1;
+    std::array<double, 2> bd{};
     if (res.gcp_along_track) {
         ey = ryc / ryy;
         e0 = { e0[0] - ey * by[0], e0[1] - ey * by[1] };
         // The offset o turns each line of sight over the aperture: the slope holds du . o
-        // besides the drift (for e_y: v T e_y / R).
+        // besides the drift (for e_y: v T e_y / R); taken off each s.
         const vec3 o{ e0[0], ey, e0[1] };
-        e1 = solve([&](const fix& f) { return f.s - (f.du[0] * o[0] + f.du[1] * o[1] +
-                                                     f.du[2] * o[2]); });
-        const std::array<double, 2> bd = solve([](const fix& f) { return f.du[1]; });
+        for (fix& f : fixes)
+            f.s = f.s - (f.du[0] * o[0] + f.du[1] * o[1] + f.du[2] * o[2]);
+        bd = solve([](const fix& f) { return f.du[1]; });
         offset_var_y = (by[0] * by[0] + by[1] * by[1]) * se_y * se_y;
         drift_var_y = (bd[0] * bd[0] + bd[1] * bd[1]) * se_y * se_y;
         res.gcp_offset_y_se_m = se_y;
-    } else {
-        e1 = solve([](const fix& f) { return f.s; });
+    }
+    std::array<double, 2> e1 = solve([](const fix& f) { return f.s; });
+    // The along-track speed error d_y: each slope holds u_y d_y as each constant u_y e_y,
+    // so the same r (docs/blocks/bp_focuser.md, "The along-track speed"): d_y = sum r s /
+    // v / sum r^2 / v, variance 1 / (sum (p - tm)^2 sum r^2 / v), plus e_y's noise through
+    // du . o (kappa e_y). Solved with e_y (r does not take du_y e_y out of the slopes: e_y
+    // left would bias d_y by kappa e_y, 10 mm/s for 0.3 m in the test) where n times that
+    // standard error (the along-track stretch it would leave over the aperture) is below
+    // gcp_speed_se_m.
+    const double se_dy0 = ryy > 0.0 ? std::sqrt(1.0 / (stt * ryy)) : INFINITY;
+    double kappa = 0.0, rys = 0.0;
+    for (const fix& f : fixes) {
+        const double r = f.uy - (f.ux * by[0] + f.uz * by[1]);
+        kappa += r * f.du[1] / f.v / ryy;
+        rys += r * f.s / f.v;
+    }
+    const double se_dy = std::hypot(se_dy0, kappa * se_y);
+    res.gcp_along_track_speed = res.gcp_along_track && n * se_dy < gcp_speed_se_m;
+    double dy = 0.0;
+    if (res.gcp_along_track_speed) {
+        dy = rys / ryy;
+        e1 = { e1[0] - dy * by[0], e1[1] - dy * by[1] };
+        // The drift's e_y part is now -bd (du . o) + kappa by (d_y's), its slope noise's by
+        const double cx = kappa * by[0] - bd[0], cz = kappa * by[1] - bd[1];
+        drift_var_y = (by[0] * by[0] + by[1] * by[1]) * se_dy0 * se_dy0 +
+                      (cx * cx + cz * cz) * se_y * se_y;
+        res.gcp_drift_y_se_m = se_dy;
     }
     // The constant averages n pulses, the slope sum (p - tm)^2 of them; e_y's noise moves
     // both through its (x, z) fits (uncorrelated with the base solution's).
     res.gcp_offset_se_m = std::sqrt(g_trace / n + offset_var_y);
     res.gcp_drift_se_m = std::sqrt(g_trace / stt + drift_var_y);
     res.gcp_offset_m = { e0[0], ey, e0[1] };
-    res.gcp_drift_m = { e1[0], 0.0, e1[1] };
+    res.gcp_drift_m = { e1[0], dy, e1[1] };
     for (unsigned i = 0; i < n; ++i) {
         res.antenna[i][0] -= e0[0] + e1[0] * (i - tm);
-        res.antenna[i][1] -= ey;
+        res.antenna[i][1] -= ey + dy * (i - tm);
         res.antenna[i][2] -= e0[1] + e1[1] * (i - tm);
     }
     return true;
+}
+
+// The along-track speed error d_y puts, besides its linear u_y d_y (p - tm), a quadratic
+// v T d_y (p - tm)^2 / R (the defocus of a speed error) in every point's history, which
+// the displacement took as x and z; with d_y now off the path's y that part would count
+// twice (docs/blocks/bp_focuser.md, "The along-track speed"). It is taken out of the
+// displacement (and put back on the path) as the points' solve made it: from each point's
+// history of d_y's trend along the path, less its mean, per pulse, less the trend.
+void take_out_speed_defocus(const std::vector<point>& pts,
+                            bool two_d,
+                            const std::vector<unsigned>& len,
+                            trajectory_autofocus_result& res)
+{
+    const unsigned n = static_cast<unsigned>(res.antenna.size());
+    const double tm = 0.5 * (n - 1.0), dy = res.gcp_drift_m[1];
+    std::vector<std::vector<double>> g(pts.size(), std::vector<double>(n));
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        double mean = 0.0;
+        for (unsigned p = 0; p < n; ++p) {
+            const vec3& a = res.antenna[p];
+            const vec3 nav{ a[0], a[1] + dy * (p - tm), a[2] };
+            g[i][p] = distance(nav, pts[i].q) - distance(a, pts[i].q);
+            mean += g[i][p] / n;
+        }
+        for (double& v : g[i])
+            v -= mean;
+    }
+    std::vector<vec3> d(n);
+    double var;
+    for (unsigned p = 0; p < n; ++p)
+        d[p] = solve_pulse(pts, res.antenna[p], two_d, len[p],
+                           [&](std::size_t i) { return g[i][p]; }, var);
+    std::array<double, 3> c0{}, c1{};
+    double stt = 0.0;
+    for (unsigned p = 0; p < n; ++p)
+        stt += (p - tm) * (p - tm);
+    for (unsigned p = 0; p < n; ++p)
+        for (int c3 = 0; c3 < 3; c3 += 2) {
+            c0[c3] += d[p][c3] / n;
+            c1[c3] += d[p][c3] * (p - tm) / stt;
+        }
+    for (unsigned p = 0; p < n; ++p)
+        for (int c3 = 0; c3 < 3; c3 += 2) {
+            const double v = d[p][c3] - c0[c3] - c1[c3] * (p - tm);
+            res.displacement_m[p][c3] -= v;
+            res.antenna[p][c3] += v;
+        }
 }
 
 } // namespace
@@ -461,6 +598,17 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         throw_param("smooth_pulses", cfg.smooth_pulses, "must be at most the pulses, " +
                                                             std::to_string(n));
     const unsigned K = grid.num_range_bins, M = grid.num_lines;
+    // The automatic taper band assumes subcarriers 0..N-1 (the band's lower edge at 0): the
+    // chain's numerologies give 0.5-0.8. Under 1 / 4 (a range profile oversampled over 4
+    // times) the spectrum is likely centred elsewhere (centred on 0: a one-bin window).
+    const double auto_band = std::min(1.0, 2.0 * std::abs(grid.range_centre_cycles) + 1.0 / K);
+    if (std::isnan(cfg.range_band_cycles) && auto_band < 0.25)
+        throw_param("range_centre_cycles",
+                    grid.range_centre_cycles,
+                    "gives the automatic range_band_cycles 2 |range_centre_cycles| + 1 / K = " +
+                        std::to_string(auto_band) +
+                        ", below 0.25 (it assumes subcarriers 0..N-1 from frequency 0): set "
+                        "range_band_cycles to the spectrum's width");
     trajectory_autofocus_result res;
     res.antenna.assign(antenna, antenna + n);
     res.displacement_m.assign(n, vec3{ 0.0, 0.0, 0.0 });
@@ -475,9 +623,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     const unsigned ex_k = 4;
 
     // The histories are read from the tapered pulses, the images from the pulses as given.
-    const double band = std::isnan(cfg.range_band_cycles)
-                            ? std::min(1.0, 2.0 * std::abs(grid.range_centre_cycles) + 1.0 / K)
-                            : cfg.range_band_cycles;
+    const double band = std::isnan(cfg.range_band_cycles) ? auto_band : cfg.range_band_cycles;
     std::vector<gr_complex> tapered_pulses; // none with band 0: the histories read pulses
     if (band > 0.0)
         tapered_pulses = tapered(pulses, n, grid, band);
@@ -502,6 +648,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     for (unsigned p = 0; p < n; ++p)
         len[p] = std::min(n, p + h + 1) - (p > h ? p - h : 0);
     bool img_is_nav = false; // img holds the image along the navigation
+    std::vector<point> solved; // the points of the displacement's iteration
     for (unsigned it = 0; it < cfg.max_iterations; ++it) {
         image_along(res.antenna);
         img_is_nav = it == 0;
@@ -564,50 +711,10 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         std::vector<vec3> d(n, vec3{ 0.0, 0.0, 0.0 });
         double var = 0.0; // mean over the pulses of the solution's variance (x + z) [m^2]
         for (unsigned p = 0; p < n; ++p) {
-            if (res.two_dimensional) { // normal equations of (d_x, d_z)
-                // and the covariance G^-1 H G^-1 of the solution, H = sum w^2 var u u^T
-                double axx = 0.0, axz = 0.0, azz = 0.0, bx = 0.0, bz = 0.0;
-                double hxx = 0.0, hxz = 0.0, hzz = 0.0;
-                for (std::size_t i = 0; i < pts.size(); ++i) {
-                    const auto u = los(pts[i], p);
-                    const double w = pts[i].w, wwv = w * w * pts[i].v / len[p];
-                    axx += w * u[0] * u[0];
-                    axz += w * u[0] * u[1];
-                    azz += w * u[1] * u[1];
-                    bx += w * u[0] * b[i][p];
-                    bz += w * u[1] * b[i][p];
-                    hxx += wwv * u[0] * u[0];
-                    hxz += wwv * u[0] * u[1];
-                    hzz += wwv * u[1] * u[1];
-                }
-                const double det = axx * azz - axz * axz;
-                d[p] = { (azz * bx - axz * bz) / det, 0.0, (axx * bz - axz * bx) / det };
-                // G^-1 = [azz -axz; -axz axx] / det; trace(G^-1 H G^-1)
-                const double gxx = azz / det, gxz = -axz / det, gzz = axx / det;
-                const double cxx = gxx * (gxx * hxx + gxz * hxz) + gxz * (gxx * hxz + gxz * hzz);
-                const double czz = gxz * (gxz * hxx + gzz * hxz) + gzz * (gxz * hxz + gzz * hzz);
-                var += (cxx + czz) / n;
-            } else { // along the mean line of sight m: d = alpha m
-                double mx = 0.0, mz = 0.0;
-                for (const point& q : pts) {
-                    const auto u = los(q, p);
-                    mx += q.w * u[0];
-                    mz += q.w * u[1];
-                }
-                const double mn = std::hypot(mx, mz);
-                mx /= mn;
-                mz /= mn;
-                double num = 0.0, den = 0.0, vn = 0.0;
-                for (std::size_t i = 0; i < pts.size(); ++i) {
-                    const auto u = los(pts[i], p);
-                    const double um = u[0] * mx + u[1] * mz;
-                    num += pts[i].w * um * b[i][p];
-                    den += pts[i].w * um * um;
-                    vn += pts[i].w * pts[i].w * um * um * pts[i].v / len[p];
-                }
-                d[p] = { num / den * mx, 0.0, num / den * mz };
-                var += vn / (den * den) / n;
-            }
+            double v;
+            d[p] = solve_pulse(pts, res.antenna[p], res.two_dimensional, len[p],
+                               [&](std::size_t i) { return b[i][p]; }, v);
+            var += v / n;
         }
         // A constant and a linear displacement only move the image (a phase and a Doppler
         // shift): removed, so the image stays where the navigation put it.
@@ -633,6 +740,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         res.last_update_rms_m = std::sqrt(ss / n);
         res.standard_error_m = std::sqrt(var);
         res.iterations = it + 1;
+        solved = pts;
         // A first correction within its noise: iterating on it would only fit the noise.
         if (res.last_update_rms_m < cfg.tolerance_m ||
             (it == 0 && !(res.last_update_rms_m > cfg.significance * res.standard_error_m)))
@@ -651,7 +759,10 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     }
     const bool calibrated = !cfg.gcp.empty() && calibrate_gcp(hist_pulses, n, grid,
                                                               cfg.gcp, cfg.gcp_along_track_se_m,
-                                                              one, len, h, res);
+                                                              cfg.gcp_speed_se_m, one, len, h,
+                                                              res);
+    if (calibrated && res.gcp_along_track_speed && res.accepted)
+        take_out_speed_defocus(solved, res.two_dimensional, len, res);
     if (calibrated || !(img_is_nav && !res.accepted))
         image_along(res.antenna);
     std::copy(img.begin(), img.end(), image_out);

@@ -61,6 +61,7 @@ void bp_config::validate() const
     check_finite_points(
         "autofocus_gcp", autofocus_gcp, kernel::trajectory_autofocus_config::max_gcp);
     check_range("autofocus_gcp_along_track_se_m", autofocus_gcp_along_track_se_m, 0.0, 1.0);
+    check_range("autofocus_gcp_speed_se_mps", autofocus_gcp_speed_se_mps, 0.0, 1.0);
 }
 
 namespace kernel {

@@ -100,7 +100,8 @@ def bp_config_of(opts, cfg, autofocus=False):
                      autofocus_tolerance_m=opts.autofocus_tolerance_m,
                      autofocus_significance=opts.autofocus_significance,
                      autofocus_gcp=parse_gcps(opts.autofocus_gcp) if autofocus else [],
-                     autofocus_gcp_along_track_se_m=opts.autofocus_gcp_along_track_se_m)
+                     autofocus_gcp_along_track_se_m=opts.autofocus_gcp_along_track_se_m,
+                     autofocus_gcp_speed_se_mps=opts.autofocus_gcp_speed_se_mps)
 
 
 def check_gcps_in_image(opts, geo, foc, cfg, symbols):

@@ -434,6 +434,10 @@ class SimOptions(Options):
         0.05, "--autofocus-gcp: solve the navigation's along-track offset e_y when GCPs spread "
         "along track predict its standard error below this [m] (0: never; docs/blocks/"
         "bp_focuser.md, \"Solving e_y\")", at_least=0.0, at_most=1.0)
+    autofocus_gcp_speed_se_mps: float = option(
+        0.02, "--autofocus-gcp: solve the navigation's along-track speed error d_y when GCPs "
+        "spread along track predict its standard error below this [m/s] (0: never; docs/"
+        "blocks/bp_focuser.md, \"The along-track speed\")", at_least=0.0, at_most=1.0)
     rcmc_taps: int = option(16, "length of the windowed-sinc RCMC interpolator, eq. (41)",
                             at_least=2, at_most=256)
     range_margin_m: float = option(30.0, "slant range kept on each side of the scene's swath "

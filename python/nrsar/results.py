@@ -265,8 +265,9 @@ def image_results(opts, chain, sc, runtime_s):
         if opts.autofocus_gcp:
             # the navigation error's constant (at the latest aperture's middle pulse) and
             # drift the ground control points fixed, (x, y, z); None where no GCP lay in
-            # that aperture's image; the offset's y 0 unless GCPs spread along track solved
-            # it (autofocus_gcp_offset_y_se_m its standard error, else None): GCPs at one
+            # that aperture's image; the offset's y (e_y) and the drift's (the speed error
+            # d_y) 0 unless GCPs spread along track solved them (autofocus_gcp_offset_y_se_m,
+            # autofocus_gcp_drift_y_se_mps their standard errors, else None): GCPs at one
             # along-track position see an along-track offset as a drift, and take it out
             # as one (docs/blocks/bp_focuser.md, "The along-track offset")
             foc = chain["focuser"]
@@ -279,6 +280,7 @@ def image_results(opts, chain, sc, runtime_s):
             result["autofocus_gcp_offset_se_m"] = _json_number(se[0])
             result["autofocus_gcp_drift_se_mps"] = _json_number(se[1])
             result["autofocus_gcp_offset_y_se_m"] = _json_number(se[2])
+            result["autofocus_gcp_drift_y_se_mps"] = _json_number(se[3])
         af_rms = 4.0 * math.pi * los / sc.geo.wavelength_m()
     result["autofocus_phase_rms_rad"] = _json_number(af_rms)
     # symbols a radio's overflow lost, zeroed by ofdm_demod (docs/recording.md, "Gaps")

@@ -89,6 +89,10 @@ struct NRSAR_API bp_config {
     //! The GCPs solve the along-track offset e_y where its predicted standard error is below
     //! this [m] ([0, 1]; 0: never; kernel gcp_along_track_se_m).
     double autofocus_gcp_along_track_se_m = 0.05;
+    //! With e_y they solve the along-track speed error d_y where its predicted standard
+    //! error is below this [m/s] ([0, 1]; 0: never; kernel gcp_speed_se_m, this times the
+    //! aperture's duration).
+    double autofocus_gcp_speed_se_mps = 0.02;
 
     void validate() const;
 };

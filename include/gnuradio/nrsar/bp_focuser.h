@@ -104,13 +104,13 @@ public:
     //! its image with a usable history; then the three below are NaN).
     virtual unsigned trajectory_gcp_used() const = 0;
     //! Its navigation error's constant (x, y, z) at the aperture's middle pulse [m], and
-    //! drift (x, y, z) [m/s], from the GCPs (the offset's y: 0 unless GCPs spread along
-    //! track solved it; the drift's y: 0, not solved).
+    //! drift (x, y, z) [m/s], from the GCPs (the offset's y, e_y, and the drift's, the
+    //! along-track speed error d_y: 0 unless GCPs spread along track solved them).
     virtual std::array<double, 3> trajectory_gcp_offset_m() const = 0;
     virtual std::array<double, 3> trajectory_gcp_drift_mps() const = 0;
     //! Their standard errors from the GCPs' phase noise, rms of x and z: offset [m], drift
-    //! [m/s]; then the offset's y [m] (NaN where not solved).
-    virtual std::array<double, 3> trajectory_gcp_se() const = 0;
+    //! [m/s]; then the offset's y [m] and the drift's y [m/s] (NaN where not solved).
+    virtual std::array<double, 4> trajectory_gcp_se() const = 0;
 };
 
 } // namespace nrsar

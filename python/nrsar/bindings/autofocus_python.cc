@@ -182,6 +182,7 @@ void bind_autofocus(py::module& m)
         .def_readwrite("range_band_cycles", &trajectory_autofocus_config::range_band_cycles)
         .def_readwrite("gcp", &trajectory_autofocus_config::gcp)
         .def_readwrite("gcp_along_track_se_m", &trajectory_autofocus_config::gcp_along_track_se_m)
+        .def_readwrite("gcp_speed_se_m", &trajectory_autofocus_config::gcp_speed_se_m)
         .def_readonly_static("max_gcp", &trajectory_autofocus_config::max_gcp)
         .def("validate", &trajectory_autofocus_config::validate);
 
@@ -227,6 +228,8 @@ void bind_autofocus(py::module& m)
             d["gcp_drift_se_m"] = r.gcp_drift_se_m;
             d["gcp_along_track"] = r.gcp_along_track;
             d["gcp_offset_y_se_m"] = r.gcp_offset_y_se_m;
+            d["gcp_along_track_speed"] = r.gcp_along_track_speed;
+            d["gcp_drift_y_se_m"] = r.gcp_drift_y_se_m;
             return py::make_tuple(img, d);
         },
         py::arg("pulses"),
@@ -237,7 +240,8 @@ void bind_autofocus(py::module& m)
         "(image along the corrected path, dict of antenna, displacement_m, los_m, points, "
         "look_spread_rad, two_dimensional, last_update_rms_m, iterations, standard_error_m, "
         "accepted, gcp_used, gcp_offset_m, gcp_drift_m (per pulse), gcp_two_dimensional, "
-        "gcp_offset_se_m, gcp_drift_se_m, gcp_along_track, gcp_offset_y_se_m): autofocus by "
+        "gcp_offset_se_m, gcp_drift_se_m, gcp_along_track, gcp_offset_y_se_m, "
+        "gcp_along_track_speed, gcp_drift_y_se_m (per pulse)): autofocus by "
         "trajectory estimation (kernel::trajectory_autofocus) of range-compressed pulses "
         "(pulses x K) back-projected from antenna positions (one (x, y, z) per pulse)");
 }

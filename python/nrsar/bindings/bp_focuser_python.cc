@@ -57,7 +57,8 @@ void bind_bp_focuser(py::module& m)
                          double autofocus_tolerance_m,
                          double autofocus_significance,
                          std::vector<std::array<double, 3>> autofocus_gcp,
-                         double autofocus_gcp_along_track_se_m) {
+                         double autofocus_gcp_along_track_se_m,
+                         double autofocus_gcp_speed_se_mps) {
                  bp_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
@@ -81,6 +82,7 @@ void bind_bp_focuser(py::module& m)
                  c.autofocus_significance = autofocus_significance;
                  c.autofocus_gcp = autofocus_gcp;
                  c.autofocus_gcp_along_track_se_m = autofocus_gcp_along_track_se_m;
+                 c.autofocus_gcp_speed_se_mps = autofocus_gcp_speed_se_mps;
                  return c;
              }),
              py::arg("symbols_per_pulse") = 1u,
@@ -105,6 +107,7 @@ void bind_bp_focuser(py::module& m)
              py::arg("autofocus_significance") = 2.0,
              py::arg("autofocus_gcp") = std::vector<std::array<double, 3>>(),
              py::arg("autofocus_gcp_along_track_se_m") = 0.05,
+             py::arg("autofocus_gcp_speed_se_mps") = 0.02,
              "bp_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &bp_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &bp_config::lines_per_aperture)
@@ -129,6 +132,7 @@ void bind_bp_focuser(py::module& m)
         .def_readwrite("autofocus_gcp", &bp_config::autofocus_gcp)
         .def_readwrite("autofocus_gcp_along_track_se_m",
                        &bp_config::autofocus_gcp_along_track_se_m)
+        .def_readwrite("autofocus_gcp_speed_se_mps", &bp_config::autofocus_gcp_speed_se_mps)
         .def("validate", &bp_config::validate);
 
     py::class_<bp_focuser, gr::block, gr::basic_block, std::shared_ptr<bp_focuser>>(

@@ -49,6 +49,8 @@ BAD_INPUTS = [
     ("nrsar-sim", ["--autofocus-tolerance-m", "0"], "--autofocus-tolerance-m = 0 must be above 0"),
     ("nrsar-sim", ["--autofocus-gcp-along-track-se-m", "2"],
      "--autofocus-gcp-along-track-se-m = 2 must be at most 1"),
+    ("nrsar-sim", ["--autofocus-gcp-speed-se-mps", "-1"],
+     "--autofocus-gcp-speed-se-mps = -1 must be at least 0"),
     ("nrsar-sim", ["--autofocus-points", "65"], "--autofocus-points = 65 must be at most 64"),
     ("nrsar-sim", ["--autofocus-iterations", "51"],
      "--autofocus-iterations = 51 must be at most 50"),

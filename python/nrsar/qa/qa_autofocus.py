@@ -555,13 +555,13 @@ class qa_autofocus(gr_unittest.TestCase):
                                                           focuser="bp"), None, 8))
 
 
-    def test_sim_gcps_spread_along_track_solve_e_y(self):
+    def test_sim_gcps_spread_along_track_solve_e_y_and_d_y(self):
         """nrsar-sim, GNSS navigation (motion seed 2), three point targets 1.5 degrees apart in
-        look angle, the middle one 24 m along track from the others, all three GCPs: e_y
-        solved against the navigation model's own along-track error (its least-squares
-        constant at the middle pulse, float64 here) within 3 of its standard errors, and
-        the image against the perfectly navigated one (same noise: only the path differs;
-        measured -22.5 dB, e_y left in the drift -5.1 dB; docs/flight.md)."""
+        look angle, the middle one 24 m along track from the others, all three GCPs: e_y and
+        the speed error d_y solved against the navigation model's own along-track error (its
+        least-squares constant at the middle pulse and slope, float64 here) within 3 of
+        their standard errors, and the image against the perfectly navigated one (same
+        noise: only the path differs; docs/flight.md)."""
         from gnuradio.nrsar import scenario
         common = ["--preset", "small", "--aperture-s", "0.8", "--target", "600,8",
                   "--target", "630,32", "--target", "660,8", "--snr-db", "10", "--presum",
@@ -579,17 +579,21 @@ class qa_autofocus(gr_unittest.TestCase):
         m = got["azimuth_lines"]
         t = list(np.arange(m) * got["azimuth_axis_m"][1] / sc.geo.velocity_mps)
         err = np.array(nav.positions(t)) - np.array(truth.positions(t))
-        ey = np.polyfit(np.asarray(t) - np.mean(t), err[:, 1], 1)[1]
+        dy, ey = np.polyfit(np.asarray(t) - np.mean(t), err[:, 1], 1)
         est, se = got["autofocus_gcp_offset_m"][1], got["autofocus_gcp_offset_y_se_m"]
+        est_dy, se_dy = got["autofocus_gcp_drift_mps"][1], got["autofocus_gcp_drift_y_se_mps"]
         ref = np.load(perfect["image_npy"])
         img = np.load(got["image_npy"])
         c = np.vdot(ref, img) / np.vdot(ref, ref)
         nmse = 10 * np.log10(np.sum(np.abs(img - c * ref) ** 2) / np.sum(np.abs(c * ref) ** 2))
         print(f"sim, GCPs along track: e_y {1e3 * est:.2f} mm (true {1e3 * ey:.2f} mm, se "
-              f"{1e3 * se:.2f} mm); image against the perfect one {nmse:.2f} dB")
+              f"{1e3 * se:.2f} mm), d_y {1e3 * est_dy:.2f} mm/s (true {1e3 * dy:.2f} mm/s, se "
+              f"{1e3 * se_dy:.2f} mm/s); image against the perfect one {nmse:.2f} dB")
         self.assertEqual(got["autofocus_gcp_used"], 3)
         self.assertGreater(abs(ey), 20 * se)  # an offset the test can see
         self.assertLess(abs(est - ey), 3 * se)
+        self.assertGreater(abs(dy), 20 * se_dy)  # and a speed error
+        self.assertLess(abs(est_dy - dy), 3 * se_dy)
         self.assertLess(nmse, -20.0)
 
 if __name__ == "__main__":

@@ -483,6 +483,10 @@ RULES = [
     ("bp_config", "along-track GCP gate above 1 m",
      lambda: nrsar.bp_config(autofocus_gcp_along_track_se_m=1.5).validate(),
      "autofocus_gcp_along_track_se_m = 1.5 must be in [0, 1]"),
+    # and on the along-track speed error d_y ("The along-track speed")
+    ("bp_config", "along-track speed GCP gate negative",
+     lambda: nrsar.bp_config(autofocus_gcp_speed_se_mps=-0.1).validate(),
+     "autofocus_gcp_speed_se_mps = -0.1 must be in [0, 1]"),
 ]
 
 

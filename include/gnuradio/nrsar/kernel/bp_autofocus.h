@@ -42,7 +42,8 @@ struct NRSAR_API trajectory_autofocus_config {
     //! [0, 1]: the phase histories and the GCPs' range peaks are read from the pulses tapered
     //! by a Hann window over it (the other targets' unwindowed range sidelobes would beat in
     //! them); the image stays untapered. NaN: a range IFFT of subcarriers 0..N-1 (eq. 29),
-    //! 2 |range_centre_cycles| + 1 / K (N / fft_size when K is the FFT size); 0: no taper.
+    //! 2 |range_centre_cycles| + 1 / K (N / fft_size when K is the FFT size), refused below
+    //! 0.25 (a spectrum centred near 0 is not one: set the band); 0: no taper.
     double range_band_cycles = std::numeric_limits<double>::quiet_NaN();
     //! Ground control points: surveyed positions (x, y, z) in the scene frame [m], at most
     //! max_gcp. Those inside the image fix the navigation error's constant and linear trend
@@ -56,6 +57,13 @@ struct NRSAR_API trajectory_autofocus_config {
     //! along-track offset"). 5 cm: under half a GNSS class's e_y (0.2-0.35 m); two GCPs
     //! 25 m apart along track at 10 dB give 4 mm.
     double gcp_along_track_se_m = 0.05;
+    //! The GCPs also solve the along-track speed error d_y (its u_y d_y in each slope), with
+    //! e_y only, when n times its predicted standard error per pulse (the along-track
+    //! stretch it would leave from the first pulse to the last) is below this [m], [0, 1]
+    //! (0: never); else d_y stays (docs/blocks/bp_focuser.md, "The along-track speed").
+    //! 2 cm: a GNSS class's 0.1 m/s stretches a 1 s aperture by 10 cm; n se is about
+    //! sqrt(12) e_y's se (the GCPs that solve e_y to 3.2 mm give 11 mm).
+    double gcp_speed_se_m = 0.02;
 
     void validate() const;
 };
@@ -83,8 +91,9 @@ struct NRSAR_API trajectory_autofocus_result {
     //! cfg.gcp: the GCPs in the image whose history was used (0: no calibration).
     unsigned gcp_used = 0;
     //! The navigation error's constant (x, y, z) at the middle pulse [m] and drift per
-    //! pulse (x, 0, z) [m] the GCPs gave, taken off antenna ((x, z) along their mean line
-    //! of sight unless gcp_two_dimensional; y 0 unless gcp_along_track); zero without.
+    //! pulse (x, y, z) [m] the GCPs gave, taken off antenna ((x, z) along their mean line
+    //! of sight unless gcp_two_dimensional; the offset's y 0 unless gcp_along_track, the
+    //! drift's unless gcp_along_track_speed); zero without.
     std::array<double, 3> gcp_offset_m{};
     std::array<double, 3> gcp_drift_m{};
     bool gcp_two_dimensional = false; //!< GCPs at spread look angles: x and z solved
@@ -93,6 +102,9 @@ struct NRSAR_API trajectory_autofocus_result {
     //! GCPs spread along track: the constant's y (e_y) solved (cfg.gcp_along_track_se_m).
     bool gcp_along_track = false;
     double gcp_offset_y_se_m = 0.0; //!< standard error of gcp_offset_m's y (0: not solved)
+    //! GCPs spread along track: the drift's y (d_y) solved (cfg.gcp_speed_se_m).
+    bool gcp_along_track_speed = false;
+    double gcp_drift_y_se_m = 0.0; //!< of gcp_drift_m's y [m / pulse] (0: not solved)
 };
 
 /*!
@@ -120,8 +132,8 @@ struct NRSAR_API trajectory_autofocus_result {
  * history along the corrected path, referenced to its surveyed position, is R_nav -
  * R_true itself; its constant (the integer of ~lambda / 2 from its range peak) and slope over
  * the pulses, solved for x and z (look angles spread) or along their line of sight, and
- * the along-track offset where the GCPs' spread along track determines it, are taken
- * off the path before the last back-projection.
+ * the along-track offset and speed error where the GCPs' spread along track determines
+ * them, are taken off the path before the last back-projection.
  * pulses: n x K line-major; image_out: M x K, the image along the corrected path.
  */
 NRSAR_API trajectory_autofocus_result
