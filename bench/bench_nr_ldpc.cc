@@ -22,12 +22,10 @@
 // iterations, at Es/N0 = -4 dB (QPSK SNR -1 dB, BLER about 1 % with 8 iterations) and
 // -10 dB (never converges).
 
+#include "../tests/nr_qam_words.h"
 #include <benchmark/benchmark.h>
-#include <gnuradio/nrsar/kernel/constellation.h>
 #include <gnuradio/nrsar/kernel/nr_ldpc.h>
 #include <gnuradio/nrsar/kernel/nr_ldpc_decoder.h>
-#include <gnuradio/nrsar/kernel/nr_rate_match.h>
-#include <gnuradio/nrsar/kernel/soft_demapper.h>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -67,38 +65,14 @@ words make_words(double esn0_db, double rate, int bg, unsigned lift, unsigned co
     return w;
 }
 
-// BG1 Zc 384 at rate 0.9 on QAM: d rate matched (rv 0, Qm), mapped, complex AWGN of
-// variance N0 = 10^(-Es/N0 / 10), max-log LLRs, rate recovered.
 words make_qam_words(gr::nrsar::modulation mod, double esn0_db, unsigned count)
 {
-    const constellation points(mod);
-    const soft_demapper demapper(mod);
-    const unsigned qm = points.bits_per_symbol();
-    nr_ldpc_encoder enc(1, zc);
-    const std::size_t K = enc.k(), e = static_cast<std::size_t>(K / 0.9) / qm * qm;
-    nr_rate_match_params p;
-    p.k_prime = static_cast<unsigned>(K);
-    p.qm = qm;
-    const double n0 = std::pow(10.0, -esn0_db / 10.0);
-    std::mt19937 rng(12);
-    std::normal_distribution<float> noise(0.0f, static_cast<float>(std::sqrt(n0 / 2)));
+    nrsar_test::nr_qam_words source(mod, esn0_db, 12);
     words w;
-    std::vector<std::uint8_t> d(enc.n()), f(e);
-    std::vector<gr_complex> y(e / qm);
-    std::vector<float> f_llr(e);
     for (unsigned b = 0; b < count; b++) {
-        std::vector<std::uint8_t> c(K);
-        for (auto& v : c)
-            v = rng() & 1u;
-        enc.encode(c.data(), d.data());
-        nr_rate_match(d.data(), p, e, f.data());
-        for (std::size_t s = 0; s < y.size(); s++) {
-            const float re = noise(rng), im = noise(rng);
-            y[s] = points.map_bits(&f[s * qm]) + gr_complex(re, im);
-        }
-        demapper.demap(y.data(), static_cast<float>(n0), y.size(), f_llr.data());
-        std::vector<float> llr(enc.n());
-        nr_rate_recover(f_llr.data(), p, e, llr.data(), false);
+        std::vector<std::uint8_t> c;
+        std::vector<float> llr;
+        source.draw(c, llr);
         w.llr.push_back(std::move(llr));
         w.info.push_back(std::move(c));
     }

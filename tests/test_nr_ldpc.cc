@@ -8,11 +8,9 @@
 // is computed here from the table entries and the text of 5.3.2 (P_ij = V_ij mod Zc, a
 // block P^s checks bit (r + s) mod Zc in row r), independently of the encoder's algorithm.
 
+#include "nr_qam_words.h"
 #include <gnuradio/nrsar/kernel/nr_ldpc.h>
-#include <gnuradio/nrsar/kernel/constellation.h>
 #include <gnuradio/nrsar/kernel/nr_ldpc_decoder.h>
-#include <gnuradio/nrsar/kernel/nr_rate_match.h>
-#include <gnuradio/nrsar/kernel/soft_demapper.h>
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
@@ -292,46 +290,22 @@ awgn_run run_awgn(double esn0_db, unsigned blocks, bool simd, unsigned seed, boo
     return r;
 }
 
-// The same at rate 0.9 with Qm bits per symbol: rate matching at rv 0 with the bit
-// interleaver of 38.212 5.4.2.2 (the first E / Qm bits of e on b(0) of the symbols, ...),
-// the 38.211 constellation, complex AWGN of variance N0 at Es/N0 = esn0_db, the module's
-// max-log demapper, rate recovery. Every word the decoder got wrong is decoded again by
-// oms_float64.
+// The same on QAM (nr_qam_words: 38.212 rate matching with the Qm bit interleaver, the
+// module's max-log demapper). Every word the decoder got wrong is decoded again by oms_float64.
 awgn_run run_qam(gr::nrsar::modulation mod, double esn0_db, unsigned blocks, unsigned seed)
 {
-    const unsigned zc = 384;
-    const constellation points(mod);
-    const soft_demapper demapper(mod);
-    const unsigned qm = points.bits_per_symbol();
-    nr_ldpc_encoder enc(1, zc);
-    nr_ldpc_decoder dec(1, zc, 8);
-    const std::size_t K = enc.k(), e = static_cast<std::size_t>(K / 0.9) / qm * qm;
-    nr_rate_match_params p;
-    p.k_prime = static_cast<unsigned>(K);
-    p.qm = qm;
-    const double n0 = std::pow(10.0, -esn0_db / 10.0);
-    std::mt19937 rng(seed);
-    std::normal_distribution<float> noise(0.0f, static_cast<float>(std::sqrt(n0 / 2)));
-    std::vector<std::uint8_t> c(K), d(enc.n()), f(e), out(K);
-    std::vector<gr_complex> y(e / qm);
-    std::vector<float> f_llr(e), llr(enc.n());
+    nrsar_test::nr_qam_words words(mod, esn0_db, seed);
+    nr_ldpc_decoder dec(1, words.zc, 8);
+    std::vector<std::uint8_t> c, out(dec.k());
+    std::vector<float> llr;
     awgn_run r;
     for (unsigned b = 0; b < blocks; b++) {
-        for (auto& v : c)
-            v = rng() & 1u;
-        enc.encode(c.data(), d.data());
-        nr_rate_match(d.data(), p, e, f.data());
-        for (std::size_t s = 0; s < y.size(); s++) {
-            const float re = noise(rng), im = noise(rng);
-            y[s] = points.map_bits(&f[s * qm]) + gr_complex(re, im);
-        }
-        demapper.demap(y.data(), static_cast<float>(n0), y.size(), f_llr.data());
-        nr_rate_recover(f_llr.data(), p, e, llr.data(), false);
+        words.draw(c, llr);
         const auto res = dec.decode(llr.data(), out.data());
         r.blocks_ok += (out == c) ? 1u : 0u;
         r.redecoded += res.redecoded ? 1u : 0u;
         if (out != c)
-            r.float64_better += oms_float64(1, zc, llr, 8) == c ? 1u : 0u;
+            r.float64_better += oms_float64(1, words.zc, llr, 8) == c ? 1u : 0u;
     }
     return r;
 }
