@@ -48,8 +48,9 @@ struct nr_ldpc_decode_result {
  * Fixed point: a word whose decoded rows give some column at most int8_max_degree (5) edges
  * (high rates: BG1 at rate 0.9 decodes 5 rows, d_max 5) is decoded in int8, every value
  * saturating at +-127; the float input is scaled so that (mean sqrt|L|)^2 maps to
- * clamp(168 / (1 + d_max), 8, 32), d_max the largest column degree of the decoded rows, and
- * clamped to +-63. Other words are decoded in int16 at 4x that scale, input clamped to
+ * clamp(168 / (1 + d_max), 8, 32), d_max the largest column degree of the decoded rows, but
+ * by at least 1 / offset_llr (beta one step: the large LLRs of 64- and 256-QAM rounded it to
+ * 0), and clamped to +-63. Other words are decoded in int16 at 4x that scale, input clamped to
  * +-252, values saturating at +-32767: in int8 their a-posteriori sums saturated and left an
  * error floor (BG2 K' 512 at rate 1/2: FER 5e-3 at 2.5 dB, now 1e-4 as AFF3CT's float
  * offset min-sum; docs/nr_coding.md). An int8 word that fails with at most 1 / 32 of its
