@@ -31,7 +31,7 @@ from gnuradio import analog, blocks, gr
 
 from . import (backhaul, chain, params, progress, recording, results, runtime,
                scenario)
-from .options import OptionError, check_out_dir, parse_taps
+from .options import OptionError, check_out_dir, parse_taps, read_bytes
 from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
                            pusch_receiver, scene_echo, srs_config, td_echo, uplink_channel,
                            uplink_channel_config)
@@ -138,12 +138,8 @@ def graph_payload(enc, payload, max_queued_bytes):
     or None for the strobe."""
     if payload == STROBE:
         return None
-    try:
-        with open(payload, "rb") as f:
-            data = f.read()
-    except OSError as err:
-        raise ValueError(f"payload = {payload!r} cannot be read ({err.strerror}); give a "
-                         f"file, or {STROBE!r} for the live message strobe") from None
+    data = read_bytes(payload, "payload", f"; give a file, or {STROBE!r} for the live "
+                                           f"message strobe")
     if len(data) > max_queued_bytes:
         raise ValueError(f"payload = {payload!r}: {len(data)} bytes must be at most the "
                          f"encoder's max_queued_bytes = {max_queued_bytes} (all of it is "

@@ -448,7 +448,7 @@ def _pusch_of(m, glob, num, modulation, mode):
     if sha is None:
         m.fail("global nrsar:payload_sha256", "is null: the grid of a DMRS recording is the "
                "PUSCH of its payload, which the recorder did not record (a radio graph's "
-               "PDUs): nrsar-process cannot regenerate it")
+               "live strobe PDUs, payload 'strobe'): nrsar-process cannot regenerate it")
     if len(sha) != 64 or any(c not in "0123456789abcdef" for c in sha):
         m.fail("global nrsar:payload_sha256", f"= {sha!r} must be 64 lower-case hex digits")
     path = m.get(glob, "nrsar:payload_path", str, "global", optional=True)
