@@ -8,9 +8,10 @@
 as nrsar-process writes them): fails unless
 they have the same size, the same peak pixel and max |a - b| / max |a| <= TOL.
 
-Bit-exact equality is too strict: two runs of one graph differed by up to ~4e-4 of the peak
-(measured; the chain's float results depend slightly on how the scheduler cuts the stream,
-which block was not investigated); a one-sample misalignment of the radar gives ~0.7.
+Two runs of one graph differed by up to ~4e-4 of the peak while the graphs' payload reached
+pusch_encoder as asynchronous PDUs (the likely cause: the grid depended on timing); with the
+file queued before the start they were equal in every run since (docs/sdr.md). TOL 0 asks
+for bit-exact equality; a one-sample misalignment of the radar gives ~0.7.
 
 usage: compare_images.py A B BINS [TOL]   (TOL default 1e-2)"""
 
