@@ -12,7 +12,8 @@ snippets run as in a flight (main_after_init, then start); a tap on its imaging 
 the focused aperture. Fails unless the graph's image and nrsar-process's image of the graph's
 recording both equal the loopback's image bit for bit (the USRP graph's grid, the loopback's
 and build_transmitter's of the recorded meta are one grid) and the meta names the payload,
-the PUSCH and 0 transmit underruns.
+the PUSCH and 0 transmit underruns. Then with payload 'strobe': the live strobe's PDUs are
+encoded, the meta names no payload and nrsar-process refuses the recording.
 
 usage: usrp_stand_in.py ISAC_USRP_PY LOOPBACK_DIR OUT_DIR
   LOOPBACK_DIR: payload.bin, rec/flight.sigmf-{meta,data} and image_rec.c64 of the loopback"""
@@ -33,6 +34,7 @@ from PyQt5 import Qt
 
 APPS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "apps")
 HW_DELAY = 37  # the loopback's simulated TX -> RX delay [samples]
+BINS = 32  # range bins per image line (chain_layout.image_bins of the ISAC graphs)
 
 
 class radio_settings:
@@ -67,6 +69,42 @@ def source_of(data_path, t0):
     return usrp_source
 
 
+def run(graph, loop, out, payload):
+    """graph (the module of isac_usrp.py) with its USRP replaced, payload and record_dir out/rec;
+    returns (top block, the tapped image, the meta's global, nrsar-process's run)."""
+    data = os.path.join(loop, "rec", "flight.sigmf-data")
+    samples = os.path.getsize(data) // 8
+    tx_start_s, rx_lead_s = 1.0, 0.01  # the graph's defaults, as the loopback's
+    graph.uhd = types.SimpleNamespace(usrp_sink=usrp_sink,
+                                      usrp_source=source_of(data, tx_start_s - rx_lead_s),
+                                      stream_args=uhd.stream_args, time_spec=uhd.time_spec)
+    rec_dir = os.path.join(out, "rec")
+    tb = graph.isac_usrp(tx_start_s=tx_start_s, rx_lead_s=rx_lead_s,
+                         hw_delay_samples=HW_DELAY, payload=payload, record_dir=rec_dir)
+    tap = blocks.vector_sink_c(BINS)
+    tb.connect((tb.imaging, 0), tap)
+    graph.snippets_main_after_init(tb)
+    tb.start()
+    deadline = time.monotonic() + 240
+    # (the strobe's first PDU leaves 50 ms after the start: waited for, not assumed)
+    while (tb.recorder.nitems_read(0) < samples or tap.nitems_read(0) < 240
+           or payload == "strobe" and tb.encoder.payload_bytes_sent() == 0) \
+            and time.monotonic() < deadline:
+        time.sleep(0.1)
+    tb.stop()
+    tb.wait()
+    with open(os.path.join(rec_dir, "flight.sigmf-meta")) as f:
+        glob = json.load(f)["global"]
+    proc = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-process"),
+                           os.path.join(rec_dir, "flight.sigmf-meta"), "--snr-db", "10",
+                           "--presum", "cheby", "--decim", "10", "--quiet", "--json",
+                           "--out", os.path.join(out, "proc")], capture_output=True, text=True)
+    print(f"payload {payload!r}: image {tap.nitems_read(0)} lines, "
+          f"{tb.recorder.nitems_read(0)} samples recorded; nrsar-process exit "
+          f"{proc.returncode} {proc.stderr.strip()}")
+    return tb, np.array(tap.data(), np.complex64).reshape(-1, BINS), glob, proc
+
+
 def main(argv):
     if len(argv) != 3:
         print(__doc__)
@@ -75,39 +113,13 @@ def main(argv):
     spec = importlib.util.spec_from_file_location("isac_usrp", graph_py)
     graph = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(graph)
-    data = os.path.join(loop, "rec", "flight.sigmf-data")
-    samples = os.path.getsize(data) // 8
-    tx_start_s, rx_lead_s = 1.0, 0.01  # the graph's defaults, as the loopback's
-    graph.uhd = types.SimpleNamespace(usrp_sink=usrp_sink,
-                                      usrp_source=source_of(data, tx_start_s - rx_lead_s),
-                                      stream_args=uhd.stream_args, time_spec=uhd.time_spec)
     qapp = Qt.QApplication([])  # noqa: F841 (the graph's widgets need one)
-    rec_dir = os.path.join(out, "rec")
-    tb = graph.isac_usrp(tx_start_s=tx_start_s, rx_lead_s=rx_lead_s,
-                         hw_delay_samples=HW_DELAY, payload=os.path.join(loop, "payload.bin"),
-                         record_dir=rec_dir)
-    bins = 32
-    tap = blocks.vector_sink_c(bins)
-    tb.connect((tb.imaging, 0), tap)
-    graph.snippets_main_after_init(tb)
-    tb.start()
-    deadline = time.monotonic() + 240
-    while (tb.recorder.nitems_read(0) < samples or tap.nitems_read(0) < 240) \
-            and time.monotonic() < deadline:
-        time.sleep(0.1)
-    tb.stop()
-    tb.wait()
-    image = np.array(tap.data(), np.complex64).reshape(-1, bins)
     loop_image = np.fromfile(os.path.join(loop, "image_rec.c64"), np.complex64)
-    loop_image = loop_image.reshape(-1, bins)
-    with open(os.path.join(rec_dir, "flight.sigmf-meta")) as f:
-        glob = json.load(f)["global"]
+    loop_image = loop_image.reshape(-1, BINS)
     with open(os.path.join(loop, "rec", "flight.sigmf-meta")) as f:
         loop_glob = json.load(f)["global"]
-    proc = subprocess.run([sys.executable, os.path.join(APPS, "nrsar-process"),
-                           os.path.join(rec_dir, "flight.sigmf-meta"), "--snr-db", "10",
-                           "--presum", "cheby", "--decim", "10", "--quiet", "--json",
-                           "--out", os.path.join(out, "proc")], capture_output=True, text=True)
+    tb, image, glob, proc = run(graph, loop, os.path.join(out, "file"),
+                                os.path.join(loop, "payload.bin"))
     checks = {
         "the graph's image == the loopback's": np.array_equal(image, loop_image),
         "nrsar-process exit 0": proc.returncode == 0,
@@ -119,8 +131,17 @@ def main(argv):
     for key in ("nrsar:pusch", "nrsar:payload_sha256", "nrsar:payload_path", "nrsar:dmrs",
                 "nrsar:hardware_delay_s"):
         checks[f"{key} == the loopback's"] = glob[key] == loop_glob[key]
-    print(f"image {image.shape[0]} lines x {bins} bins, {samples} samples recorded; "
-          f"nrsar-process: {proc.stderr.strip() or 'ok'}")
+    # payload 'strobe': the live strobe's 1000-byte PDUs (one per TB), nothing recorded
+    tb, _, glob, proc = run(graph, loop, os.path.join(out, "strobe"), "strobe")
+    sent = tb.encoder.payload_bytes_sent()
+    checks.update({
+        f"strobe: PDUs of 1000 bytes encoded ({sent} bytes)": sent > 0 and sent % 1000 == 0,
+        "strobe: nrsar:payload_sha256, nrsar:pusch null":
+            glob["nrsar:payload_sha256"] is None and glob["nrsar:pusch"] is None,
+        "strobe: nrsar-process refuses (exit 2, one line)":
+            proc.returncode == 2 and "nrsar:payload_sha256 is null" in proc.stderr
+            and len(proc.stderr.strip().splitlines()) == 1,
+    })
     for name, ok in checks.items():
         print(f"{'ok  ' if ok else 'FAIL'} {name}")
     return 0 if all(checks.values()) else 1
