@@ -394,7 +394,8 @@ def recorder(g, rx, coord, hw, delay, tx_async=None):
     (payload_queue's) and the encoder's PUSCH (isac_chain.graph_pusch of PUSCH, checked
     against the encoder block). tx_async: the UHD sink whose async_msgs a
     tx_underrun_counter counts into the meta (nrsar:tx_underruns)."""
-    # PUSCH in IsacOptions' spelling (the first transmission's rv is pusch_meta's 0)
+    # PUSCH in IsacOptions' spelling (the first transmission's rv is pusch_meta's 0);
+    # seed 0 below: nr_isac_tx's (nrsar:grid_seed)
     assert PUSCH["rv"] == "0"
     pusch_fields = ", ".join(
         f"{k}={v}" if v.isdigit() else f"{k}={v.replace('_', '-')!r}"
