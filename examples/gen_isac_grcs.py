@@ -110,18 +110,23 @@ def common_vars(g, y=12):
           imports="from gnuradio import nrsar\nfrom gnuradio.fft import window\nimport pmt")
 
 
-def payload_from_file(g, x, y):
-    """payload file -> PDUs of pdu_len bytes -> pusch_encoder -> nr_isac_tx"""
-    g.add("payload_src", "blocks_file_source", (x, y), "the payload the UAV sends down",
-          file="payload", type="byte", repeat="False", vlen="1", begin_tag="pmt.PMT_NIL",
-          offset="0", length="0")
-    g.add("to_packets", "blocks_stream_to_tagged_stream", (x, y + 100), "",
-          type="byte", vlen="1", packet_len="pdu_len", len_tag_key='"packet_len"')
-    g.add("to_pdus", "pdu_tagged_stream_to_pdu", (x, y + 180), "", type="byte",
-          tag="packet_len")
-    g.c("payload_src", "0", "to_packets", "0")
-    g.c("to_packets", "0", "to_pdus", "0")
-    g.c("to_pdus", "pdus", "encoder", "pdus")
+def payload_queue(g, coord, strobe=False):
+    """The payload file queued into pusch_encoder before the graph starts, as PDUs of one
+    TB's capacity (isac_chain.graph_payload, the queueing of nrsar-isac's build_transmitter):
+    every slot's TB is then a function of the file alone, which the recording names.
+    strobe: payload 'strobe' connects the live message strobe instead (not recorded)."""
+    code = ("from gnuradio.nrsar import isac_chain\n"
+            "self.payload_path = isac_chain.graph_payload(self.encoder, self.payload, "
+            "self.max_queued_bytes)\n")
+    if strobe:
+        payload_strobe(g, "payload 'strobe': a 1000-byte PDU every 50 ms (the payload snippet "
+                          "connects it); not recorded, so nrsar-process refuses the recording")
+        code += ("if self.payload_path is None:\n"
+                 "    self.msg_connect((self.payload_strobe, 'strobe'), (self.encoder, 'pdus'))")
+    g.add("payload_queue", "snippet", coord,
+          "the payload file -> PDUs of one TB each, queued before the start: TB s carries "
+          "PDU s, padding-only TBs after the last (nrsar-isac's grid of the file)",
+          section="main_after_init", priority="2", code=code)
 
 
 def payload_strobe(g, comment):
@@ -129,15 +134,16 @@ def payload_strobe(g, comment):
     g.add("payload_strobe", "blocks_message_strobe", (8, 420), comment,
           msg="pmt.cons(pmt.make_dict(), pmt.init_u8vector(1000, [i % 251 for i in range(1000)]))",
           period="50")
-    g.c("payload_strobe", "strobe", "encoder", "pdus")
 
 
 def uav_tx(g, x, y):
+    g.var("max_queued_bytes", "1048576", (x, y - 100),
+          "the encoder's PDU queue bound (a payload file is queued whole before the start)")
     g.add("encoder", "nrsar_pusch_encoder", (x, y),
           "TB per slot: MAC PDU, TS 38.212 UL-SCH (MCS 10 of the qam256 table: 16-QAM, "
           "R 0.64), 38.211 scrambling",
           numerology=NUM, modulation=QAM, dmrs="pusch2", dmrs_id="0", **PUSCH,
-          max_queued_bytes="1048576")
+          max_queued_bytes="max_queued_bytes")
     g.add("tx", "nrsar_nr_isac_tx", (x + 240, y),
           "the UAV uplink grid: 16-QAM PUSCH data + DMRS {2, 11}; also the radar reference",
           numerology=NUM, num_subcarriers=N, modulation=QAM, mode="data", srs_start="0",
@@ -244,7 +250,6 @@ def headless_params(g, y=200, symbols="2400"):
     g.param("payload", "Payload file", "payload.bin", (160, y), "str", "", "p")
     g.param("decoded", "Decoded file", "decoded.bin", (320, y), "str", "", "d")
     g.param("image", "Image file (complex64)", "image.c64", (480, y), "str", "", "o")
-    g.param("pdu_len", "PDU length (bytes)", "1000", (640, y), "intx", "", "")
 
 
 def channel_params(g, y=300, gui=False):
@@ -266,7 +271,7 @@ def channel_params(g, y=300, gui=False):
 
 def finite_uav_and_base_station(g):
     """payload file -> UAV TX -> head (finite run) -> ofdm_mod -> base station"""
-    payload_from_file(g, 8, 420)
+    payload_queue(g, (8, 420))
     uav_tx(g, 200, 420)
     g.add("head", "blocks_head", (700, 420), "finite run", num_items="symbols",
           type="complex", vlen=N)
@@ -353,6 +358,7 @@ def isac_gui():
             "24000 = real time at sdr20; lower it on a slow machine", "r")
     g.param("decoded", "Decoded file", "/dev/null", (200, 200), "str", "", "d")
     payload_strobe(g, "a 1000-byte PDU every 50 ms (20 kB/s of backhaul payload)")
+    g.c("payload_strobe", "strobe", "encoder", "pdus")
     uav_tx(g, 200, 420)
     g.add("throttle", "blocks_throttle", (700, 420), "slow time at symbol_rate",
           type="complex", samples_per_second="symbol_rate", vlen=N, ignoretag="True")
@@ -384,8 +390,16 @@ def sdr_params(g, y=200):
 def recorder(g, rx, coord, hw, delay, tx_async=None):
     """record_dir (default '' = off): the radar's receive stream as SigMF
     (nrsar.recording.sigmf_sink: rx_time tags -> overflow annotations; docs/recording.md),
-    connected by a snippet only when a folder is given. tx_async: the UHD sink whose
-    async_msgs a tx_underrun_counter counts into the meta (nrsar:tx_underruns)."""
+    connected by a snippet only when a folder is given; the meta names the payload file
+    (payload_queue's) and the encoder's PUSCH (isac_chain.graph_pusch of PUSCH, checked
+    against the encoder block). tx_async: the UHD sink whose async_msgs a
+    tx_underrun_counter counts into the meta (nrsar:tx_underruns)."""
+    # PUSCH in IsacOptions' spelling (the first transmission's rv is pusch_meta's 0);
+    # seed 0 below: nr_isac_tx's (nrsar:grid_seed)
+    assert PUSCH["rv"] == "0"
+    pusch_fields = ", ".join(
+        f"{k}={v}" if v.isdigit() else f"{k}={v.replace('_', '-')!r}"
+        for k, v in PUSCH.items() if k != "rv") + ", dmrs_id=0"
     counter = ("    self.tx_underruns = nrsar.recording.tx_underrun_counter()\n"
                f"    self.msg_connect((self.{tx_async}, 'async_msgs'), "
                "(self.tx_underruns, 'async_msgs'))\n") if tx_async else ""
@@ -395,13 +409,15 @@ def recorder(g, rx, coord, hw, delay, tx_async=None):
           "record_dir set: the RX stream -> DIR/flight.sigmf-{data,meta} (SigMF, the nrsar "
           "extension; overflows from rx_time become annotations)",
           section="main_after_init", priority="1",
-          code="if self.record_dir:\n" + counter +
+          code="if self.record_dir:\n    from gnuradio.nrsar import isac_chain\n" + counter +
                "    self.recorder = nrsar.recording.sigmf_sink(\n"
                "        self.record_dir, nrsar.SimOptions(preset='sdr20', geometry='short', "
-               f"scene='300,2', modulation='{QAM}', snr_db=self.radar_snr_db),\n"
+               f"scene='300,2', modulation='{QAM}', snr_db=self.radar_snr_db, seed=0),\n"
                f"        hardware_delay_s={delay}, hw='{hw}',\n"
-               "        dmrs=nrsar.make_dmrs('pusch2').symbols, "
-               f"recorder='{g.gid}.grc (gr-nrsar)'"
+               "        dmrs=nrsar.make_dmrs('pusch2').symbols, payload_path=self.payload_path,\n"
+               f"        pusch=isac_chain.graph_pusch(self.encoder, '{NUM}', '{QAM}', 'pusch2', "
+               f"{pusch_fields}) if self.payload_path else None,\n"
+               f"        recorder='{g.gid}.grc (gr-nrsar)'"
                + (", tx_underruns=self.tx_underruns" if tx_async else "") + ")\n"
                f"    self.connect((self.{rx}, 0), (self.recorder, 0))")
 
@@ -411,7 +427,11 @@ def sdr_graph(gid, title, description, front_end):
     common_vars(g)
     sdr_params(g)
     g.param("decoded", "Decoded file", "/dev/null", (8, 300), "str", "", "d")
-    payload_strobe(g, "a 1000-byte PDU every 50 ms")
+    g.param("payload", "Payload file ('strobe' = a live PDU strobe, not recorded)",
+            "/usr/share/common-licenses/GPL-3", (200, 300), "str",
+            "sent once from the first slot, then padding-only TBs; recorded by name and "
+            "SHA-256, so nrsar-process regenerates the grid", "p")
+    payload_queue(g, (1240, 460), strobe=True)
     uav_tx(g, 200, 420)
     modulator(g, "modulator", 700, 420)
     g.add("tx_level", "blocks_multiply_const_vxx", (880, 420), "", type="complex",

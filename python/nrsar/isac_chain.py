@@ -31,7 +31,7 @@ from gnuradio import analog, blocks, gr
 
 from . import (backhaul, chain, params, progress, recording, results, runtime,
                scenario)
-from .options import OptionError, check_out_dir, parse_taps
+from .options import OptionError, check_out_dir, parse_taps, read_bytes
 from .nrsar_python import (nr_isac_tx, ofdm_demod, ofdm_mod, ofdm_sync, pusch_encoder,
                            pusch_receiver, scene_echo, srs_config, td_echo, uplink_channel,
                            uplink_channel_config)
@@ -103,14 +103,67 @@ def build_transmitter(tb, num, opts, payload, rv=0, start_symbol=0):
     tx = nr_isac_tx(num, mod, params.make_tx_mode("data"), srs_config(), opts.seed, dmrs,
                     start_symbol)
     tb.connect(enc, tx)
+    chunks = queue_payload(enc, payload, opts.repetitions, cfg.first_slot)
+    return enc, tx, dmrs, chunks
+
+
+def queue_payload(enc, payload, repetitions=1, first_slot=0):
+    """Posts payload to enc's pdus port as PDUs of one TB's capacity each
+    (payload_bits_per_slot / 8 bytes, the last shorter): chunk s goes out whole in TB s,
+    padding-only TBs follow the last. Call it before the flowgraph starts: GNU Radio's
+    thread-per-block scheduler hands a block every queued message before each work call, so
+    all PDUs are queued before the encoder makes its first slot and the grid is a function of
+    the payload alone (the encoder does not wait for PDUs: one that arrived after its slot
+    would leave a padding-only TB there). first_slot: the PDUs from that slot's TB on.
+    Returns all chunks."""
     per_tb = enc.payload_bits_per_slot() // 8
     if per_tb <= 0:
         raise ValueError(f"payload bytes per TB = {per_tb} must be > 0")
     chunks = [payload[i:i + per_tb] for i in range(0, len(payload), per_tb)]
-    # queued before start: chunk s goes out in TB s (one MAC SDU each)
-    for chunk in chunks[cfg.first_slot // opts.repetitions:]:
+    for chunk in chunks[first_slot // repetitions:]:
         enc.to_basic_block()._post(pmt.intern("pdus"), backhaul.make_pdu(chunk))
-    return enc, tx, dmrs, chunks
+    return chunks
+
+
+# the radio graphs' payload parameter that keeps their live message strobe (docs/sdr.md)
+STROBE = "strobe"
+
+
+def graph_payload(enc, payload, max_queued_bytes):
+    """The ISAC graphs' backhaul payload (examples/gen_isac_grcs.py, docs/sdr.md): the file
+    `payload` queued into the graph's pusch_encoder before the graph starts (queue_payload:
+    its grid is build_transmitter's of the file, which the recording names). 'strobe':
+    nothing queued, the graph's message strobe feeds the encoder at wall-clock times that
+    nothing records (its recordings cannot be processed). Returns the file's absolute path,
+    or None for the strobe."""
+    if payload == STROBE:
+        return None
+    data = read_bytes(payload, "payload", f"; give a file, or {STROBE!r} for the live "
+                                           f"message strobe")
+    if len(data) > max_queued_bytes:
+        raise ValueError(f"payload = {payload!r}: {len(data)} bytes must be at most the "
+                         f"encoder's max_queued_bytes = {max_queued_bytes} (all of it is "
+                         f"queued before the start)")
+    queue_payload(enc, data)
+    return os.path.abspath(payload)
+
+
+def graph_pusch(enc, preset, modulation, dmrs, **fields):
+    """nrsar:pusch of an ISAC graph's pusch_encoder enc, whose configuration the graph's
+    record snippet repeats in fields (IsacOptions' names: coding, mcs_table, mcs, n_rnti,
+    n_id, scrambling, repetitions; dmrs_id): the encoder of these fields must have enc's
+    TBS, G and bytes per TB (a ValueError names both), which nrsar-process checks again."""
+    from .options import IsacOptions
+    num = params.make_numerology(preset)
+    layout = params.make_dmrs(dmrs, num, fields.pop("dmrs_id", 0))
+    opts = IsacOptions(preset=preset, modulation=modulation, dmrs=dmrs, **fields)
+    ref = pusch_encoder(opts.pusch_config(num))
+    sizes = [(e.tbs_bits(), e.slot_bits(), e.payload_bits_per_slot() // 8) for e in (enc, ref)]
+    if sizes[0] != sizes[1]:
+        raise ValueError(f"the graph's pusch_encoder (TBS, G, bytes per TB) = {sizes[0]} is "
+                         f"not the recorded PUSCH's {sizes[1]} ({modulation}, {fields}): keep "
+                         f"the record snippet's PUSCH fields in step with the encoder block")
+    return pusch_meta(opts, num, enc, layout)
 
 
 def build_base_station(tb, num, opts, dmrs, source):

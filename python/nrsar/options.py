@@ -194,6 +194,17 @@ def _checked(name, value, kind, meta):
     return value
 
 
+def read_bytes(path, name, why=""):
+    """The bytes of the file `path`, given as `name` (a flag or a meta field): OptionError
+    naming it, the path, the reason and `why` when it cannot be read."""
+    try:
+        with open(path, "rb") as f:
+            return f.read()
+    except OSError as err:
+        raise OptionError(f"{name} = {path!r} cannot be read ({err.strerror or err}){why}") \
+            from None
+
+
 def check_out_dir(path, flag="--out"):
     """Creates the output folder and proves it writable with a scratch file, before any
     work starts (a root process passes os.access() everywhere, so only a write tells)."""

@@ -30,7 +30,7 @@ from gnuradio import blocks, gr
 
 from . import chain, params, progress, recording, results, runtime, scenario
 from .nrsar_python import ofdm_demod, scene_echo
-from .options import MODES, OptionError, SimOptions, check_out_dir
+from .options import MODES, OptionError, SimOptions, check_out_dir, read_bytes
 from .scenario import Scenario, fft_size_of
 
 
@@ -110,12 +110,7 @@ def payload_of(opts, rec):
     if path is None:
         raise OptionError(f"{rec.meta_path}: global nrsar:payload_path is null: give the "
                           f"payload file with --payload FILE (the grid is its PUSCH)")
-    try:
-        with open(path, "rb") as f:
-            payload = f.read()
-    except OSError as err:
-        raise OptionError(f"{flag} = {path!r} cannot be read ({err.strerror or err}): the "
-                          f"grid of {rec.meta_path} is the PUSCH of that file") from None
+    payload = read_bytes(path, flag, f": the grid of {rec.meta_path} is the PUSCH of that file")
     sha = hashlib.sha256(payload).hexdigest()
     if sha != rec.payload_sha256:
         raise OptionError(f"{flag} = {path!r}: its SHA-256 {sha} is not the recording's "

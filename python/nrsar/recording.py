@@ -448,7 +448,7 @@ def _pusch_of(m, glob, num, modulation, mode):
     if sha is None:
         m.fail("global nrsar:payload_sha256", "is null: the grid of a DMRS recording is the "
                "PUSCH of its payload, which the recorder did not record (a radio graph's "
-               "PDUs): nrsar-process cannot regenerate it")
+               "live strobe PDUs, payload 'strobe'): nrsar-process cannot regenerate it")
     if len(sha) != 64 or any(c not in "0123456789abcdef" for c in sha):
         m.fail("global nrsar:payload_sha256", f"= {sha!r} must be 64 lower-case hex digits")
     path = m.get(glob, "nrsar:payload_path", str, "global", optional=True)
@@ -726,14 +726,15 @@ class sigmf_sink(gr.sync_block):
     the samples received since the first stamp), and at stop() the meta is written with the
     `nrsar` fields of opts (SimOptions or IsacOptions of the graph's radar), the hardware
     delay (samples before symbol 0's CP: the RX lead plus the TX -> RX latency), the DMRS
-    positions and the backhaul payload file. Without rx_time tags the recording has no
-    gaps (a source that does not stamp cannot say). tx_underruns: the graph's
-    tx_underrun_counter, whose count goes into the meta (`nrsar:tx_underruns`; null
-    without one)."""
+    positions, the backhaul payload file and its coding (pusch: nrsar:pusch,
+    isac_chain.graph_pusch; with payload_path nrsar-process regenerates the grid). Without
+    rx_time tags the recording has no gaps (a source that does not stamp cannot say).
+    tx_underruns: the graph's tx_underrun_counter, whose count goes into the meta
+    (`nrsar:tx_underruns`; null without one)."""
 
     def __init__(self, folder, opts, hardware_delay_s=0.0, hw="", dmrs=None,
                  payload_path=None, recorder="gr-nrsar sigmf_sink", name=DEFAULT_NAME,
-                 tx_underruns=None):
+                 tx_underruns=None, pusch=None):
         gr.sync_block.__init__(self, "sigmf_sink", [np.complex64], None)
         from . import scenario
         opts.validate()
@@ -744,7 +745,7 @@ class sigmf_sink(gr.sync_block):
                               f">= 0")
         self.hardware_delay_s, self.hw, self.recorder = hardware_delay_s, hw, recorder
         self.dmrs = None if dmrs is None else [int(s) for s in dmrs]
-        self.payload_path = payload_path
+        self.payload_path, self.pusch = payload_path, pusch
         self.tx_underruns = tx_underruns
         self.fs = self.sc.num.sample_rate_hz()
         self._stack = contextlib.ExitStack()
@@ -788,7 +789,7 @@ class sigmf_sink(gr.sync_block):
                 self.opts, self.sc, self.tmp, recorder=self.recorder, hw=self.hw,
                 description=f"radio recording, preset {self.opts.preset}, "
                             f"{self.opts.modulation}",
-                snr_db=None, gaps=self.gaps, dmrs=self.dmrs, payload=payload,
+                snr_db=None, gaps=self.gaps, dmrs=self.dmrs, payload=payload, pusch=self.pusch,
                 hardware_delay_s=self.hardware_delay_s, start=self.started,
                 tx_underruns=None if self.tx_underruns is None else self.tx_underruns.count())
             self._stack.close()  # the data file under its name

@@ -247,6 +247,65 @@ class qa_isac_recording(gr_unittest.TestCase):
             np.load(res["strip_image_npy"]),
             dp.focus_slice(opts, meta, dp.whole(opts, rec, lay))["image"])
 
+    def test_008_graph_payload(self):
+        """The ISAC graphs' payload and record snippets (examples/gen_isac_grcs.py): the
+        file queued by graph_payload into an encoder built as the GRC block builds it (here
+        per-slot scrambling and n_ID 5, to catch a field the meta would spell otherwise)
+        gives the grid that nrsar-process's build_transmitter makes from graph_pusch's
+        meta; the snippets' bad input is a ValueError naming the parameter and the limit."""
+        import types
+        from gnuradio import blocks, gr, nrsar
+        from gnuradio.nrsar import isac_chain
+        num = nrsar.make_numerology("sdr20")
+        payload = np.random.default_rng(8).integers(0, 256, 5000, np.uint8).tobytes()
+        path = os.path.join(self.dir, "graph_payload.bin")
+        with open(path, "wb") as f:
+            f.write(payload)
+        symbols = 4 * num.symbols_per_slot  # 5000 bytes: 3 TBs of 2366, then padding
+
+        def grid(tb, tx):
+            sink = blocks.vector_sink_c(num.num_subcarriers)
+            tb.connect(tx, blocks.head(gr.sizeof_gr_complex * num.num_subcarriers, symbols),
+                       sink)
+            tb.run()
+            return np.array(sink.data())
+
+        tb = gr.top_block()
+        enc = nrsar.pusch_encoder(nrsar.pusch_config(
+            num=num, mod=nrsar.make_modulation("qam16"), dmrs=nrsar.make_dmrs("pusch2"),
+            coding=nrsar.make_pusch_coding("nr_ldpc"), mcs_table="qam256", mcs=10, rv=0,
+            repetitions=1, n_rnti=17921, n_id=5,
+            scrambling=nrsar.make_pusch_scrambling("per_slot"), max_queued_bytes=8000,
+            first_slot=0))
+        tx = nrsar.nr_isac_tx(num, nrsar.make_modulation("qam16"), nrsar.make_tx_mode("data"),
+                              nrsar.make_srs(), 0, nrsar.make_dmrs("pusch2"), 0)
+        tb.connect(enc, tx)
+        self.assertEqual(isac_chain.graph_payload(enc, path, 8000), path)
+        pusch = isac_chain.graph_pusch(enc, "sdr20", "qam16", "pusch2", coding="nr-ldpc",
+                                       mcs_table="qam256", mcs=10, repetitions=1,
+                                       n_rnti=17921, n_id=5, scrambling="per-slot",
+                                       dmrs_id=0)
+        got = grid(tb, tx)
+        self.assertEqual((enc.payload_bytes_sent(), enc.pdus_dropped()), (5000, 0))
+        rec = types.SimpleNamespace(pusch=pusch, dmrs=[2, 11], num=num, preset="sdr20",
+                                    modulation="qam16", grid_seed=0)
+        tb2 = gr.top_block()
+        _, tx2, _, chunks = isac_chain.build_transmitter(
+            tb2, num, isac_chain.isac_options_of(rec), payload)
+        self.assertEqual(len(chunks), 3)
+        np.testing.assert_array_equal(got, grid(tb2, tx2))
+
+        self.assertIsNone(isac_chain.graph_payload(enc, isac_chain.STROBE, 8000))
+        gone = os.path.join(self.dir, "gone.bin")
+        with self.assertRaisesRegex(ValueError, f"payload = {gone!r} cannot be read"):
+            isac_chain.graph_payload(enc, gone, 8000)
+        with self.assertRaisesRegex(ValueError, "5000 bytes must be at most the encoder's "
+                                                "max_queued_bytes = 4999"):
+            isac_chain.graph_payload(enc, path, 4999)
+        with self.assertRaisesRegex(ValueError, r"the graph's pusch_encoder \(TBS, G, bytes "
+                                                r"per TB\) = \(\d+, 29376, 2366\) is not"):
+            isac_chain.graph_pusch(enc, "sdr20", "qam16", "pusch2", mcs=9)
+
 
 if __name__ == "__main__":
     gr_unittest.run(qa_isac_recording)
