@@ -7,10 +7,12 @@
 // Kernel tests of the per-RE filters, eq. (25), against direct double-precision formulas.
 
 #include <gnuradio/nrsar/kernel/tf_filter.h>
+#include "kernel/cpu_features.h"
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -127,6 +129,51 @@ TEST(ReFilter, AllFiltersWithEmptyREs)
 {
     for (auto t : { filter_type::RF, filter_type::MF, filter_type::WF })
         expect_matches(t, 5.0, 4);
+}
+
+// The one pass (AVX2 on eight REs per step with real and imaginary parts apart, then the
+// scalar tail) rounds as the float formula written here, bit for bit: the same products,
+// weight and window tap in the same order (range_compress's result equals the separate
+// blocks', and nrsar-sim's metrics stay put, because of this).
+TEST(ReFilter, OnePassRoundsAsTheFloatFormula)
+{
+    if (!kernel::cpu_supports_avx2())
+        GTEST_SKIP() << "no AVX2: tf_filter takes VOLK's passes, not the one pass";
+    const std::size_t n = 1003; // 125 steps of eight and a tail of three
+    const auto d = random_grid(n, 11, 5);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<float> taps2(2 * n);
+    for (std::size_t i = 0; i < n; i++)
+        taps2[2 * i] = taps2[2 * i + 1] = u(rng);
+    const float* windowed = taps2.data();
+    const float inv_snr = static_cast<float>(1.0 / std::pow(10.0, -20.0 / 10.0));
+    for (filter_type type : { filter_type::MF, filter_type::RF, filter_type::WF })
+        for (const float* taps : { static_cast<const float*>(nullptr), windowed }) {
+            kernel::tf_filter f(n, type, -20.0, false);
+            std::vector<gr_complex> out(n);
+            EXPECT_EQ(f.process(d.y.data(), d.s.data(), out.data(), taps), 0u);
+            for (std::size_t i = 0; i < n; i++) {
+                const float yr = d.y[i].real(), yi = d.y[i].imag(), sr = d.s[i].real(),
+                            si = d.s[i].imag();
+                const float m = sr * sr + si * si;
+                const float e = m < std::numeric_limits<float>::min() ? 1.0f : 0.0f;
+                float pr = yr * sr + yi * si, pi = yi * sr - yr * si;
+                if (type != filter_type::MF) {
+                    const float w = type == filter_type::WF ? 1.0f / (m + inv_snr)
+                                                            : (1.0f - e) / (m + e);
+                    pr *= w;
+                    pi *= w;
+                }
+                if (taps) {
+                    pr *= taps[2 * i];
+                    pi *= taps[2 * i + 1];
+                }
+                const gr_complex want(pr, pi);
+                EXPECT_EQ(std::memcmp(&out[i], &want, sizeof want), 0)
+                    << "filter " << int(type) << " RE " << i << ": " << out[i] << " vs " << want;
+            }
+        }
 }
 
 TEST(ReFilter, FactoryReturnsRequestedType)

@@ -5,6 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "fmod_two_pi.h"
 #include "param_check.h"
 #include <gnuradio/filter/pm_remez.h>
 #include <gnuradio/nrsar/kernel/cheby_presum.h>
@@ -343,13 +344,13 @@ void cheby_presum::phase_row(double t, bool conj, gr_complex* row) const
         const double k = 2.0 * two_pi * phase_frequency_hz(0) / speed_of_light;
         path_ranges(t, d_rrow.data());
         for (unsigned n = 0; n < d_k; ++n) {
-            const double ph = std::fmod(k * d_rrow[n], two_pi) * sgn;
+            const double ph = fmod_two_pi(k * d_rrow[n]) * sgn;
             row[n] = gr_complex(std::cos(ph), std::sin(ph));
         }
     } else if (d_cfg.domain == presum_domain::RANGE) {
         const double k = 2.0 * two_pi * phase_frequency_hz(0) / speed_of_light;
         for (unsigned n = 0; n < d_k; ++n) {
-            const double ph = std::fmod(k * ref_range(n, t), two_pi) * sgn;
+            const double ph = fmod_two_pi(k * ref_range(n, t)) * sgn;
             row[n] = gr_complex(std::cos(ph), std::sin(ph));
         }
     } else {
@@ -358,11 +359,11 @@ void cheby_presum::phase_row(double t, bool conj, gr_complex* row) const
         const double r = ref_range(0, t);
         const double k0 = 2.0 * two_pi * d_geo.carrier_hz * r / speed_of_light;
         const double dk = 2.0 * two_pi * d_num.subcarrier_spacing_hz * r / speed_of_light;
-        const std::complex<double> step = std::polar(1.0, sgn * std::fmod(dk, two_pi));
+        const std::complex<double> step = std::polar(1.0, sgn * fmod_two_pi(dk));
         std::complex<double> z;
         for (unsigned n = 0; n < d_k; ++n) {
             if (n % 256 == 0)
-                z = std::polar(1.0, sgn * std::fmod(k0 + n * dk, two_pi));
+                z = std::polar(1.0, sgn * fmod_two_pi(k0 + n * dk));
             row[n] = gr_complex(z.real(), z.imag());
             z *= step;
         }

@@ -72,8 +72,7 @@ float copy_pass(const gr_complex* in, gr_complex* dst, std::size_t n);
 bool one_pass();
 
 bool avx2_available();
-//! The AVX2 loops on the first (n / 4) * 4 samples (window_pass, copy_pass: (n / 8) * 8);
-//! return how many they did.
+//! The AVX2 loops on the first (n / 8) * 8 samples; return how many they did.
 std::size_t filter_pass_avx2(weight_rule rule,
                              const gr_complex* y,
                              const gr_complex* s,
