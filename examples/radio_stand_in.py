@@ -15,7 +15,7 @@ and build_transmitter's of the recorded meta are one grid) and the meta names th
 the PUSCH and 0 transmit underruns. Then with payload 'strobe': the live strobe's PDUs are
 encoded, the meta names no payload and nrsar-process refuses the recording.
 
-usage: usrp_stand_in.py ISAC_USRP_PY LOOPBACK_DIR OUT_DIR
+usage: radio_stand_in.py ISAC_USRP_PY LOOPBACK_DIR OUT_DIR
   LOOPBACK_DIR: payload.bin, rec/flight.sigmf-{meta,data} and image_rec.c64 of the loopback"""
 
 import importlib.util
