@@ -9,11 +9,12 @@ as nrsar-process writes them): fails unless
 they have the same size, the same peak pixel and max |a - b| / max |a| <= TOL.
 
 Two runs of one graph differed by up to ~4e-4 of the peak while the graphs' payload reached
-pusch_encoder as asynchronous PDUs (the likely cause: the grid depended on timing); with the
-file queued before the start they were equal in every run since (docs/sdr.md). TOL 0 asks
-for bit-exact equality; a one-sample misalignment of the radar gives ~0.7.
+pusch_encoder as asynchronous PDUs (the grid depended on timing; posting them after the start
+still gives 5e-4 to 7e-4); with the file queued before the start they are equal bit for bit
+under any chunking (docs/sdr.md). TOL 0 asks for bit-exact equality; a one-sample
+misalignment of the radar gives ~0.7.
 
-usage: compare_images.py A B BINS [TOL]   (TOL default 1e-2)"""
+usage: compare_images.py A B BINS [TOL]   (TOL default 0)"""
 
 import sys
 
@@ -25,7 +26,7 @@ def main(argv):
         print(__doc__)
         return 2
     bins = int(argv[2])
-    tol = float(argv[3]) if len(argv) == 4 else 1e-2
+    tol = float(argv[3]) if len(argv) == 4 else 0.0
     a, b = (np.load(f).ravel() if f.endswith(".npy") else np.fromfile(f, np.complex64)
             for f in argv[:2])
     if a.size != b.size or a.size == 0 or a.size % bins:
