@@ -6,7 +6,7 @@
 #
 """Double-precision, no-skipping reference of the nrsar-sim chain (issue #7's image-quality goal).
 
-    /usr/bin/python3 -m gnuradio.nrsar.double_reference [nrsar-sim options] [--work DIR]
+    /usr/bin/python3 -m gnuradio.nrsar.figures.double_reference [nrsar-sim options] [--work DIR]
 
 1. Runs the float32 GNU Radio chain (chain.simulate, --images keep) with the given options (default:
    paper-full with presum cheby D = 10, range crop on, scene band) and keeps its image and
