@@ -11,6 +11,8 @@ modules), found in the tree so that a new one is covered without editing this fi
     --help            exit 0, a usage that names the program, no traceback
     one bad flag      exit 2, one last line '<program>: error: ...' naming the flag, its
                       value and the limit, nothing on stdout, no traceback
+    documented -m     every `-m gnuradio.nrsar.<module>` that the docs and the modules' own help
+                      show names a module found here
     recorded ISAC run the smallest documented `nrsar-isac --record` and `nrsar-process` of
                       its recording (docs/recording.md) exit 0
 
@@ -20,8 +22,10 @@ inputs of each program; this file holds the one of each entry point."""
 
 import contextlib
 import io
+import glob
 import json
 import os
+import re
 import runpy
 import subprocess
 import sys
@@ -30,8 +34,8 @@ import traceback
 
 from gnuradio import gr_unittest
 
-APPS = os.environ.get("NRSAR_APPS_DIR") or os.path.join(
-    os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "apps")
+SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
+APPS = os.environ.get("NRSAR_APPS_DIR") or os.path.join(SOURCE, "apps")
 # theory.py's __main__ prints SPEC 8's table (a check of the theory, no options);
 # bindings/ are build tools, not installed programs.
 NOT_PROGRAMS = {"gnuradio.nrsar.theory"}
@@ -158,6 +162,20 @@ class qa_entry_points(gr_unittest.TestCase):
                 last = stderr.strip().splitlines()[-1]
                 self.assertIn(": error: ", last, where)
                 self.assertIn(expected, last, where)
+
+    def test_003b_documented_modules_exist(self):
+        names = {name for name, _ in self.programs}
+        sources = ([os.path.join(SOURCE, "README.md")] +
+                   glob.glob(os.path.join(SOURCE, "docs", "**", "*.md"), recursive=True) +
+                   glob.glob(os.path.join(SOURCE, "python", "nrsar", "**", "*.py"),
+                             recursive=True))
+        for path in sources:
+            with open(path) as f:
+                text = f.read()
+            # 'bench_<block>' is a pattern, not a name
+            for module in re.findall(r"-m (gnuradio\.nrsar(?:\.\w+)+)(?![\w.<])", text):
+                where = f"{os.path.relpath(path, SOURCE)}: -m {module}"
+                self.assertTrue(module in names, f"{where} is no module with a __main__")
 
     def test_004_recorded_isac_run_and_its_processing(self):
         # docs/recording.md's nrsar-isac --record ... && nrsar-process rec/flight.sigmf-meta,
