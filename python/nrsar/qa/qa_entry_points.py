@@ -54,6 +54,8 @@ BAD_FLAGS = [
      "unrecognized arguments: --no-such-flag"),
     ("gnuradio.nrsar.bench.bench_rx_realtime", ["--flight-s", "0.1"],
      "--flight-s = 0.1 must be >= 3"),
+    ("gnuradio.nrsar.bench.base_station_realtime", ["--slots", "0"],
+     "--slots = 0 must be at least 1"),
 ]
 
 
