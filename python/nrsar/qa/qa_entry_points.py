@@ -54,9 +54,15 @@ BAD_FLAGS = [
      "unrecognized arguments: --no-such-flag"),
     ("gnuradio.nrsar.bench.bench_rx_realtime", ["--flight-s", "0.1"],
      "--flight-s = 0.1 must be >= 3"),
+    ("gnuradio.nrsar.figures.double_reference", ["--guard-m", "-1"],
+     "--guard-m = -1 must be at least 0"),
     ("gnuradio.nrsar.bench.base_station_realtime", ["--slots", "0"],
      "--slots = 0 must be at least 1"),
 ]
+# those of BAD_FLAGS that are given an --out (so that a wrongly accepted flag writes nothing
+# into the working folder)
+TAKE_OUT = {"nrsar-sim", "nrsar-isac", "nrsar-soak", "nrsar-figures", "nrsar-bench",
+            "gnuradio.nrsar.figures.double_reference"}
 
 
 def programs():
@@ -121,8 +127,7 @@ class qa_entry_points(gr_unittest.TestCase):
         where = dict(cls.programs)
         out = ["--out", os.path.join(cls.dir, "out")]
         cls.help_cases = [(name, path, ["--help"]) for name, path in cls.programs]
-        cls.bad_cases = [(name, where[name], flags + (out if name.startswith("nrsar-") and
-                                                      name != "nrsar-process" else []))
+        cls.bad_cases = [(name, where[name], flags + (out if name in TAKE_OUT else []))
                          for name, flags, _ in BAD_FLAGS]
         results = os.path.join(cls.dir, "results.json")
         subprocess.run([sys.executable, os.path.abspath(__file__), "--child", results],
