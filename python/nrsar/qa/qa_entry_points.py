@@ -40,8 +40,8 @@ APPS = os.environ.get("NRSAR_APPS_DIR") or os.path.join(SOURCE, "apps")
 # bindings/ are build tools, not installed programs.
 NOT_PROGRAMS = {"gnuradio.nrsar.theory"}
 
-# (entry point, flags, text the one-line message must contain): one per program, the rule
-# written here, not read from the code. nrsar-process checks its flags before the file.
+# (entry point, flags, text the one-line message must contain): one or two per program, the
+# rule written here, not read from the code. nrsar-process checks its flags before the file.
 BAD_FLAGS = [
     ("nrsar-sim", ["--decim", "0"], "--decim = 0 must be at least 1"),
     ("nrsar-isac", ["--mcs", "28"], "--mcs = 28 must be at most 27"),
@@ -49,6 +49,8 @@ BAD_FLAGS = [
     ("nrsar-figures", ["--seeds", "0"], "--seeds = 0 must be at least 1"),
     ("nrsar-process", ["no.sigmf-meta", "--strip-aperture-s", "-1"],
      "--strip-aperture-s = -1 must be above 0"),
+    ("nrsar-process", ["--dask-make-certs", "/proc/nrsar-certs"],
+     "--dask-make-certs = '/proc/nrsar-certs' is not a writable folder"),
     ("nrsar-bench", ["--only", "nosuch"], "--only = nosuch is not one of"),
     ("gnuradio.nrsar.bench.bench_td_echo", ["--quick", "--no-such-flag"],
      "unrecognized arguments: --no-such-flag"),
