@@ -9,20 +9,20 @@ and every module run as `python3 -m gnuradio.nrsar.<...>` (the figure studies, t
 modules), found in the tree so that a new one is covered without editing this file.
 
     --help            exit 0, a usage that names the program, no traceback
-    one bad flag      exit 2, one last line '<program>: error: ...' naming the flag, its
+    a bad flag        exit 2, one last line '<program>: error: ...' naming the flag, its
                       value and the limit, nothing on stdout, no traceback
-    documented -m     every `-m gnuradio.nrsar.<module>` that the docs and the modules' own help
-                      show names a module found here
+    documented -m     every `-m gnuradio.nrsar.<module>` shown by the docs and by the
+                      modules' own help names a module found here
     recorded ISAC run the smallest documented `nrsar-isac --record` and `nrsar-process` of
                       its recording (docs/recording.md) exit 0
 
 --help and the bad flags run in one child interpreter (imports paid once, a hung entry point
 cut by the timeout); the recorded run is two real processes. qa_apps holds the many bad
-inputs of each program; this file holds the one of each entry point."""
+inputs of each program; this file holds one or two of each program."""
 
 import contextlib
-import io
 import glob
+import io
 import json
 import os
 import re
