@@ -148,6 +148,7 @@ def run(opts):
     if opts.strip_aperture_s is not None or opts.dask_make_certs is not None:
         from . import distributed_process  # builds on this module
         if opts.dask_make_certs is not None:
+            check_out_dir(opts.dask_make_certs, "--dask-make-certs")
             return {"dask_certificates": distributed_process.write_certificates(
                 opts.dask_make_certs)}
         return distributed_process.run(opts)

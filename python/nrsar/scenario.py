@@ -61,6 +61,10 @@ def grid_of_mode(mode_arg, num):
     srs = srs_config()
     if period:
         srs.period_slots = period
+    if mode != "data" and srs.num_subcarriers() > num.num_subcarriers:
+        raise OptionError(f"--mode = {mode_arg!r} needs its SRS band's {srs.num_subcarriers()} "
+                          f"subcarriers, more than the numerology's {num.num_subcarriers} "
+                          f"(choose a wider --preset)")
     if mode != "data" and srs.start_subcarrier + srs.num_subcarriers() > num.num_subcarriers:
         srs.start_subcarrier = (num.num_subcarriers - srs.num_subcarriers()) // 2
     return mode, srs, params.symbols_per_pulse(mode, num, srs)

@@ -20,6 +20,7 @@ import sys
 
 from . import __path__ as package_path
 from .. import progress, results, runtime
+from ..options import check_out_dir
 
 COLUMNS = ["benchmark", "unit", "ours", "peer", "peer_rate", "ratio"]
 
@@ -30,8 +31,8 @@ def bench_modules(selected=None):
     if selected:
         unknown = set(selected) - {n[len("bench_"):] for n in names}
         if unknown:
-            raise ValueError(f"unknown benchmark(s) {sorted(unknown)}; known: "
-                             f"{[n[len('bench_'):] for n in names]}")
+            raise ValueError(f"--only = {', '.join(sorted(unknown))} is not one of "
+                             f"{', '.join(n[len('bench_'):] for n in names)}")
         names = [n for n in names if n[len("bench_"):] in selected]
     return [importlib.import_module(f".{n}", __package__) for n in names]
 
@@ -98,8 +99,9 @@ def main(argv=None):
         return sweep.main(args.out, args.quick)
     try:
         modules = bench_modules(args.only)
+        check_out_dir(args.out)  # before minutes of benchmarks, not after them
     except ValueError as err:
-        print(f"nrsar-bench: {err}", file=sys.stderr)
+        print(f"nrsar-bench: error: {err}", file=sys.stderr)
         return 2
     rows = []
     for module in modules:
@@ -107,7 +109,6 @@ def main(argv=None):
         print(f"running {module.__name__.rsplit('.', 1)[-1]} ...", file=sys.stderr, flush=True)
         rows.extend(module.run(quick=args.quick))
     progress.finish()
-    os.makedirs(args.out, exist_ok=True)
     write_csv(os.path.join(args.out, "bench.csv"), rows)
     write_png(os.path.join(args.out, "bench.png"), rows)
     print(f"CPU: {runtime.cpu_model()}, {os.cpu_count()} cores")

@@ -181,7 +181,7 @@ def run_paced(preset="sdr20", seconds=10.0, snr_db=35.0, threads=2, fifo_ms=2.0)
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--preset", default="sdr20")
+    p.add_argument("--preset", default="sdr20", choices=nrsar.numerology.preset_names())
     p.add_argument("--slots", type=int, default=200)
     p.add_argument("--snr-db", type=float, default=35.0)
     p.add_argument("--threads", type=int, choices=(1, 2), default=1,
@@ -191,6 +191,8 @@ def main(argv=None):
     p.add_argument("--fifo-ms", type=float, default=2.0,
                    help="with --paced: the radio's receive FIFO before it overflows")
     a = p.parse_args(argv)
+    if a.slots < 1:
+        p.error(f"--slots = {a.slots} must be at least 1")
     if a.paced is not None:
         if not a.paced > 0 or not a.fifo_ms >= 0:
             p.error(f"--paced = {a.paced} must be > 0 and --fifo-ms = {a.fifo_ms} >= 0")

@@ -94,6 +94,4 @@ def run(quick=False):
 
 
 if __name__ == "__main__":
-    import sys
-    for r in run(quick="--quick" in sys.argv):
-        print(r)
+    benchutil.main(run, __doc__)

@@ -152,5 +152,4 @@ def run(quick=False):
 
 
 if __name__ == "__main__":
-    for row in run(quick=True):
-        print(row)
+    benchutil.main(run, __doc__)

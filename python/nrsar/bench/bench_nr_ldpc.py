@@ -118,5 +118,4 @@ def run(quick=False):
 
 
 if __name__ == "__main__":
-    for r in run():
-        print(r)
+    benchutil.main(run, __doc__)

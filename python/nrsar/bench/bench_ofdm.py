@@ -136,7 +136,4 @@ def run(quick=False):
 
 
 if __name__ == "__main__":
-    gr.logging().set_default_level(gr.log_levels.warn) if hasattr(gr, "logging") else None
-    for r in run(quick=True):
-        print(f"{r['benchmark']:32s} ours {r['ours'] / 1e6:8.1f} M{r['unit']}  "
-              f"{r['peer']}: {r['peer_rate'] / 1e6:8.1f}  ratio {r['ratio']:.2f}")
+    benchutil.main(run, __doc__)

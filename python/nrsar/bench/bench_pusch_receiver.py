@@ -17,7 +17,7 @@ from gnuradio import blocks, digital, fec, gr
 from gnuradio import nrsar
 
 from .. import backhaul
-from .benchutil import items_per_second, row
+from .benchutil import items_per_second, main, row
 
 
 def _receiver_rate(cfg, grid, nslots):
@@ -92,6 +92,4 @@ def run(quick=False):
 
 
 if __name__ == "__main__":
-    import sys
-    for r in run(quick="--quick" in sys.argv):
-        print(r)
+    main(run, __doc__)

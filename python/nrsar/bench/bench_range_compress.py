@@ -106,5 +106,4 @@ def run(quick=False):
 
 
 if __name__ == "__main__":
-    for r in run(quick=True):
-        print(r)
+    benchutil.main(run, __doc__)

@@ -329,7 +329,7 @@ def main():
         try:
             flight(a.flight_s, a.presum)
         except ValueError as e:
-            p.exit(2, f"error: {e}\n")
+            p.error(str(e))
         return
     symbols = 4800 if a.quick else 24000
     for label, preset, td, tx in (VARIANTS + FUSED +

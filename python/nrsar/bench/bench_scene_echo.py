@@ -105,7 +105,4 @@ def run(quick=False):
 
 
 if __name__ == "__main__":
-    import sys
-    for r in run(quick="--quick" in sys.argv):
-        print(", ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
-                        for k, v in r.items()))
+    benchutil.main(run, __doc__)

@@ -7,12 +7,16 @@
 
 Every comparison runs our block and its peer (stock GNU Radio blocks, gr-radar, numpy)
 on the same input in the same process, so the reported ratio is meaningful on any
-machine. Each bench_<block>.py module exposes run(quick) -> list of result rows.
+machine. Each bench_<block>.py module exposes run(quick) -> list of result rows, and runs
+alone through main() (python3 -m gnuradio.nrsar.bench.bench_<block> [--quick]).
 """
 
+import argparse
 import time
 
 from gnuradio import blocks, gr
+
+from .. import runtime
 
 
 def items_per_second(build, n_items, repeats=3, clock=time.perf_counter):
@@ -50,3 +54,17 @@ def row(benchmark, ours, peer_name, peer, unit="items/s", **extra):
     }
     result.update(extra)
     return result
+
+
+def main(run, doc):
+    """A bench module run alone: --help shows its doc (instead of starting the benchmark),
+    --quick its short run; prints each result row."""
+    parser = argparse.ArgumentParser(description=doc,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--quick", action="store_true",
+                        help="short runs (smoke test; ratios are noisier)")
+    quick = parser.parse_args().quick
+    runtime.quiet_gnuradio_logs()
+    for r in run(quick=quick):
+        print(", ".join(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}"
+                        for k, v in r.items()))

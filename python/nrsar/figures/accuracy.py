@@ -7,7 +7,7 @@
 (nrsar-sim: nr_isac_tx -> scene_echo -> tf_filter -> range_ifft -> rd_focuser -> nmse_probe
 with the reference branch) for RF / MF / WF, SNR_in -20..30 dB, 256-QAM, 16-QAM and QPSK.
 
-    /usr/bin/python3 -m gnuradio.nrsar.accuracy --out DIR [--quick] [--seeds N]
+    /usr/bin/python3 -m gnuradio.nrsar.figures.accuracy --out DIR [--quick] [--seeds N]
 
 writes accuracy.csv (every run) and accuracy.md (the table: mean over seeds of
 measured - theory, and the headline spread of that difference over all cells).

@@ -6,7 +6,7 @@
 #
 """Double-precision, no-skipping reference of the nrsar-sim chain (issue #7's image-quality goal).
 
-    /usr/bin/python3 -m gnuradio.nrsar.double_reference [nrsar-sim options] [--work DIR]
+    /usr/bin/python3 -m gnuradio.nrsar.figures.double_reference [nrsar-sim options] [--work DIR]
 
 1. Runs the float32 GNU Radio chain (chain.simulate, --images keep) with the given options (default:
    paper-full with presum cheby D = 10, range crop on, scene band) and keeps its image and
@@ -64,7 +64,7 @@ import pmt
 from gnuradio import blocks, gr
 
 from .. import chain, params, results, runtime, scenario
-from ..options import PRESUM, SimOptions, option
+from ..options import PRESUM, SimOptions, check_out_dir, option
 from ..nrsar_python import (constellation, focuser_config, nmse_probe, nr_isac_tx, probe_config,
                             rd_focuser, strip_pixel_weights, tag_keys)
 
@@ -93,7 +93,13 @@ def parse(argv):
     parser = argparse.ArgumentParser(prog="nrsar-double-reference", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     DoubleReferenceOptions.add_arguments(parser)
-    return DoubleReferenceOptions.from_args(parser.parse_args(argv))
+    try:
+        opts = DoubleReferenceOptions.from_args(parser.parse_args(argv))
+        check_out_dir(opts.out)
+        check_out_dir(opts.work, "--work")
+        return opts
+    except ValueError as err:  # a broken rule: one line and exit 2, as argparse's own
+        parser.error(str(err))
 
 
 def setup(opts):
@@ -408,7 +414,6 @@ def nmse64_db(img, ref, nm, weights):
 
 def run(argv=None):
     opts = parse(argv)
-    os.makedirs(opts.work, exist_ok=True)
     num, geo, scn, symbols = setup(opts)
     result = {"command": "double_reference " + " ".join(argv or sys.argv[1:]),
               "load_avg": os.getloadavg()}

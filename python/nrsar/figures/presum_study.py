@@ -6,7 +6,7 @@
 #
 """Azimuth presummer study (second paper, figures 6-8 analogues): CSV + PNG.
 
-    /usr/bin/python3 -m gnuradio.nrsar.presum_study --out docs/figures [--quick]
+    /usr/bin/python3 -m gnuradio.nrsar.figures.presum_study --out docs/figures [--quick]
 
 1. single-pulse SNR gain per method at D (default 12): the chain TX -> echo -> MF ->
    range IFFT at SNR_in -20 dB (QPSK: no data-randomness pedestal), every method fed the

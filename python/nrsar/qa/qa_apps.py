@@ -74,6 +74,9 @@ BAD_INPUTS = [
     ("nrsar-sim", ["--modulation", "qam1024"], "--modulation: invalid choice"),
     ("nrsar-sim", ["--mode", "srs40"], "--mode: invalid choice"),
     ("nrsar-sim", ["--band", "half"], "--band: invalid choice"),
+    # tiny's 64 subcarriers cannot hold the SRS band's 24 RB x 12 = 288 (SPEC 2)
+    ("nrsar-sim", ["--mode", "srs2"], "--mode = 'srs2' needs its SRS band's 288 subcarriers, "
+     "more than the numerology's 64"),
     ("nrsar-sim", ["--presum", "sum"], "--presum: invalid choice"),
     ("nrsar-sim", ["--no-such-flag"], "unrecognized arguments: --no-such-flag"),
     ("nrsar-sim", ["--preset", "huge"], "--preset: invalid choice: 'huge'"),
