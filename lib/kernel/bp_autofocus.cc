@@ -93,13 +93,52 @@ struct history {
     double v;   // variance of psi / (2 pi cs) per pulse [m^2]
 };
 
+// The noise floor sigma^2 of a history next to frequency 0, what its constant and slope
+// average: the median of its Hann-windowed periodogram over 1 / L to 4 / L cycles a pulse
+// (the path error is slower than 1 / L; at most 1 / 8 to 1 / 2), over the median's
+// expectation for complex Gaussian noise (exponential ordinates: the harmonic sum below,
+// about ln 2). The deviation from the moving mean weighs all frequencies above 1 / L: it
+// counts another target in the same range bins at another along-track position, a line in
+// the history (25 m apart: 0.07 cycles a pulse), as noise, and misses presummed noise's
+// fall towards the decimated band's edge; the median passes over the line (docs/blocks/
+// bp_focuser.md, "Two GCPs in one range bin").
+double noise_floor(const std::vector<std::complex<double>>& c, unsigned L)
+{
+    const unsigned n = static_cast<unsigned>(c.size());
+    const fft_fwd fft = make_fft_fwd(int(n));
+    double w2 = 0.0;
+    for (unsigned p = 0; p < n; ++p) {
+        const double s = std::sin(M_PI * (p + 0.5) / n), w = s * s;
+        fft->get_inbuf()[p] = gr_complex(w * c[p]);
+        w2 += w * w;
+    }
+    fft->execute();
+    const double f0 = std::min(1.0 / L, 0.125), f1 = std::min(4.0 / L, 0.5);
+    std::vector<double> pg;
+    for (unsigned k = 0; k < n; ++k) {
+        const unsigned f = std::min(k, n - k);
+        if (f >= f0 * n && f <= f1 * n)
+            pg.push_back(std::norm(fft->get_outbuf()[k]) / w2);
+    }
+    if (pg.empty())
+        return 0.0;
+    const std::size_t m = pg.size(), j = m / 2;
+    std::nth_element(pg.begin(), pg.begin() + j, pg.end());
+    double e = 0.0; // the (j + 1)-th smallest of m unit exponentials: sum 1 / i, i = m - j..m
+    for (std::size_t i = m - j; i <= m; ++i)
+        e += 1.0 / i;
+    return pg[j] / e;
+}
+
 // c's complex moving sum over len[p] pulses (h each side), its phase unwrapped over the
-// pulses in metres (psi to_m, to_m = 1 / (2 pi cs)) into b, and the noise it carries.
+// pulses in metres (psi to_m, to_m = 1 / (2 pi cs)) into b, and the noise it carries
+// (sigma^2 from the deviation from the moving mean, or with floor from noise_floor).
 history smoothed_history(const std::vector<std::complex<double>>& c,
                          const std::vector<unsigned>& len,
                          unsigned h,
                          double to_m,
-                         std::vector<double>& b)
+                         std::vector<double>& b,
+                         bool floor = false)
 {
     // The noise: sigma^2 from each summand's deviation from its moving mean (the
     // path error is slow over the sum; white noise gives sigma^2 (1 - 1 / L));
@@ -127,7 +166,8 @@ history smoothed_history(const std::vector<std::complex<double>>& c,
         sum += b[p];
     }
     pw /= n;
-    const double sigma2 = std::max(dof > 0.0 ? dev / dof : 0.0, 1e-12 * pw);
+    const double s2 = floor ? noise_floor(c, 2 * h + 1) : dof > 0.0 ? dev / dof : 0.0;
+    const double sigma2 = std::max(s2, 1e-12 * pw);
     const double a2 = std::max(pw - sigma2 * inv_len / n, 1e-12 * pw);
     // A history whose smoothed SNR L A^2 / sigma^2 is below 2 (phase noise above
     // 0.5 rad) unwraps into a random walk (a noise peak taken for a point): unused.
@@ -368,7 +408,7 @@ bool calibrate_gcp(const gr_complex* pulses,
             one.image(line.data());
             c[i] = std::complex<double>(line[kp]);
         }
-        const history hs = smoothed_history(c, len, h, to_m, b);
+        const history hs = smoothed_history(c, len, h, to_m, b, true);
         if (hs.w == 0.0)
             continue;
         double slope = 0.0;
