@@ -14,6 +14,7 @@ equals one graph (a recording whose SNR falls along the track); a client without
 certificate is refused by the scheduler; --dask-make-certs writes a set."""
 
 import contextlib
+import dataclasses
 import faulthandler
 import gc
 import os
@@ -370,11 +371,15 @@ class qa_distributed_process(gr_unittest.TestCase):
                 self.assertEqual(res_kept, sl.first * 3333)
         # cut into 3 parts (boundaries 2399 and 4798, inside buckets: the replay takes each
         # symbol's sums in stream order) the histories are the same; the task at symbol 0
-        # is handed out before any part runs, the others as the parts before them return
+        # is handed out before any part runs, the others as the parts before them return;
+        # a block that reads nothing (before the flight: a long geometry's) passes as it is
         parts, real = [], dp.prepass_sums
+        empty = dp.Slice(0, 1, lay.lines, 0, 0)
         with mock.patch.object(dp, "prepass_sums",
                                lambda *a: parts.append(a[2:]) or real(*a)):
-            streamed = dp.histories(opts, rec, lay, parts=3)
+            streamed = dp.histories(opts, rec, dataclasses.replace(
+                lay, slices=[empty] + lay.slices), parts=3)
+            self.assertEqual(next(streamed), empty)
             self.assertEqual(next(streamed), slices[0])
             self.assertEqual(parts, [])
             self.assertEqual(next(streamed), slices[1])
