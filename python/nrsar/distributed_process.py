@@ -274,15 +274,14 @@ def histories(opts, rec, lay, client=None, parts=0, clock=None):
     float and double sums in its own order, so the estimate is one graph's bit for bit
     whatever the parts; the client holds one part's sums). A slice that starts at a part's
     first symbol (the first at symbol 0) comes before that part's sums, so in_order runs its
-    task while the pre-pass runs. clock: a list that gets the seconds from the first slice
-    asked for until the last history (0 without a pre-pass)."""
+    task while the pre-pass runs. clock: a list that gets, once the last slice is taken,
+    the seconds this generator spent on the pre-pass (submitting its parts, waiting for
+    their sums, the replay: all of it in this process; on a cluster what the tasks did not
+    hide)."""
     start = time.perf_counter()
     end = prepass_symbols(opts, rec, lay)
     n = rec.num.num_subcarriers
     parts = prepass_parts(end, n, workers_of(client), parts) if end else []
-    clock = [] if clock is None else clock
-    if not end:
-        clock.append(0.0)
     if client is None:
         sums = [functools.partial(prepass_sums, opts, rec.meta_path, a, k) for a, k in parts]
     else:
@@ -290,21 +289,24 @@ def histories(opts, rec, lay, client=None, parts=0, clock=None):
             prepass_sums, [opts] * len(parts), [rec.meta_path] * len(parts),
             *zip(*parts), pure=False, retries=1)] if parts else []
     replay, state, at, known = iter(zip(parts, sums)), [], 0, {}  # at: state's symbol
+    waited = time.perf_counter() - start
     for sl in lay.slices:
         if not (end and sl.symbols):  # no pre-pass, or a block outside the recording
             yield sl
             continue
         while sl.first > at:  # the next part's sums: its tasks' histories
+            start = time.perf_counter()
             (a, k), part = next(replay)
             inside = sorted({s.first - a for s in lay.slices
                              if s.symbols and a <= s.first < a + k})
             *found, state = tf_filter.snr_histories(n, part(), inside + [k], state)
             known, at = {a + t: h for t, h in zip(inside, found)}, a + k
+            waited += time.perf_counter() - start
         if sl.first not in known:  # at a part's first symbol: known before its sums
             known[sl.first], = tf_filter.snr_histories(n, np.zeros(0, np.float32), [0], state)
-        if sl.first == end and not clock:  # the last task's: the pre-pass is done
-            clock.append(time.perf_counter() - start)
         yield dataclasses.replace(sl, history=tuple(known[sl.first]))
+    if clock is not None:
+        clock.append(waited)
 
 
 def prepass(opts, rec, lay, client=None, parts=0):
