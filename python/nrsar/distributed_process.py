@@ -20,12 +20,13 @@ The focuser's block for aperture a (rd_focuser: overlap-save, its history `befor
 look-ahead `after` of the scene band's azimuth extent, or --strip-overlap-s; bp_focuser: the
 aperture's own pulses) is what the task reads, so the stitched strip equals one graph
 focusing the whole recording (whole(); qa_distributed_process asserts identical arrays).
-With the Wiener filter's --estimate-snr a pre-pass (prepass(): tasks of their own, in
-parallel) takes the SNR estimator's sums of every symbol before the last task's block, and
-each task starts its filter's estimator from the history one graph has at its first symbol
-(Slice.history, tf_filter.set_snr_history), so its SNR estimate is one graph's too. A
-task receives the options, the meta's path and its Slice, and reads its samples from the
-SigMF data file by offset: no samples go through the scheduler (each worker needs the
+With the Wiener filter's --estimate-snr a pre-pass (histories(): tasks of their own, in
+parallel, the focusing tasks started beside them as their histories become known) takes
+the SNR estimator's sums of every symbol before the last task's block, and each task
+starts its filter's estimator from the history one graph has at its first symbol
+(Slice.history, tf_filter.set_snr_history), so its SNR estimate is one graph's too. A task
+receives the options, the meta's path and its Slice, and reads its samples from the SigMF
+data file by offset: no samples go through the scheduler (each worker needs the
 recording's folder: a shared file system).
 
 Faults: a worker that dies costs its task a retry on another worker (the scheduler's own
