@@ -251,8 +251,8 @@ def prepass_sums(opts, meta_path, first, symbols):
 
 
 # The fewest REs a pre-pass part takes: a part's fixed cost (its graph built and started,
-# 3 ms; its Dask round trip, 8-14 ms) is that of about 1.4 M REs' sums (11 ns each), so a
-# second part pays from twice that (docs/scale.md)
+# 3-4 ms; its Dask round trip, 8-17 ms) is that of 1-2 M REs' sums (7-11 ns each), so a
+# second part pays from about twice that (docs/scale.md)
 PART_RES = 1 << 21
 
 
@@ -284,25 +284,26 @@ def histories(opts, rec, lay, client=None, parts=0, clock=None):
     n = rec.num.num_subcarriers
     parts = prepass_parts(end, n, workers_of(client), parts) if end else []
     if client is None:
-        sums = [functools.partial(prepass_sums, opts, rec.meta_path, a, k) for a, k in parts]
+        sums = (functools.partial(prepass_sums, opts, rec.meta_path, a, k) for a, k in parts)
     else:
-        sums = [f.result for f in client.map(
+        sums = (f.result for f in client.map(
             prepass_sums, [opts] * len(parts), [rec.meta_path] * len(parts),
-            *zip(*parts), pure=False, retries=1)] if parts else []
-    replay, state, at, known = iter(zip(parts, sums)), [], 0, {}  # at: state's symbol
+            *zip(*parts), pure=False, retries=1)) if parts else ()
+    # a part's future is dropped once replayed (its sums leave the worker)
+    replay, state, at, known = collections.deque(zip(parts, sums)), [], 0, {}
     waited = time.perf_counter() - start
     for sl in lay.slices:
         if not (end and sl.symbols):  # no pre-pass, or a block outside the recording
             yield sl
             continue
-        while sl.first > at:  # the next part's sums: its tasks' histories
-            start = time.perf_counter()
-            (a, k), part = next(replay)
+        while sl.first > at:  # the next part's sums (at: the state's symbol)
+            begun = time.perf_counter()
+            (a, k), part = replay.popleft()
             inside = sorted({s.first - a for s in lay.slices
                              if s.symbols and a <= s.first < a + k})
             *found, state = tf_filter.snr_histories(n, part(), inside + [k], state)
             known, at = {a + t: h for t, h in zip(inside, found)}, a + k
-            waited += time.perf_counter() - start
+            waited += time.perf_counter() - begun
         if sl.first not in known:  # at a part's first symbol: known before its sums
             known[sl.first], = tf_filter.snr_histories(n, np.zeros(0, np.float32), [0], state)
         yield dataclasses.replace(sl, history=tuple(known[sl.first]))
