@@ -20,12 +20,13 @@ The focuser's block for aperture a (rd_focuser: overlap-save, its history `befor
 look-ahead `after` of the scene band's azimuth extent, or --strip-overlap-s; bp_focuser: the
 aperture's own pulses) is what the task reads, so the stitched strip equals one graph
 focusing the whole recording (whole(); qa_distributed_process asserts identical arrays).
-With the Wiener filter's --estimate-snr a pre-pass (prepass(): tasks of their own, in
-parallel) takes the SNR estimator's sums of every symbol before the last task's block, and
-each task starts its filter's estimator from the history one graph has at its first symbol
-(Slice.history, tf_filter.set_snr_history), so its SNR estimate is one graph's too. A
-task receives the options, the meta's path and its Slice, and reads its samples from the
-SigMF data file by offset: no samples go through the scheduler (each worker needs the
+With the Wiener filter's --estimate-snr a pre-pass (histories(): tasks of their own, in
+parallel, the focusing tasks started beside them as their histories become known) takes
+the SNR estimator's sums of every symbol before the last task's block, and each task
+starts its filter's estimator from the history one graph has at its first symbol
+(Slice.history, tf_filter.set_snr_history), so its SNR estimate is one graph's too. A task
+receives the options, the meta's path and its Slice, and reads its samples from the SigMF
+data file by offset: no samples go through the scheduler (each worker needs the
 recording's folder: a shared file system).
 
 Faults: a worker that dies costs its task a retry on another worker (the scheduler's own
@@ -43,6 +44,7 @@ started by hand (docs/scale.md).
 import collections
 import contextlib
 import dataclasses
+import functools
 import logging
 import os
 import tempfile
@@ -248,38 +250,73 @@ def prepass_sums(opts, meta_path, first, symbols):
     return np.asarray(tff.snr_sums(), np.float32)
 
 
-def prepass(opts, rec, lay, client=None):
-    """The Layout's slices with the SNR estimator's history at each one's first symbol, as
-    one graph over the whole recording has it (--estimate-snr; unchanged without): the sums
-    of symbols [0, prepass_symbols()) taken by pre-pass tasks, one part per worker of the
-    client's cluster (in parallel; one part in this process: each part pays a graph, its
-    grid starts at its first symbol, docs/scale.md), replayed in stream order, a part at a
-    time (tf_filter.snr_histories: the estimator's own float and double sums in its own
-    order, so the estimate is one graph's bit for bit; the client holds one part's sums).
-    Returns (slices, pre-pass seconds)."""
-    end = prepass_symbols(opts, rec, lay)
-    if end == 0:
-        return lay.slices, 0.0
+# The fewest REs a pre-pass part takes: a part's fixed cost (its graph built and started,
+# 3-4 ms; its Dask round trip, 8-17 ms) is that of 1-2 M REs' sums (7-11 ns each), so a
+# second part pays from about twice that (docs/scale.md)
+PART_RES = 1 << 21
+
+
+def prepass_parts(end, n, workers, parts=0):
+    """The pre-pass's parts [(first symbol, symbols)] of symbols [0, end) of n REs each:
+    one per worker, but each of at least PART_RES REs (a short strip's pre-pass is one
+    part), or `parts` of them."""
+    parts = parts or max(1, min(workers, end * n // PART_RES))
+    size = -(-end // parts)
+    return [(a, min(size, end - a)) for a in range(0, end, size)]
+
+
+def histories(opts, rec, lay, client=None, parts=0, clock=None):
+    """Yields the Layout's slices in aperture order, each with the SNR estimator's history
+    at its first symbol, as one graph over the whole recording has it (--estimate-snr;
+    unchanged without), as soon as it is known: the sums of symbols [0, prepass_symbols())
+    taken by pre-pass tasks (prepass_parts(): `parts`, 0 for one per worker of the client's
+    cluster if each carries enough work; submitted at once, in this process run as needed),
+    replayed in stream order, a part at a time (tf_filter.snr_histories: the estimator's own
+    float and double sums in its own order, so the estimate is one graph's bit for bit
+    whatever the parts; the client holds one part's sums). A slice that starts at a part's
+    first symbol (the first at symbol 0) comes before that part's sums, so in_order runs its
+    task while the pre-pass runs. clock: a list that gets, once the last slice is taken,
+    the seconds this generator spent on the pre-pass (submitting its parts, waiting for
+    their sums, the replay: all of it in this process; on a cluster what the tasks did not
+    hide)."""
     start = time.perf_counter()
-    size = -(-end // workers_of(client))
-    parts = [(a, min(size, end - a)) for a in range(0, end, size)]
+    end = prepass_symbols(opts, rec, lay)
+    n = rec.num.num_subcarriers
+    parts = prepass_parts(end, n, workers_of(client), parts) if end else []
     if client is None:
-        sums = (prepass_sums(opts, rec.meta_path, a, k) for a, k in parts)
+        sums = (functools.partial(prepass_sums, opts, rec.meta_path, a, k) for a, k in parts)
     else:
-        futures = client.map(prepass_sums, [opts] * len(parts), [rec.meta_path] * len(parts),
-                             *zip(*parts), pure=False, retries=1)
-        sums = (f.result() for f in futures)
-    starts = [sl.first for sl in lay.slices if sl.symbols]
-    hist, state = [], []
-    for (a, k), part in zip(parts, sums):
-        items = [t - a for t in starts if a <= t < a + k] + [k]
-        *found, state = tf_filter.snr_histories(rec.num.num_subcarriers, part, items, state)
-        hist += found
-    hist += [state] * (len(starts) - len(hist))  # the last task starts at `end`
-    hist = iter(hist)
-    slices = [dataclasses.replace(sl, history=tuple(next(hist))) if sl.symbols else sl
-              for sl in lay.slices]
-    return slices, time.perf_counter() - start
+        sums = (f.result for f in client.map(
+            prepass_sums, [opts] * len(parts), [rec.meta_path] * len(parts),
+            *zip(*parts), pure=False, retries=1)) if parts else ()
+    # a part's future is dropped once replayed (its sums leave the worker)
+    replay, state, at, known = collections.deque(zip(parts, sums)), [], 0, {}
+    waited = time.perf_counter() - start
+    for sl in lay.slices:
+        if not (end and sl.symbols):  # no pre-pass, or a block outside the recording
+            yield sl
+            continue
+        while sl.first > at:  # the next part's sums (at: the state's symbol)
+            begun = time.perf_counter()
+            (a, k), part = replay.popleft()
+            inside = sorted({s.first - a for s in lay.slices
+                             if s.symbols and a <= s.first < a + k})
+            *found, state = tf_filter.snr_histories(n, part(), inside + [k], state)
+            known, at = {a + t: h for t, h in zip(inside, found)}, a + k
+            waited += time.perf_counter() - begun
+        if sl.first not in known:  # at a part's first symbol: known before its sums
+            known[sl.first], = tf_filter.snr_histories(n, np.zeros(0, np.float32), [0], state)
+        yield dataclasses.replace(sl, history=tuple(known[sl.first]))
+    if clock is not None:
+        clock.append(waited)
+
+
+def prepass(opts, rec, lay, client=None, parts=0):
+    """(the Layout's slices with their SNR histories (histories()), the pre-pass's
+    seconds)."""
+    clock = []
+    slices = list(histories(opts, rec, lay, client, parts, clock))
+    return slices, clock[0]
 
 
 def security_of(opts):
@@ -406,17 +443,19 @@ def run(opts, client=None):
     with contextlib.ExitStack() as stack:
         if client is None and opts.dask:
             client = stack.enter_context(connect(opts))
-        slices, prepass_s = prepass(opts, rec, lay, client)
+        clock = []  # the pre-pass runs alongside the first tasks
         failed, times, peak, snrs = write_strip(path, lay, in_order(
-            opts, rec.meta_path, slices, client, opts.strip_window))
+            opts, rec.meta_path, histories(opts, rec, lay, client, clock=clock), client,
+            opts.strip_window))
         workers = workers_of(client)
-    return {"recording_meta": rec.meta_path, "strip_apertures": len(slices),
-            "strip_aperture_lines": lay.lines, "strip_slices":
-            [[s.first, s.symbols] for s in slices], "strip_overlap_lines": [lay.before, lay.after],
+    return {"recording_meta": rec.meta_path, "strip_apertures": len(lay.slices),
+            "strip_aperture_lines": lay.lines,
+            "strip_slices": [[s.first, s.symbols] for s in lay.slices],
+            "strip_overlap_lines": [lay.before, lay.after],
             "strip_line_shift": lay.shift, "strip_prepass_symbols": prepass_symbols(opts, rec, lay),
-            "strip_prepass_s": prepass_s, "strip_snr_db": snrs,
+            "strip_prepass_s": clock[0], "strip_snr_db": snrs,
             "strip_read_factor": lay.read_factor(), "strip_image_npy": path,
-            "strip_lines": len(slices) * lay.lines, "strip_failed": failed,
+            "strip_lines": len(lay.slices) * lay.lines, "strip_failed": failed,
             "strip_task_s": times, "strip_held_peak": peak, "overflows": len(rec.gaps),
             "lost_samples": sum(count for _, count in rec.gaps), "dask": opts.dask,
             "dask_workers": workers, "wall_s": time.perf_counter() - start}

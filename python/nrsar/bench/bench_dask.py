@@ -18,7 +18,8 @@ is the median of 3 runs of the whole strip. Per-task overhead: the wall time of 
 tasks through the same cluster, divided by 200 (a mean over 200 already). A row of its own: a task without the
 reference branch against one with it (median of 5 alternating runs). The bounded overlap
 again with --estimate-snr: the strip's rate includes its pre-pass (the SNR estimator's sums,
-prepass_s: the median of 3 on its own), read_factor counts the pre-pass's symbols too.
+streamed to the tasks as nrsar-process does; prepass_s: the median of 3 on its own),
+read_factor counts the pre-pass's symbols too.
 docs/scale.md turns these into a projection for 100 workers.
 """
 
@@ -93,7 +94,7 @@ def run(quick=False):
                     startup = time.perf_counter() - start
                     client.run(dp.focus_slice, opts, meta, warm)  # on every worker
                     rate = _median_rate(len(slices), lambda: dp.run_slices(
-                        opts, meta, dp.prepass(opts, rec, lay, client)[0], client))
+                        opts, meta, dp.histories(opts, rec, lay, client), client))
                     prepass = statistics.median(
                         dp.prepass(opts, rec, lay, client)[1] for _ in range(3))
                     n = 200

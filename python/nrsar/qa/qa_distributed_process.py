@@ -14,6 +14,7 @@ equals one graph (a recording whose SNR falls along the track); a client without
 certificate is refused by the scheduler; --dask-make-certs writes a set."""
 
 import contextlib
+import dataclasses
 import faulthandler
 import gc
 import os
@@ -25,6 +26,7 @@ import sys
 import tempfile
 import threading
 import time
+from unittest import mock
 
 import numpy as np
 from gnuradio import gr, gr_unittest
@@ -367,6 +369,28 @@ class qa_distributed_process(gr_unittest.TestCase):
                 self.assertLess(res_kept - full[0], 1 << 24)
             else:
                 self.assertEqual(res_kept, sl.first * 3333)
+        # cut into 3 parts (boundaries 2399 and 4798, inside buckets: the replay takes each
+        # symbol's sums in stream order) the histories are the same; the task at symbol 0
+        # is handed out before any part runs, the others as the parts before them return;
+        # a block that reads nothing (before the flight: a long geometry's) passes as it is
+        parts, real = [], dp.prepass_sums
+        empty = dp.Slice(0, 1, lay.lines, 0, 0)
+        with mock.patch.object(dp, "prepass_sums",
+                               lambda *a: parts.append(a[2:]) or real(*a)):
+            streamed = dp.histories(opts, rec, dataclasses.replace(
+                lay, slices=[empty] + lay.slices), parts=3)
+            self.assertEqual(next(streamed), empty)
+            self.assertEqual(next(streamed), slices[0])
+            self.assertEqual(parts, [])
+            self.assertEqual(next(streamed), slices[1])
+            self.assertEqual(parts, [(0, 2399)])
+            self.assertEqual(list(streamed), slices[2:])
+            self.assertEqual(parts, [(0, 2399), (2399, 2399), (4798, 2398)])
+        # one part per worker only where each takes at least 2^21 REs: this strip's
+        # 7196 symbols of 3333 REs make 11; bench_dask's 3056 of 612 one
+        self.assertEqual(dp.prepass_parts(7196, 3333, 2), [(0, 3598), (3598, 3598)])
+        self.assertEqual(len(dp.prepass_parts(7196, 3333, 16)), 11)
+        self.assertEqual(dp.prepass_parts(3056, 612, 4), [(0, 3056)])
         for client in (None, self.client):
             res = dp.run(opts.replace(out=os.path.join(self.dir, f"snr_{client is None}")),
                          client)
