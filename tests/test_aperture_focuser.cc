@@ -190,6 +190,51 @@ TEST_P(aperture_focuser_overlap, streamed_apertures_equal_direct_blocks)
 
 INSTANTIATE_TEST_SUITE_P(overlaps, aperture_focuser_overlap, ::testing::Values(-1, 9, 0));
 
+// A fixed overlap shorter than the scene band's extent, on a track that starts far past
+// the scene, puts the output window's first block more than a whole block ahead of the
+// stream (automatic overlap covers the extent, so -o < P there): those lines enter as
+// zeros (room() is 0 while they fill a block; ingest(lines, 0) enters them), and every
+// aperture is still the direct reference of the zero-extended stream (before: the block's
+// fill ran past its end, a heap overflow seen in one graph over a 1 s sdr20 recording
+// with --strip-overlap-s 0.0125).
+TEST(aperture_focuser, window_far_ahead_of_the_stream_enters_zero_lines)
+{
+    for (int overlap : { 9, 2 }) {
+        SCOPED_TRACE("overlap " + std::to_string(overlap));
+        geometry geo = test_geometry();
+        geo.track_start_m += 30.0 * geo.velocity_mps * 0.1; // 30 apertures past the scene
+        aperture_focuser f(numerology::preset("tiny"),
+                           geo,
+                           scene::preset("paper3"),
+                           K,
+                           test_config(overlap),
+                           T,
+                           first_range,
+                           range_bin);
+        f.prepare();
+        const unsigned M = f.lines_per_aperture();
+        const long long P = f.overlap_before() + M + f.overlap_after();
+        const long long o = f.line_shift() - static_cast<long long>(f.overlap_before());
+        ASSERT_GT(-o, 2 * P); // the case: two blocks and more of zeros before the stream
+        const unsigned n = 7 * M + 11;
+        const auto lines = nrsar_test::gaussian_samples(static_cast<size_t>(n) * K, 5);
+        const auto got = stream(f, lines, { 13 });
+        EXPECT_EQ(f.lines_in(), n);
+        size_t zero_apertures = 0;
+        for (unsigned i = 0; i < got.size(); ++i) {
+            SCOPED_TRACE("aperture " + std::to_string(i));
+            const auto ref = reference(f, lines, i);
+            expect_equal(got[i].image, ref);
+            zero_apertures += std::all_of(ref.begin(), ref.end(), [](gr_complex v) {
+                return v == gr_complex(0.0f, 0.0f);
+            });
+        }
+        // Apertures whose blocks end before the stream are zero; the ones after are not.
+        EXPECT_EQ(zero_apertures, static_cast<size_t>((-o - P) / M + 1));
+        EXPECT_GT(got.size(), zero_apertures);
+    }
+}
+
 // A strip's task (cfg.first_aperture = a, cfg.apertures = 1) fed the stream from
 // stream_first_line() on makes aperture a of the whole stream, bit for bit, and stops.
 TEST_P(aperture_focuser_overlap, first_aperture_equals_the_whole_streams)

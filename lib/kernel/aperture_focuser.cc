@@ -176,7 +176,7 @@ aperture_focuser::set_axes(double T, double first_range, double range_bin)
         configure(T, first_range, range_bin);
         d_block.clear();
         d_fill = d_written = d_shift = 0;
-        d_skip = 0;
+        d_skip = d_lead = 0;
         d_pending = false;
         return axes_change::APPLIED;
     }
@@ -236,7 +236,11 @@ void aperture_focuser::prepare()
         // or a0 M (circular): lines before the flight's start are zero, pulses between the
         // stream's first line and o are skipped.
         const long long o = static_cast<long long>(d_aperture_start) + block_offset();
-        d_fill = static_cast<unsigned>(std::max(0ll, -o));
+        // A window far ahead of the flight can start more than a block before it: the
+        // lines that do not fit enter as zeros before the stream's first line (d_lead).
+        const long long zeros = std::max(0ll, -o);
+        d_fill = static_cast<unsigned>(std::min<long long>(zeros, P));
+        d_lead = static_cast<std::uint64_t>(zeros) - d_fill;
         d_skip = static_cast<std::uint64_t>(std::max(0ll, o - static_cast<long long>(d_line0)));
         d_written = 0;
     }
@@ -261,8 +265,16 @@ aperture_focuser::ingest_result aperture_focuser::ingest(const gr_complex* lines
             return res;
     }
     apply_shift();
-    // Straight into the range-major block: the transpose happens while the lines are hot.
     const unsigned P = d_layout_lines;
+    if (d_lead > 0) { // zero lines before the stream's first line (room() left them space)
+        const unsigned z = static_cast<unsigned>(std::min<std::uint64_t>(d_lead, P - d_fill));
+        for (unsigned k = 0; k < d_K; ++k)
+            std::fill_n(&d_block[static_cast<size_t>(k) * P + d_fill], z, gr_complex(0.0f, 0.0f));
+        d_fill += z;
+        d_written = std::max(d_written, d_fill);
+        d_lead -= z;
+    }
+    // Straight into the range-major block: the transpose happens while the lines are hot.
     transpose(lines, d_K, &d_block[d_fill], P, n, d_K);
     const size_t count = static_cast<size_t>(n) * d_K;
     // Non-finite check: x - x is 0 for finite x and NaN otherwise; one branch-free pass.

@@ -80,8 +80,13 @@ public:
     //! not done yet (FFT plans are made here); ingest() and focus() need it.
     void prepare();
 
-    //! Lines ingest() can take before the block is full (skipped pulses count).
-    unsigned room() const { return d_before + d_M + d_after - d_fill; }
+    //! Lines ingest() can take before the block is full (skipped pulses count; 0 while the
+    //! zero lines before the stream's start still fill it: ingest(lines, 0) enters them).
+    unsigned room() const
+    {
+        const unsigned free = d_before + d_M + d_after - d_fill;
+        return free > d_lead ? free - static_cast<unsigned>(d_lead) : 0u;
+    }
     //! Result of ingest(): non-finite samples found (and zeroed) and the input line of
     //! the first one.
     struct ingest_result {
@@ -166,6 +171,7 @@ private:
     unsigned d_after = 0;
     long long d_line_shift = 0; // output window offset from the aperture's pulses [lines]
     std::uint64_t d_skip = 0;   // pulses still to drop before the first block
+    std::uint64_t d_lead = 0;   // zero lines before the stream that the first block lacks
     std::unique_ptr<rd_focuser> d_kernel; // built lazily (it owns the FFT plans)
     std::shared_ptr<const los_reference> d_los; // the navigation's line of sight (moco)
     double d_los_range = 0.0;                   // its first-order reference range
