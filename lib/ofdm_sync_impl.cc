@@ -163,16 +163,23 @@ const gr_complex* ofdm_sync_impl::lock_window(std::int64_t symbol_start, double 
     return d_check.data();
 }
 
-void ofdm_sync_impl::on_lock(std::uint64_t out_item)
+void ofdm_sync_impl::acquire(const gr_complex* x, std::size_t n, std::uint64_t out_item)
+{
+    bool found = d_acq.push(x, n);
+    while (found && !on_lock(out_item))
+        found = d_acq.push(nullptr, 0);
+}
+
+bool ofdm_sync_impl::on_lock(std::uint64_t out_item)
 {
     const auto& r = d_acq.get();
     const std::int64_t len = d_num.cp_samples + d_num.fft_size;
     const std::int64_t L = std::int64_t(d_tracker.slot_length());
     // Which DMRS symbol of its slot the search found, and the slot's number within the frame:
     // the DMRS sequence that fits it best (which also refines the plateau's timing: its start
-    // scatters by 15-19 samples rms at 3-5 dB). Without a sequence that passes, the later DMRS
-    // symbols in the buffer tell the symbol (lock waits for them), and a fresh lock takes the
-    // slot's first DMRS symbol of slot 0 (bursts start on slots).
+    // scatters by 15-19 samples rms at 3-5 dB). A crossing no sequence passes is rejected;
+    // where the test window is not buffered, the later DMRS symbols in the buffer tell the
+    // symbol (lock waits for them), and a fresh lock takes the first DMRS symbol of slot 0.
     unsigned j = d_fresh ? 0
                          : d_tracker.found_dmrs(d_acq.buffer(),
                                                 d_acq.buffer_start(),
@@ -190,6 +197,12 @@ void ofdm_sync_impl::on_lock(std::uint64_t out_item)
                 frame_slot = int(s);
                 j = k;
             }
+        }
+        // No DMRS sequence fits: noise or data crossed the threshold (likely where H is
+        // short: exp(-t H) per position, 4% at `tiny`). The search goes on after it.
+        if (frame_slot < 0) {
+            d_acq.reject();
+            return false;
         }
     }
     const std::int64_t symbol_start =
@@ -255,6 +268,7 @@ void ofdm_sync_impl::on_lock(std::uint64_t out_item)
                    slot0,
                    d_start);
     d_fresh = false;
+    return true;
 }
 
 void ofdm_sync_impl::tag_slots(std::uint64_t out_begin, std::uint64_t out_end)
@@ -405,8 +419,7 @@ int ofdm_sync_impl::general_work(int noutput_items,
             if (bad > 0)
                 d_nonfinite.note(d_logger, bad, r0 + consumed);
             consumed += n;
-            if (d_acq.push(x, n))
-                on_lock(w0 + produced);
+            acquire(x, n, w0 + produced);
             continue;
         }
 
@@ -467,10 +480,9 @@ int ofdm_sync_impl::general_work(int noutput_items,
             d_state = state::search;
             // The input ends at r0 + consumed, after the rest of a drained buffer (if any).
             d_in_origin = r0 + consumed - d_rest.size();
-            const bool locked = !d_rest.empty() && d_acq.push(d_rest.data(), d_rest.size());
+            if (!d_rest.empty())
+                acquire(d_rest.data(), d_rest.size(), w0 + produced);
             d_rest.clear();
-            if (locked)
-                on_lock(w0 + produced);
             continue;
         }
         const int to_stamp = until_stamp();

@@ -76,7 +76,10 @@ private:
     std::uint64_t d_skipped_symbols = 0;
     std::uint64_t d_gaps = 0;
 
-    void on_lock(std::uint64_t out_item);
+    // Takes the acquirer's lock, or rejects it (false): its symbol passed no DMRS test.
+    bool on_lock(std::uint64_t out_item);
+    // Pushes to the acquirer; takes the first lock that is not rejected.
+    void acquire(const gr_complex* x, std::size_t n, std::uint64_t out_item);
     const gr_complex* lock_window(std::int64_t symbol_start, double cfo);
     void tag_slots(std::uint64_t out_begin, std::uint64_t out_end);
     void jump_grid(std::uint64_t to);

@@ -302,6 +302,51 @@ TEST(sc_acquirer, further_repeated_symbols_enter_the_cfo)
     EXPECT_THROW(acq.set_repeats({ 0 }), std::invalid_argument);
 }
 
+TEST(sc_acquirer, cfo_beyond_delta_f_aliases)
+{
+    // P's phase is 2 pi CFO H: 1.2 Delta f (0.6 / H cycles per sample) reads as -0.8 Delta f.
+    const unsigned f = 256, cp = 64;
+    const auto b = make_burst(f, cp, 900, 2, 1.2 / f, 5);
+    kernel::sc_acquirer acq(f, cp, 0.3, 3 * (f + cp));
+    ASSERT_TRUE(acq.push(b.x.data(), b.x.size()));
+    EXPECT_NEAR(acq.get().cfo * f, -0.8, 1e-4);
+}
+
+TEST(sc_acquirer, reject_searches_on_after_the_crossing)
+{
+    // Two repeated symbols 3 symbols apart, no repeats configured: each is a lock of its own.
+    const unsigned f = 256, cp = 64;
+    const double cfo = -0.21 / f;
+    const auto b = make_burst(f, cp, 700, 2, cfo, 33, 3);
+    kernel::sc_acquirer acq(f, cp, 0.3, 3 * (f + cp));
+    ASSERT_TRUE(acq.push(b.x.data(), b.x.size()));
+    EXPECT_NEAR(double(acq.get().symbol_start), double(b.d0), 3.0);
+    // Rejected, each lock's window starts after the last one's: the first symbol's falling
+    // edge (M above 0.3 for about H / 2 positions) may lock before the second symbol does.
+    const std::int64_t second = b.d0 + 3 * std::int64_t(f + cp);
+    std::vector<std::int64_t> starts;
+    bool locked = true;
+    while (locked && starts.size() < 20) {
+        const double last = acq.get().plateau_last;
+        acq.reject();
+        EXPECT_FALSE(acq.locked());
+        locked = acq.push(nullptr, 0); // n = 0: the buffered samples are searched
+        if (locked) {
+            EXPECT_GT(acq.get().plateau_first, last);
+            starts.push_back(acq.get().symbol_start);
+            if (std::abs(acq.get().symbol_start - second) <= 3)
+                EXPECT_NEAR(acq.get().cfo * f, -0.21, 1e-4);
+        }
+    }
+    EXPECT_FALSE(locked); // only data and zeros after the second symbol's edge
+    ASSERT_GE(starts.size(), 1u);
+    EXPECT_EQ(std::count_if(starts.begin(), starts.end(),
+                            [&](std::int64_t d) { return std::abs(d - second) <= 3; }),
+              1);
+    for (auto d : starts) // the first symbol's edge or the second symbol and its edge
+        EXPECT_TRUE(d < b.d0 + std::int64_t(f + cp) || d >= second - 3) << d;
+}
+
 TEST(sc_acquirer, noise_never_locks_and_memory_stays_bounded)
 {
     const unsigned f = 512, cp = 128;

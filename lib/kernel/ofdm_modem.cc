@@ -189,6 +189,19 @@ void sc_acquirer::reset()
     d_pv.clear();
     d_res = result();
     d_refining = false;
+    d_floor = 0;
+}
+
+void sc_acquirer::reject()
+{
+    // Windows start after the rejected one (else its edge's crossing finds it again); the
+    // buffer still holds those samples: nothing is discarded while locked.
+    d_floor = std::int64_t(d_res.plateau_last) + 1;
+    d_pos = std::max(d_first + 1, d_floor);
+    d_res = result();
+    d_refining = false;
+    d_collecting = false;
+    d_since_recompute = -1;
 }
 
 void sc_acquirer::recompute(std::int64_t d)
@@ -331,8 +344,8 @@ void sc_acquirer::finish()
     // values of M fluctuate); with symmetric edges the best window starts at d0 + D/2.
     const std::size_t size = d_m.size();
     const std::size_t w = std::min<std::size_t>(d_cp + 1, size);
-    const std::size_t from = std::size_t(
-        std::max<std::int64_t>(0, d_first - std::int64_t(d_cp + d_half / 2) - d_m_start));
+    const std::size_t from = std::size_t(std::max<std::int64_t>(
+        0, std::max(d_first - std::int64_t(d_cp + d_half / 2), d_floor) - d_m_start));
     double sum = 0.0;
     for (std::size_t i = from; i < from + w; i++)
         sum += d_m[i];

@@ -35,7 +35,9 @@ namespace nrsar {
  * 2 Delta f are not detected. The 38.211 DMRS sequence (dmrs.scrambling_id, slot within the
  * frame, symbol; kernel::dmrs_matcher) then refines d0_hat: the phase step between
  * neighbouring DMRS REs gives the symbol's start (1.7 samples rms at 3 dB per RE against the
- * plateau's 15-19). The stream must carry that sequence.
+ * plateau's 15-19). The stream must carry that sequence: a crossing that fits no sequence
+ * (noise or data above the threshold, likely where H is short: 4% per position at `tiny`) is
+ * rejected and the search goes on after its plateau window.
  *
  * Output (`out`): complex samples; output sample 0 is the first sample (CP start) of the slot
  * that holds the first detected DMRS symbol, moved earlier by the backoff:
@@ -73,8 +75,6 @@ namespace nrsar {
  * the new acquisition's output begins). Memory is bounded: before lock the block keeps
  * dmrs.symbols[0] (cp + fft_size) + cp + fft_size / 2 + backoff samples of history plus
  * the search span (up to the slot's last DMRS symbol while the CFO is refined).
- * Without a DMRS sequence that fits, the first detected DMRS symbol is taken as the first
- * DMRS symbol of slot 0.
  */
 class NRSAR_API ofdm_sync : virtual public gr::block
 {

@@ -230,14 +230,13 @@ def focus_reference(opts, num, geo, symbols, files, fast):
     # reference lines: the fast image's along-track window at the full PRF
     j_first = int(round((az0 - geo.track_start_m) / (v * t)))
     j_count = int(round(lines_fast * daz / (v * t)))
-    # Linear correlation: the band's filter reaches f / Ka beyond the aperture (Ka at the
-    # nearest range), plus the output window.
     # Azimuth FFT: the fast focuser's processing block (before + M + after pulses, zero
     # padded, a linear correlation) at the full PRF, D times as many points: the Doppler bins
     # are then exactly the fast chain's, so both process the same band, bin for bin. It must
-    # also hold the band's filter reach f / Ka beyond the aperture and the output window.
-    ka = 2 * v * v / (lam * r0.min())
-    reach = int(math.ceil(max(abs(band_lo), abs(band_hi)) / ka / t))
+    # also hold the band's filter reach f / Ka = f lam R0 / (2 v^2) beyond the aperture (the
+    # longest at the farthest range; a crop from range 0, as at `tiny`, has Ka = inf in its
+    # first bin) and the output window.
+    reach = int(math.ceil(max(abs(band_lo), abs(band_hi)) * lam * r0.max() / (2 * v * v) / t))
     need = max(symbols + reach + max(0, -j_first), j_first + j_count)
     length = fast["focuser_fft_size"] * fast["pulse_symbols"]
     while length < need:

@@ -41,10 +41,10 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         cls.x = cls.received(cls.cfg, cls.chunks, NSLOTS, rng)
 
     @classmethod
-    def received(cls, cfg, chunks, nslots, rng):
+    def received(cls, cfg, chunks, nslots, rng, num=None):
         """The burst of nslots slots carrying chunks as the base station receives it: after
         DELAY zeros, CFO_HZ, 30 dB per RE, half a slot of noise after it."""
-        num = cls.num
+        num = cls.num if num is None else num
         grid, _ = backhaul.transmit_grid(cfg, chunks, nslots)
         tb = gr.top_block()
         src = blocks.vector_source_c(grid.ravel().tolist(), False, num.num_subcarriers)
@@ -53,7 +53,7 @@ class qa_base_station_gaps(gr_unittest.TestCase):
         tb.run()
         burst = np.array(snk.data(), np.complex64)
         x = np.concatenate([np.zeros(DELAY, np.complex64), burst,
-                            np.zeros(cls.L // 2, np.complex64)])
+                            np.zeros(len(burst) // nslots // 2, np.complex64)])
         n = np.arange(len(x))
         x = x * np.exp(2j * np.pi * CFO_HZ / num.sample_rate_hz() * n)
         sigma = 10.0 ** (-30.0 / 20.0) / np.sqrt(2.0)  # 30 dB per RE (unitary OFDM)
@@ -69,10 +69,12 @@ class qa_base_station_gaps(gr_unittest.TestCase):
     def run_gap(self, p, g, stamped=True):
         return self.run_gaps([(p, g)], stamped)
 
-    def run_gaps(self, gaps, stamped=True, x=None, cfg=None, fields=("slot", "crc_ok", "lost")):
+    def run_gaps(self, gaps, stamped=True, x=None, cfg=None, fields=("slot", "crc_ok", "lost"),
+                 num=None):
         """gaps: [(first lost sample of the burst's stream, samples lost)], in order."""
         x = self.x if x is None else x
         cfg = self.cfg if cfg is None else cfg
+        num = self.num if num is None else num
         keep = np.ones(len(x), bool)
         for p, g in gaps:
             keep[p:p + g] = False
@@ -84,12 +86,12 @@ class qa_base_station_gaps(gr_unittest.TestCase):
             before += g
         tb = gr.top_block()
         src = blocks.vector_source_c(x.tolist())
-        sync = nrsar.ofdm_sync(self.num, nrsar.make_dmrs("pusch2"))
-        dem = nrsar.ofdm_demod(self.num)
+        sync = nrsar.ofdm_sync(num, nrsar.make_dmrs("pusch2"))
+        dem = nrsar.ofdm_demod(num)
         rx = nrsar.pusch_receiver(cfg)
         store = blocks.message_debug()
         if stamped:
-            stamper = recording.rx_time_stamper(self.num.sample_rate_hz(), stamps)
+            stamper = recording.rx_time_stamper(num.sample_rate_hz(), stamps)
             tb.connect(src, stamper, sync)
         else:
             tb.connect(src, sync)
@@ -319,6 +321,26 @@ class qa_base_station_gaps(gr_unittest.TestCase):
                     crc_ok, lost, data = pdus[s]
                     self.assertTrue(crc_ok and not lost, s)
                     self.assertEqual(data, self.chunks[s], s)
+
+    def test_014_tiny_noise_before_the_burst(self):
+        # tiny (F = 64, H = 32): noise and data cross the default threshold 0.1 with
+        # probability exp(-0.1 H) = 4% per position, so the 3000 noise samples before the
+        # burst hold many crossings. Each fits no DMRS sequence and is rejected (it used to
+        # lock, and its noise CFO stayed through every re-acquisition): the lock is the first
+        # DMRS symbol of slot 0, exactly, and every TB decodes (256-QAM, as
+        # bench.base_station_realtime --preset tiny).
+        num = nrsar.make_numerology("tiny")
+        cfg = nrsar.make_pusch_config(num, "qam256", "pusch2", "nr-ldpc")
+        per_tb = nrsar.pusch_encoder(cfg).payload_bits_per_slot() // 8
+        rng = np.random.default_rng(14)
+        chunks = [rng.integers(0, 256, per_tb, dtype=np.uint8).tobytes() for _ in range(4)]
+        x = self.received(cfg, chunks, 4, rng, num)
+        sync, rx, pdus = self.run_gaps([], stamped=False, x=x, cfg=cfg, num=num)
+        self.assertEqual(sync.timing_samples(),
+                         DELAY + DMRS[0] * (num.cp_samples + num.fft_size))
+        self.assertAlmostEqual(sync.cfo_hz(), CFO_HZ, delta=0.01 * num.subcarrier_spacing_hz)
+        self.assertEqual(sync.lock_losses(), 0)
+        self.assertEqual(pdus, {s: (True, False, chunks[s]) for s in range(4)})
 
 
 if __name__ == "__main__":

@@ -13,6 +13,7 @@ formula) against the probe's value."""
 import math
 import shutil
 import tempfile
+import warnings
 
 from gnuradio import gr_unittest
 from gnuradio.nrsar import runtime
@@ -56,6 +57,23 @@ class qa_double_reference(gr_unittest.TestCase):
         # MF +5 dB at the full PRF (measured -0.04 and -0.004 dB)
         self.check_case([], 0.1)
         self.check_case(["--filter", "mf", "--snr-db", "5", "--presum", "none"], 0.1)
+
+    def test_tiny_crop_from_range_zero(self):
+        # tiny (78 m bins): the fast image's crop starts at range 0, where Ka is infinite; the
+        # reference's azimuth FFT must still hold the filter's reach at the farthest range
+        # (it was sized from the nearest, 0: a divide by zero, reach 0, a circular
+        # correlation and -0.305 dB, the goal missed)
+        out = tempfile.mkdtemp(prefix="nrsar-dref-")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", RuntimeWarning)
+                res = double_reference.run(["--preset", "tiny", "--out", out,
+                                            "--work", out + "/work"])
+        finally:
+            shutil.rmtree(out, ignore_errors=True)
+        self.assertEqual(res["fast"]["range_axis_m"][0], 0.0)
+        self.assertLessEqual(abs(res["fast_minus_double"]["nmse_db"]), 0.1)
+        self.assertAlmostEqual(res["double"]["nmse_db"], res["double"]["nmse64_db"], delta=0.01)
 
     def test_mf_with_the_presummer(self):
         # MF +5 dB with the presummer (cheby D10, 480 presummed pulses): measured -0.117 dB

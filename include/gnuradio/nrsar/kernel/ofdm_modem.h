@@ -185,6 +185,12 @@ public:
      */
     void set_repeats(const std::vector<std::int64_t>& offsets);
     bool locked() const { return d_res.locked; }
+    /*!
+     * The lock failed the caller's test (a false alarm): unlocks and searches on after its
+     * threshold crossing for plateau windows that start after the rejected one, over the
+     * samples buffered already at the next push() (n = 0 allowed).
+     */
+    void reject();
     //! Forgets everything: next push() starts at absolute index 0 again.
     void reset();
 
@@ -215,6 +221,7 @@ private:
     double d_e = 0.0;
     bool d_collecting = false;
     std::int64_t d_first = 0; // first position above threshold
+    std::int64_t d_floor = 0; // plateau windows start here or later (after a rejected one)
     std::int64_t d_m_start = 0; // position of d_m[0]
     std::vector<double> d_m;
     std::vector<std::complex<double>> d_pv;
