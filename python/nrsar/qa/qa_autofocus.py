@@ -556,21 +556,22 @@ class qa_autofocus(gr_unittest.TestCase):
 
 
     def test_sim_gcps_spread_along_track_solve_e_y_and_d_y(self):
-        """nrsar-sim, GNSS navigation (motion seed 2), three point targets 1.5 degrees apart in
-        look angle, the middle one 24 m along track from the others, all three GCPs: e_y and
-        the speed error d_y solved against the navigation model's own along-track error (its
-        least-squares constant at the middle pulse and slope, float64 here): e_y within 3
-        of its standard error, d_y within a tenth of the model's (9 noise seeds: d_y scatters
-        by 0.40 mm/s against a 0.39 mm/s se, but sits 5.2 mm/s below the model's slope, a
-        bias the se does not hold), and the image against the perfectly navigated one (same
-        noise: only the path differs; docs/flight.md)."""
+        """nrsar-sim, GNSS navigation (motion seed 2), three point targets, the middle one 24 m
+        along track from the others and 7.5-8 range bins from each (closer, 1.7 bins, each
+        GCP's history holds its neighbours' echoes: d_y -5.0 mm/s, e_y +0.9 mm off with perfect
+        navigation; docs/flight.md, "d_y end to end"), all three GCPs: e_y and the speed
+        error d_y solved against the navigation model's own along-track error, the navigation
+        where the focuser reads it (output g at input pulse 4 g) less the truth at the
+        presummed pulse's centre (input pulse 4 g + 0.5, the even-length CHEBY filter's:
+        1.04 mm further along track), its least-squares constant at the middle pulse and
+        slope, float64 here: both within 3 standard errors; and the image against the
+        perfectly navigated one (same noise: only the path differs)."""
         from gnuradio.nrsar import scenario
-        common = ["--preset", "small", "--aperture-s", "0.8", "--target", "600,8",
-                  "--target", "630,32", "--target", "660,8", "--snr-db", "10", "--presum",
+        layout = ["440,8", "600,32", "740,8"]
+        common = ["--preset", "small", "--aperture-s", "0.8", "--snr-db", "10", "--presum",
                   "cheby", "--decim", "4", "--focuser", "bp", "--autofocus", "trajectory",
-                  "--motion-seed", "2"]
-        gcps = ["--autofocus-gcp", "600,8", "--autofocus-gcp", "630,32",
-                "--autofocus-gcp", "660,8"]
+                  "--motion-seed", "2"] + sum((["--target", g] for g in layout), [])
+        gcps = sum((["--autofocus-gcp", g] for g in layout), [])
         out = tempfile.mkdtemp(prefix="qa_autofocus_gcp_")
         perfect = chain.simulate(SimOptions.parse(common + ["--out", os.path.join(out, "p")]))
         opts = SimOptions.parse(common + gcps + ["--nav-error", "gnss", "--out",
@@ -579,9 +580,10 @@ class qa_autofocus(gr_unittest.TestCase):
         sc = scenario.of(opts)
         truth, nav = scenario.flight_of(opts, sc.geo)
         m = got["azimuth_lines"]
-        t = list(np.arange(m) * got["azimuth_axis_m"][1] / sc.geo.velocity_mps)
-        err = np.array(nav.positions(t)) - np.array(truth.positions(t))
-        dy, ey = np.polyfit(np.asarray(t) - np.mean(t), err[:, 1], 1)
+        t = np.arange(m) * 4 * sc.num.symbol_s()  # the focuser reads the navigation here
+        err = (np.array(nav.positions(list(t))) -
+               np.array(truth.positions(list(t + 0.5 * sc.num.symbol_s()))))
+        dy, ey = np.polyfit(t - np.mean(t), err[:, 1], 1)
         est, se = got["autofocus_gcp_offset_m"][1], got["autofocus_gcp_offset_y_se_m"]
         est_dy, se_dy = got["autofocus_gcp_drift_mps"][1], got["autofocus_gcp_drift_y_se_mps"]
         ref = np.load(perfect["image_npy"])
@@ -589,13 +591,13 @@ class qa_autofocus(gr_unittest.TestCase):
         c = np.vdot(ref, img) / np.vdot(ref, ref)
         nmse = 10 * np.log10(np.sum(np.abs(img - c * ref) ** 2) / np.sum(np.abs(c * ref) ** 2))
         print(f"sim, GCPs along track: e_y {1e3 * est:.2f} mm (true {1e3 * ey:.2f} mm, se "
-              f"{1e3 * se:.2f} mm), d_y {1e3 * est_dy:.2f} mm/s (true {1e3 * dy:.2f} mm/s, se "
+              f"{1e3 * se:.3f} mm), d_y {1e3 * est_dy:.2f} mm/s (true {1e3 * dy:.2f} mm/s, se "
               f"{1e3 * se_dy:.2f} mm/s); image against the perfect one {nmse:.2f} dB")
         self.assertEqual(got["autofocus_gcp_used"], 3)
         self.assertGreater(abs(ey), 20 * se)  # an offset the test can see
         self.assertLess(abs(est - ey), 3 * se)
         self.assertGreater(abs(dy), 20 * se_dy)  # and a speed error
-        self.assertLess(abs(est_dy - dy), 0.1 * abs(dy))
+        self.assertLess(abs(est_dy - dy), 3 * se_dy)
         self.assertLess(nmse, -20.0)
 
 if __name__ == "__main__":
