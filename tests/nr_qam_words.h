@@ -20,38 +20,49 @@
 namespace nrsar_test {
 
 /*!
- * BG1, Zc 384 at rate 0.9 on a QAM: random information bits, the codeword rate matched at rv 0
- * with the bit interleaver of 38.212 5.4.2.2 (the first E / Qm bits of e on b(0) of the
- * symbols, ...), E = K / 0.9 rounded down to Qm bits, the 38.211 constellation, complex AWGN
- * of variance N0 = 10^(-Es/N0 / 10), the module's max-log demapper and rate recovery.
+ * BG1, Zc 384 (or the code block given: base graph, Zc, K' <= K with K - K' fillers) at rate
+ * 0.9 on a QAM: random information bits, the codeword rate matched at rv 0 with the bit
+ * interleaver of 38.212 5.4.2.2 (the first E / Qm bits of e on b(0) of the symbols, ...),
+ * E = K' / 0.9 rounded down to Qm bits, the 38.211 constellation, complex AWGN of variance
+ * N0 = 10^(-Es/N0 / 10), the module's max-log demapper and rate recovery (fillers +inf).
  */
 class nr_qam_words
 {
 public:
-    static constexpr unsigned zc = 384;
+    const int bg;
+    const unsigned zc;
 
-    nr_qam_words(gr::nrsar::modulation mod, double esn0_db, unsigned seed)
-        : d_points(mod), d_demapper(mod), d_enc(1, zc), d_n0(std::pow(10.0, -esn0_db / 10.0)),
-          d_rng(seed), d_noise(0.0f, static_cast<float>(std::sqrt(d_n0 / 2))), d_d(d_enc.n())
+    nr_qam_words(gr::nrsar::modulation mod,
+                 double esn0_db,
+                 unsigned seed,
+                 int base_graph = 1,
+                 unsigned lift = 384,
+                 unsigned k_prime = 0)
+        : bg(base_graph), zc(lift), d_points(mod), d_demapper(mod), d_enc(bg, zc),
+          d_n0(std::pow(10.0, -esn0_db / 10.0)), d_rng(seed),
+          d_noise(0.0f, static_cast<float>(std::sqrt(d_n0 / 2))), d_d(d_enc.n())
     {
         const unsigned qm = d_points.bits_per_symbol();
-        d_e = static_cast<std::size_t>(d_enc.k() / 0.9) / qm * qm;
-        d_p.k_prime = static_cast<unsigned>(d_enc.k());
+        d_p.base_graph = bg;
+        d_p.zc = zc;
+        d_p.k_prime = k_prime > 0 ? k_prime : static_cast<unsigned>(d_enc.k());
+        d_e = static_cast<std::size_t>(d_p.k_prime / 0.9) / qm * qm;
         d_p.qm = qm;
         d_f.resize(d_e);
         d_f_llr.resize(d_e);
         d_y.resize(d_e / qm);
     }
 
-    //! Draws the next word: its K information bits into c, the N LLRs of d into llr.
+    //! Draws the next word: its K information bits (fillers 0) into c, the N LLRs of d into
+    //! llr.
     void draw(std::vector<std::uint8_t>& c, std::vector<float>& llr)
     {
         namespace k = gr::nrsar::kernel;
         const unsigned qm = d_p.qm;
         c.resize(d_enc.k());
         llr.resize(d_enc.n());
-        for (auto& v : c)
-            v = d_rng() & 1u;
+        for (std::size_t k = 0; k < c.size(); k++)
+            c[k] = k < d_p.k_prime ? d_rng() & 1u : 0u;
         d_enc.encode(c.data(), d_d.data());
         k::nr_rate_match(d_d.data(), d_p, d_e, d_f.data());
         for (std::size_t s = 0; s < d_y.size(); s++) {
