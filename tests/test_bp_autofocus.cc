@@ -256,6 +256,22 @@ double crb_y(const std::vector<vec3>& gcps, double snr, double count)
     return std::sqrt((g[0][0] * g[2][2] - g[0][2] * g[2][0]) / det);
 }
 
+
+// The navigation of the d_y tests: the truth + an (x, z) offset and drift + e_y + d_y (t -
+// t_mid) [m, m/s].
+std::vector<vec3> nav_with_speed_error(double ey, double dy)
+{
+    std::vector<vec3> nav = true_path();
+    const double tm = 0.5 * (M - 1.0);
+    for (unsigned n = 0; n < M; ++n) {
+        const double t = (n - tm) * T;
+        nav[n][0] += 0.12 + 0.05 * t;
+        nav[n][1] += ey + dy * t;
+        nav[n][2] += -0.20 - 0.08 * t;
+    }
+    return nav;
+}
+
 } // namespace
 
 TEST(bp_autofocus, recovers_an_injected_path_error)
@@ -879,13 +895,7 @@ TEST(bp_autofocus, gcps_spread_along_track_solve_the_along_track_speed)
     for (unsigned n = 0; n < M; ++n)
         stt += (n - tm) * (n - tm);
     const double crb = crb_y(tg, snr, stt) / T; // [m/s]
-    std::vector<vec3> nav = tru;
-    for (unsigned n = 0; n < M; ++n) {
-        const double t = (n - tm) * T;
-        nav[n][0] += 0.12 + 0.05 * t;
-        nav[n][1] += ey + dy * t;
-        nav[n][2] += -0.20 - 0.08 * t;
-    }
+    const std::vector<vec3> nav = nav_with_speed_error(ey, dy);
     trajectory_autofocus_config cfg;
     for (const auto& q : tg)
         cfg.gcp.push_back({ q[0], q[1], 0.0 });
@@ -981,15 +991,7 @@ TEST(bp_autofocus, gcp_standard_errors_are_the_scatter_over_draws)
     // sqrt(var x + var z), err together along d_y's fit: no more); asserted within 3 of that.
     constexpr unsigned D = 32;
     constexpr double snr = 10.0;
-    const auto tru = true_path();
-    const double tm = 0.5 * (M - 1.0);
-    std::vector<vec3> nav = tru;
-    for (unsigned n = 0; n < M; ++n) {
-        const double t = (n - tm) * T;
-        nav[n][0] += 0.12 + 0.05 * t;
-        nav[n][1] += 0.30 + 0.10 * t;
-        nav[n][2] += -0.20 - 0.08 * t;
-    }
+    const std::vector<vec3> nav = nav_with_speed_error(0.30, 0.10);
     const std::vector<vec3> one_bin = { { 800.0, 12.53, 1.0 }, { 800.0, 37.53, 1.0 } };
     std::vector<gr_complex> img(std::size_t(M) * K);
     for (const auto* tg : { &SPREAD, &one_bin }) {
@@ -1059,14 +1061,7 @@ TEST(bp_autofocus, gcp_neighbours_echoes_are_taken_out)
     // perfect navigation +7.6 mm/s (the GCPs alone in their bins, SPREAD: -0.23 mm/s).
     constexpr double ey = 0.30, dy = 0.10; // [m], [m/s]
     const auto tru = true_path();
-    const double tm = 0.5 * (M - 1.0);
-    std::vector<vec3> nav = tru;
-    for (unsigned n = 0; n < M; ++n) {
-        const double t = (n - tm) * T;
-        nav[n][0] += 0.12 + 0.05 * t;
-        nav[n][1] += ey + dy * t;
-        nav[n][2] += -0.20 - 0.08 * t;
-    }
+    const std::vector<vec3> nav = nav_with_speed_error(ey, dy);
     auto ground = [](double slant) { return std::sqrt(slant * slant - H * H); };
     constexpr double D = 2.75 * RHO;
     const std::vector<vec3> one_bin = { { 800.0, 12.53, 1.0 }, { 800.0, 37.53, 1.0 } };
