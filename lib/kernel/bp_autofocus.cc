@@ -183,17 +183,23 @@ history smoothed_history(const std::vector<std::complex<double>>& c,
 // whose phase turns with their Doppler difference; for targets at about one along-track
 // position that beat is slower than the moving sum and biases the solve. Hann brings them to
 // -32 to -74 dB for 1.76 dB of SNR (docs/blocks/bp_focuser.md, "Range sidelobes").
-std::vector<gr_complex>
-tapered(const gr_complex* pulses, unsigned n, const bp_grid& g, double band)
+std::vector<float> taper_weights(const bp_grid& g, double band)
 {
     const unsigned K = g.num_range_bins;
-    std::vector<gr_complex> out(pulses, pulses + std::size_t(n) * K);
     std::vector<float> w(K);
     for (unsigned m = 0; m < K; ++m) {
         const double f = std::remainder(double(m) / K - g.range_centre_cycles, 1.0);
         const double c = std::cos(M_PI * f / band);
         w[m] = std::abs(f) < 0.5 * band ? float(c * c / K) : 0.0f; // the inverse FFT's 1 / K
     }
+    return w;
+}
+
+std::vector<gr_complex>
+tapered(const gr_complex* pulses, unsigned n, const bp_grid& g, const std::vector<float>& w)
+{
+    const unsigned K = g.num_range_bins;
+    std::vector<gr_complex> out(pulses, pulses + std::size_t(n) * K);
     const fft_fwd fwd = make_fft_fwd(int(K));
     const fft_rev rev = make_fft_rev(int(K));
     for (unsigned p = 0; p < n; ++p) {
@@ -333,6 +339,136 @@ vec3 solve_pulse(const std::vector<point>& pts,
     return { num / den * mx, 0.0, num / den * mz };
 }
 
+// A GCP's single-pulse history: its pixel kp (range bin kr at the middle pulse) at q's y,
+// read along the path moved by p - q (ant).
+struct reading {
+    vec3 q, p;
+    unsigned kp;
+    double kr;
+    std::vector<std::complex<double>> c0, c; // as read, and less the neighbours' echoes
+    std::vector<vec3> ant;
+};
+
+// GCPs within the taper's main lobe (2 / band bins) hold each other's echoes in their
+// histories, a beat at their along-track separation that biases the slopes (docs/blocks/
+// bp_focuser.md, "Two GCPs in one range bin"). Each pulse's pixels are c = H x: x the GCPs'
+// own echoes, H[q][r] r's tapered point response (a flat spectrum under the taper at r's
+// range along the path) in q's pixel over its own (1 on the diagonal; a common navigation
+// error leaves its phase, which is the ranges' difference). x, slow, is solved by least
+// squares over each pulse's moving-sum window, and the neighbours' H x taken off each c.
+// Without neighbours the histories are left as read.
+bool take_out_neighbours(std::vector<reading>& rd,
+                         const bp_grid& grid,
+                         const std::vector<vec3>& antenna,
+                         const std::vector<std::array<double, 2>>& los,
+                         double band,
+                         bp_focuser& one,
+                         unsigned h)
+{
+    using cx = std::complex<double>;
+    const std::size_t G = rd.size();
+    if (!(band > 0.0)) // untapered: no main lobe to model
+        return false;
+    std::vector<char> near(G * G, 0);
+    bool any = false;
+    for (std::size_t q = 0; q < G; ++q)
+        for (std::size_t r = 0; r < G; ++r)
+            any |= near[q * G + r] = q != r && std::abs(rd[q].kr - rd[r].kr) < 2.0 / band;
+    if (!any)
+        return false;
+    const unsigned K = grid.num_range_bins, n = static_cast<unsigned>(rd[0].c.size());
+    const std::vector<float> taper = taper_weights(grid, band);
+    const fft_rev rev = make_fft_rev(int(K));
+    std::vector<gr_complex> line(K), row(K);
+    auto pixel = [&](const reading& g, unsigned i) {
+        one.reset(g.q[1]);
+        one.add(row.data(), 1, &g.ant[i]);
+        one.image(line.data());
+        return cx(line[g.kp]);
+    };
+    const double tm = 0.5 * (n - 1.0);
+    std::vector<cx> H(std::size_t(n) * G * G, 0.0); // H[i][q][r]
+    for (std::size_t r = 0; r < G; ++r) {
+        bool used = false;
+        for (std::size_t q = 0; q < G; ++q)
+            used |= near[q * G + r] != 0;
+        for (unsigned i = 0; i < n; ++i) {
+            cx* Hi = H.data() + std::size_t(i) * G * G;
+            Hi[r * G + r] = 1.0;
+            if (!used)
+                continue;
+            // r's true range: the navigated one less its line-of-sight error
+            const double err = los[r][0] + los[r][1] * (i - tm);
+            const double kr = (distance(antenna[i], rd[r].q) - err - grid.first_range_m) /
+                              grid.range_bin_m;
+            for (unsigned m = 0; m < K; ++m)
+                rev->get_inbuf()[m] = gr_complex(
+                    std::polar(double(taper[m]), -2.0 * M_PI * std::fmod(m * kr, double(K)) / K));
+            rev->execute();
+            std::copy(rev->get_outbuf(), rev->get_outbuf() + K, row.begin());
+            const cx own = pixel(rd[r], i);
+            for (std::size_t q = 0; q < G; ++q)
+                if (near[q * G + r])
+                    Hi[q * G + r] = pixel(rd[q], i) / own;
+        }
+    }
+    std::vector<std::vector<cx>> c(G);
+    for (std::size_t q = 0; q < G; ++q)
+        rd[q].c = c[q] = rd[q].c0;
+    std::vector<cx> A(G * G), b(G), x(G);
+    for (unsigned i = 0; i < n; ++i) {
+        const unsigned lo = i > h ? i - h : 0, hi = std::min(n, i + h + 1);
+        std::fill(A.begin(), A.end(), 0.0);
+        std::fill(b.begin(), b.end(), 0.0);
+        for (unsigned j = lo; j < hi; ++j) {
+            const cx* Hj = H.data() + std::size_t(j) * G * G;
+            for (std::size_t q = 0; q < G; ++q)
+                for (std::size_t r = 0; r < G; ++r) {
+                    const cx hq = std::conj(Hj[q * G + r]);
+                    if (hq == 0.0)
+                        continue;
+                    b[r] += hq * c[q][j];
+                    for (std::size_t s2 = 0; s2 < G; ++s2)
+                        A[r * G + s2] += hq * Hj[q * G + s2];
+                }
+        }
+        // Gaussian elimination with partial pivoting; a singular window keeps its pulse.
+        bool ok = true;
+        for (std::size_t k = 0; k < G && ok; ++k) {
+            std::size_t piv = k;
+            for (std::size_t r = k + 1; r < G; ++r)
+                if (std::abs(A[r * G + k]) > std::abs(A[piv * G + k]))
+                    piv = r;
+            ok = std::abs(A[piv * G + k]) > 1e-9 * (hi - lo);
+            if (!ok)
+                break;
+            for (std::size_t s2 = 0; s2 < G; ++s2)
+                std::swap(A[k * G + s2], A[piv * G + s2]);
+            std::swap(b[k], b[piv]);
+            for (std::size_t r = k + 1; r < G; ++r) {
+                const cx f = A[r * G + k] / A[k * G + k];
+                for (std::size_t s2 = k; s2 < G; ++s2)
+                    A[r * G + s2] -= f * A[k * G + s2];
+                b[r] -= f * b[k];
+            }
+        }
+        if (!ok)
+            continue;
+        for (std::size_t k = G; k-- > 0;) {
+            cx v = b[k];
+            for (std::size_t s2 = k + 1; s2 < G; ++s2)
+                v -= A[k * G + s2] * x[s2];
+            x[k] = v / A[k * G + k];
+        }
+        const cx* Hi = H.data() + std::size_t(i) * G * G;
+        for (std::size_t q = 0; q < G; ++q)
+            for (std::size_t r = 0; r < G; ++r)
+                if (near[q * G + r])
+                    rd[q].c[i] -= Hi[q * G + r] * x[r];
+    }
+    return true;
+}
+
 // The ground control points' calibration (docs/blocks/bp_focuser.md, "Ground control
 // points"): each GCP q in the image gives, along res.antenna, the constant c and slope s
 // over the pulses of its line-of-sight error R_nav - R_true; they fix the navigation
@@ -347,6 +483,7 @@ bool calibrate_gcp(const gr_complex* pulses,
                    bp_focuser& one,
                    const std::vector<unsigned>& len,
                    unsigned h,
+                   double band,
                    trajectory_autofocus_result& res)
 {
     const unsigned K = grid.num_range_bins;
@@ -357,7 +494,6 @@ bool calibrate_gcp(const gr_complex* pulses,
     for (unsigned p = 0; p < n; ++p)
         stt += (p - tm) * (p - tm);
     std::vector<gr_complex> line(K);
-    std::vector<std::complex<double>> c(n);
     std::vector<double> b(n);
     std::vector<vec3> path(n);
     struct fix {
@@ -367,9 +503,19 @@ bool calibrate_gcp(const gr_complex* pulses,
         double a2;     // coherent power per pulse
         double uy;     // line of sight's y at the middle pulse
         vec3 du;       // least-squares slope of the line of sight over the pulses [1 / pulse]
+        std::size_t gi; // its reading
     };
     std::vector<fix> fixes;
     constexpr int steps = 6; // the range search: +-1.5 bins in quarter bins
+    // The path moved by p - q and toward q by delta + slope (pulse - tm).
+    auto moved = [&](const vec3& q, const vec3& p, unsigned i, double delta, double slope) {
+        const vec3& a = res.antenna[i];
+        const double r = distance(a, q), m = (delta + slope * (i - tm)) / r;
+        return vec3{ a[0] + p[0] - q[0] - m * (a[0] - q[0]),
+                     a[1] + p[1] - q[1] - m * (a[1] - q[1]),
+                     a[2] + p[2] - q[2] - m * (a[2] - q[2]) };
+    };
+    std::vector<reading> rd;
     for (const vec3& q : gcps) {
         const vec3& am = res.antenna[n / 2];
         const double rm = distance(am, q);
@@ -388,75 +534,93 @@ bool calibrate_gcp(const gr_complex* pulses,
         if (!pixel_position(grid, 0, kp, p))
             continue;
         p[1] = q[1];
-        // The path moved by p - q and toward q by delta + slope (pulse - tm).
-        auto moved = [&](unsigned i, double delta, double slope) {
-            const vec3& a = res.antenna[i];
-            const double r = distance(a, q), m = (delta + slope * (i - tm)) / r;
-            return vec3{ a[0] + p[0] - q[0] - m * (a[0] - q[0]),
-                         a[1] + p[1] - q[1] - m * (a[1] - q[1]),
-                         a[2] + p[2] - q[2] - m * (a[2] - q[2]) };
-        };
-        vec3 du{};
+        reading g{ q, p, kp, kr, std::vector<std::complex<double>>(n), {},
+                   std::vector<vec3>(n) };
         for (unsigned i = 0; i < n; ++i) {
-            const vec3& ai = res.antenna[i];
-            const double ri = distance(ai, q);
-            for (int c3 = 0; c3 < 3; ++c3)
-                du[c3] += (ai[c3] - q[c3]) / ri * (i - tm) / stt;
-            const vec3 a = moved(i, 0.0, 0.0);
+            g.ant[i] = moved(q, p, i, 0.0, 0.0);
             one.reset(q[1]);
-            one.add(pulses + std::size_t(i) * K, 1, &a);
+            one.add(pulses + std::size_t(i) * K, 1, &g.ant[i]);
             one.image(line.data());
-            c[i] = std::complex<double>(line[kp]);
+            g.c0[i] = std::complex<double>(line[kp]);
         }
-        const history hs = smoothed_history(c, len, h, to_m, b, true);
-        if (hs.w == 0.0)
-            continue;
-        double slope = 0.0;
-        for (unsigned i = 0; i < n; ++i)
-            slope += b[i] * (i - tm) / stt;
-        // The constant is the phase's, ambiguous by the period 1 / cs: the range peak of q's
-        // image along the path less the slope (its envelope |A(delta)|, delta in quarter
-        // bins, parabola through ln |A|) picks the integer. Its noise (the resolution over
-        // about sqrt(2 SNR) of the image) and the neighbours' range sidelobes may miss it by
-        // a few: a range shift of k periods, a small part of the resolution cell, where the
-        // phase (what the image's NMSE feels) stays right (docs/blocks/bp_focuser.md).
-        auto envelope = [&](int m) {
-            for (unsigned i = 0; i < n; ++i)
-                path[i] = moved(i, 0.25 * m * grid.range_bin_m, slope);
-            one.reset(q[1]);
-            one.add(pulses, n, path.data());
-            one.image(line.data());
-            return std::log(std::max(double(std::abs(line[kp])), 1e-300));
-        };
-        std::vector<double> env(2 * steps + 1);
-        for (int m = -steps; m <= steps; ++m)
-            env[m + steps] = envelope(m);
-        const int top = int(std::max_element(env.begin(), env.end()) - env.begin());
-        if (top == 0 || top == 2 * steps) // no peak within the search
-            continue;
-        const double peak =
-            (top - steps + peak_offset(env[top - 1], env[top], env[top + 1])) * 0.25 *
-            grid.range_bin_m;
-        const double fine = hs.sum / n;
-        const double constant = fine + period * std::round((peak - fine) / period);
-        fixes.push_back({ (am[0] - q[0]) / rm, (am[2] - q[2]) / rm, constant, slope, hs.v,
-                          hs.a2, (am[1] - q[1]) / rm, du });
+        g.c = g.c0;
+        rd.push_back(std::move(g));
     }
-    if (fixes.empty())
-        return false;
-    res.gcp_used = static_cast<unsigned>(fixes.size());
-    // The others' integers from the strongest one's (the least noise, and the least pulled
-    // by its neighbours' range sidelobes): the lattice point next to what its offset
-    // predicts along their line of sight. Their own range peaks would slip; a slip of a
-    // period P (about lambda / 2) between two GCPs at look angles d apart tilts the solution
-    // by P / d across the line of sight; this needs the navigation's error across it below
-    // P / (2 d), 1.2 m at d = 1 degree.
-    const auto ref = std::max_element(
-        fixes.begin(), fixes.end(), [](const fix& a, const fix& b) { return a.a2 < b.a2; });
-    const double ur2 = ref->ux * ref->ux + ref->uz * ref->uz;
-    for (fix& f : fixes) {
-        const double predicted = ref->c * (f.ux * ref->ux + f.uz * ref->uz) / ur2;
-        f.c += period * std::round((predicted - f.c) / period);
+    // The neighbours' echoes modelled at the navigated ranges, then once more at the ranges
+    // the GCPs' own line-of-sight errors put right (their main lobes' slopes turn an error
+    // of a tenth of a bin into a few per cent of H, a slow drift of the leak).
+    std::vector<std::array<double, 2>> los(rd.size(), { 0.0, 0.0 });
+    const bool modelled = take_out_neighbours(rd, grid, res.antenna, los, band, one, h);
+    for (int pass = 0; pass < (modelled ? 2 : 1); ++pass) {
+        if (pass == 1) {
+            take_out_neighbours(rd, grid, res.antenna, los, band, one, h);
+            fixes.clear();
+        }
+        for (std::size_t gi = 0; gi < rd.size(); ++gi) {
+            const reading& g = rd[gi];
+            const vec3 &q = g.q, &p = g.p, &am = res.antenna[n / 2];
+            const double rm = distance(am, q);
+            const unsigned kp = g.kp;
+            const std::vector<std::complex<double>>& c = g.c;
+            vec3 du{};
+            for (unsigned i = 0; i < n; ++i) {
+                const vec3& ai = res.antenna[i];
+                const double ri = distance(ai, q);
+                for (int c3 = 0; c3 < 3; ++c3)
+                    du[c3] += (ai[c3] - q[c3]) / ri * (i - tm) / stt;
+            }
+            const history hs = smoothed_history(c, len, h, to_m, b, true);
+            if (hs.w == 0.0)
+                continue;
+            double slope = 0.0;
+            for (unsigned i = 0; i < n; ++i)
+                slope += b[i] * (i - tm) / stt;
+            // The constant is the phase's, ambiguous by the period 1 / cs: the range peak of q's
+            // image along the path less the slope (its envelope |A(delta)|, delta in quarter
+            // bins, parabola through ln |A|) picks the integer. Its noise (the resolution over
+            // about sqrt(2 SNR) of the image) and the neighbours' range sidelobes may miss it by
+            // a few: a range shift of k periods, a small part of the resolution cell, where the
+            // phase (what the image's NMSE feels) stays right (docs/blocks/bp_focuser.md).
+            auto envelope = [&](int m) {
+                for (unsigned i = 0; i < n; ++i)
+                    path[i] = moved(q, p, i, 0.25 * m * grid.range_bin_m, slope);
+                one.reset(q[1]);
+                one.add(pulses, n, path.data());
+                one.image(line.data());
+                return std::log(std::max(double(std::abs(line[kp])), 1e-300));
+            };
+            std::vector<double> env(2 * steps + 1);
+            for (int m = -steps; m <= steps; ++m)
+                env[m + steps] = envelope(m);
+            const int top = int(std::max_element(env.begin(), env.end()) - env.begin());
+            if (top == 0 || top == 2 * steps) // no peak within the search
+                continue;
+            const double peak =
+                (top - steps + peak_offset(env[top - 1], env[top], env[top + 1])) * 0.25 *
+                grid.range_bin_m;
+            const double fine = hs.sum / n;
+            const double constant = fine + period * std::round((peak - fine) / period);
+            fixes.push_back({ (am[0] - q[0]) / rm, (am[2] - q[2]) / rm, constant, slope, hs.v,
+                              hs.a2, (am[1] - q[1]) / rm, du, gi });
+        }
+        if (fixes.empty())
+            return false;
+        res.gcp_used = static_cast<unsigned>(fixes.size());
+        // The others' integers from the strongest one's (the least noise, and the least pulled
+        // by its neighbours' range sidelobes): the lattice point next to what its offset
+        // predicts along their line of sight. Their own range peaks would slip; a slip of a
+        // period P (about lambda / 2) between two GCPs at look angles d apart tilts the solution
+        // by P / d across the line of sight; this needs the navigation's error across it below
+        // P / (2 d), 1.2 m at d = 1 degree.
+        const auto ref = std::max_element(
+            fixes.begin(), fixes.end(), [](const fix& a, const fix& b) { return a.a2 < b.a2; });
+        const double ur2 = ref->ux * ref->ux + ref->uz * ref->uz;
+        for (fix& f : fixes) {
+            const double predicted = ref->c * (f.ux * ref->ux + f.uz * ref->uz) / ur2;
+            f.c += period * std::round((predicted - f.c) / period);
+        }
+        for (const fix& f : fixes)
+            los[f.gi] = { f.c, f.s };
     }
     double sw = 0.0, st = 0.0, st2 = 0.0;
     for (const fix& f : fixes) {
@@ -666,7 +830,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     const double band = std::isnan(cfg.range_band_cycles) ? auto_band : cfg.range_band_cycles;
     std::vector<gr_complex> tapered_pulses; // none with band 0: the histories read pulses
     if (band > 0.0)
-        tapered_pulses = tapered(pulses, n, grid, band);
+        tapered_pulses = tapered(pulses, n, grid, taper_weights(grid, band));
     const gr_complex* hist_pulses = band > 0.0 ? tapered_pulses.data() : pulses;
 
     bp_focuser bp(grid, num_threads);
@@ -800,7 +964,7 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
     const bool calibrated = !cfg.gcp.empty() && calibrate_gcp(hist_pulses, n, grid,
                                                               cfg.gcp, cfg.gcp_along_track_se_m,
                                                               cfg.gcp_speed_se_m, one, len, h,
-                                                              res);
+                                                              band, res);
     if (calibrated && res.gcp_along_track_speed && res.accepted)
         take_out_speed_defocus(solved, res.two_dimensional, len, res);
     if (calibrated || !(img_is_nav && !res.accepted))

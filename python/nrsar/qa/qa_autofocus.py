@@ -559,7 +559,8 @@ class qa_autofocus(gr_unittest.TestCase):
         """nrsar-sim, GNSS navigation (motion seed 2), three point targets, the middle one 24 m
         along track from the others and 7.5-8 range bins from each (closer, 1.7 bins, each
         GCP's history holds its neighbours' echoes: d_y -5.0 mm/s, e_y +0.9 mm off with perfect
-        navigation; docs/flight.md, "d_y end to end"), all three GCPs: e_y and the speed
+        navigation, +1.8 mm/s and +0.5 mm with them modelled; docs/flight.md, "d_y's bias:
+        the GCPs' neighbours"), all three GCPs: e_y and the speed
         error d_y solved against the navigation model's own along-track error, the navigation
         where the focuser reads it (output g at input pulse 4 g) less the truth at the
         presummed pulse's centre (input pulse 4 g + 0.5, the even-length CHEBY filter's:
