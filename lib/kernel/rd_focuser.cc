@@ -5,6 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "fmod_two_pi.h"
 #include "param_check.h"
 #include <gnuradio/nrsar/kernel/fft_size.h>
 #include <gnuradio/nrsar/kernel/rd_focuser.h>
@@ -267,7 +268,7 @@ void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
             std::fill(d_moco_dr.begin(), d_moco_dr.end(), dref);
         }
         for (unsigned k = 0; k < K; ++k) {
-            const double ph = std::fmod(kf * d_moco_dr[k], 2.0 * M_PI);
+            const double ph = fmod_two_pi(kf * d_moco_dr[k]);
             const gr_complex c = std::conj(d_demod[k]) *
                                  gr_complex(static_cast<float>(std::cos(ph)),
                                             static_cast<float>(std::sin(ph)));

@@ -5,6 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "fmod_two_pi.h"
 #include "scene_echo_impl.h"
 #include <gnuradio/nrsar/kernel/scene_echo.h>
 #include <algorithm>
@@ -114,7 +115,6 @@ std::size_t scene_echo::echo(std::uint64_t m,
     const vec3 p = d_line ? vec3{} : d_path.position(double(m) * d_num.symbol_s());
     const double fc = d_geo.carrier_hz;
     const double df = d_num.subcarrier_spacing_hz;
-    const double two_pi = 2.0 * M_PI;
     constexpr unsigned L = anchor_interval;
 
     // Per target, in double: the phasor at subcarrier 0, the step to the next anchor
@@ -127,9 +127,9 @@ std::size_t scene_echo::echo(std::uint64_t m,
             R = std::sqrt(dx * dx + p[2] * p[2] + dy * dy);
         }
         const double k = 4.0 * M_PI * R / speed_of_light; // eq. (7): phase = -k f
-        d_anchor[q] = std::polar(std::sqrt(t.rcs), t.phase_rad - std::fmod(k * fc, two_pi));
-        d_block_step[q] = std::polar(1.0, -std::fmod(k * df * L, two_pi));
-        const double dphi = -std::fmod(k * df, two_pi);
+        d_anchor[q] = std::polar(std::sqrt(t.rcs), t.phase_rad - fmod_two_pi(k * fc));
+        d_block_step[q] = std::polar(1.0, -fmod_two_pi(k * df * L));
+        const double dphi = -fmod_two_pi(k * df);
         for (unsigned l = 0; l < lanes; l++)
             d_sc_pow[q * lanes + l] = std::polar(1.0, dphi * l);
         const std::complex<double> step8 = std::polar(1.0, dphi * lanes);

@@ -5,6 +5,7 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
+#include "fmod_two_pi.h"
 #include "param_check.h"
 #include "bessel_i0.h"
 #include "gaussian_noise_impl.h" // noise_detail::avx2_available()
@@ -215,7 +216,7 @@ std::vector<echo_path> td_echo::paths(std::uint64_t m) const
         const double tau = 2.0 * R / speed_of_light;
         // carrier term e^{-j 2 pi (fc + k0 Delta f) tau}: the phase is ~1.5e5 rad, so it
         // is reduced modulo 2 pi in double before the sincos.
-        const double phi = t.phase_rad - std::fmod(2.0 * M_PI * f_rf * tau, 2.0 * M_PI);
+        const double phi = t.phase_rad - fmod_two_pi(2.0 * M_PI * f_rf * tau);
         echo_path p;
         p.delay_samples = tau * fs;
         p.gain = std::polar(g * std::sqrt(t.rcs), phi);
