@@ -6,6 +6,7 @@
  */
 
 #include "../param_check.h"
+#include "small_solve.h"
 #include <gnuradio/nrsar/kernel/autofocus.h>
 #include <gnuradio/nrsar/kernel/image_metrics.h>
 #include <algorithm>
@@ -140,37 +141,6 @@ double weighted_rms(const std::vector<double>& phi, const std::vector<double>& w
     return den > 0.0 ? std::sqrt(num / den) : 0.0;
 }
 
-// Solves the n x n system A x = b (A symmetric positive definite) by Gaussian
-// elimination with partial pivoting; n <= 9.
-std::vector<double> solve(std::vector<double> A, std::vector<double> b, std::size_t n)
-{
-    for (std::size_t c = 0; c < n; ++c) {
-        std::size_t piv = c;
-        for (std::size_t r = c + 1; r < n; ++r)
-            if (std::abs(A[r * n + c]) > std::abs(A[piv * n + c]))
-                piv = r;
-        for (std::size_t j = 0; j < n; ++j)
-            std::swap(A[c * n + j], A[piv * n + j]);
-        std::swap(b[c], b[piv]);
-        if (A[c * n + c] == 0.0)
-            continue;
-        for (std::size_t r = c + 1; r < n; ++r) {
-            const double f = A[r * n + c] / A[c * n + c];
-            for (std::size_t j = c; j < n; ++j)
-                A[r * n + j] -= f * A[c * n + j];
-            b[r] -= f * b[c];
-        }
-    }
-    std::vector<double> x(n, 0.0);
-    for (std::size_t c = n; c-- > 0;) {
-        double s = b[c];
-        for (std::size_t j = c + 1; j < n; ++j)
-            s -= A[c * n + j] * x[j];
-        x[c] = A[c * n + c] != 0.0 ? s / A[c * n + c] : 0.0;
-    }
-    return x;
-}
-
 // Legendre polynomials P_0..P_order at t in [-1, 1] (well conditioned up to order 8).
 void legendre(double t, unsigned order, double* P)
 {
@@ -200,7 +170,8 @@ void project_polynomial(std::vector<double>& phi,
                 A[r * n + c] += w[p] * basis[p * n + r] * basis[p * n + c];
         }
     }
-    const std::vector<double> x = solve(A, b, n);
+    std::vector<double> x; // A symmetric positive definite: a zero pivot leaves its 0
+    solve_small(A, b, n, 0.0, x);
     for (std::size_t p = 0; p < M; ++p) {
         double s = 0.0;
         for (std::size_t r = 0; r < n; ++r)

@@ -8,6 +8,7 @@
 #include <gnuradio/nrsar/kernel/bp_autofocus.h>
 
 #include "../param_check.h"
+#include "small_solve.h"
 #include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <algorithm>
 #include <cmath>
@@ -432,34 +433,8 @@ bool take_out_neighbours(std::vector<reading>& rd,
                         A[r * G + s2] += hq * Hj[q * G + s2];
                 }
         }
-        // Gaussian elimination with partial pivoting; a singular window keeps its pulse.
-        bool ok = true;
-        for (std::size_t k = 0; k < G && ok; ++k) {
-            std::size_t piv = k;
-            for (std::size_t r = k + 1; r < G; ++r)
-                if (std::abs(A[r * G + k]) > std::abs(A[piv * G + k]))
-                    piv = r;
-            ok = std::abs(A[piv * G + k]) > 1e-9 * (hi - lo);
-            if (!ok)
-                break;
-            for (std::size_t s2 = 0; s2 < G; ++s2)
-                std::swap(A[k * G + s2], A[piv * G + s2]);
-            std::swap(b[k], b[piv]);
-            for (std::size_t r = k + 1; r < G; ++r) {
-                const cx f = A[r * G + k] / A[k * G + k];
-                for (std::size_t s2 = k; s2 < G; ++s2)
-                    A[r * G + s2] -= f * A[k * G + s2];
-                b[r] -= f * b[k];
-            }
-        }
-        if (!ok)
+        if (!solve_small(A, b, G, 1e-9 * (hi - lo), x)) // a singular window keeps its pulse
             continue;
-        for (std::size_t k = G; k-- > 0;) {
-            cx v = b[k];
-            for (std::size_t s2 = k + 1; s2 < G; ++s2)
-                v -= A[k * G + s2] * x[s2];
-            x[k] = v / A[k * G + k];
-        }
         const cx* Hi = H.data() + std::size_t(i) * G * G;
         for (std::size_t q = 0; q < G; ++q)
             for (std::size_t r = 0; r < G; ++r)
