@@ -598,6 +598,8 @@ DEFAULT_TAPS = "1,0,0,0.3+0.2j,0,0,0,0,-0.1j"
 @dataclasses.dataclass
 class IsacOptions(SimOptions):
     """nrsar-isac: the imaging chain's options plus the backhaul's."""
+    # --repetitions' values: pusch-AggregationFactor of 38.214 6.1.2.1 (not a field)
+    REPETITIONS = (1, 2, 4, 8)
     payload: str = option("/usr/share/common-licenses/GPL-3", "file sent over the backhaul")
     dmrs: str = option("pusch2", "PUSCH DMRS layout: pusch1, pusch2, pusch4 or 'l0,l1,..'")
     coding: str = option("nr-ldpc", "channel coding of the uplink: the UL-SCH of TS 38.212 "
@@ -656,7 +658,7 @@ class IsacOptions(SimOptions):
 
     def check_coding(self):
         """The MCS against its table and --modulation; --repetitions needs the LDPC."""
-        if self.repetitions not in (1, 2, 4, 8):
+        if self.repetitions not in self.REPETITIONS:
             raise OptionError(f"--repetitions = {self.repetitions} must be 1, 2, 4 or 8 "
                               f"(pusch-AggregationFactor of 38.214 6.1.2.1)")
         if self.coding == "none":

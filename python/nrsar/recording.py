@@ -34,7 +34,7 @@ from gnuradio import blocks, gr
 
 from . import params, results
 from .nrsar_python import ofdm_mod, td_echo
-from .options import OptionError, check_out_dir, parse_gaps, parse_origin
+from .options import IsacOptions, OptionError, check_out_dir, parse_gaps, parse_origin
 
 SIGMF_VERSION = "1.0.0"
 EXTENSION = {"name": "nrsar", "version": "1.0.0", "optional": False}
@@ -456,14 +456,16 @@ def _pusch_of(m, glob, num, modulation, mode):
     where = "global nrsar:pusch"
     p = {k: m.get(sub, k, str if k in ("coding", "mcs_table", "scrambling") else int, where,
                   optional=k == "mcs") for k in PUSCH_FIELDS}
-    choices = {"coding": ("nr-ldpc", "none"), "mcs_table": ("qam64", "qam256"),
-               "scrambling": ("standard", "per-slot"), "repetitions": (1, 2, 4, 8)}
+    # the choices and limits nrsar-isac's flags of the same names have (IsacOptions)
+    rules = {f.name: f.metadata for f in dataclasses.fields(IsacOptions)}
+    choices = {k: rules[k]["choices"] for k in ("coding", "mcs_table", "scrambling")}
+    choices["repetitions"] = IsacOptions.REPETITIONS
     for key, allowed in choices.items():
         if p[key] not in allowed:
             m.fail(f"{where} {key}", f"= {p[key]!r} must be one of "
                    f"{', '.join(str(a) for a in allowed)}")
-    limits = {"rv": (0, 3), "n_rnti": (0, 65535), "n_id": (0, 1023),
-              "dmrs_scrambling_id": (0, 65535), "pdu_bytes": (1, 65535)}
+    limits = {k: (rules[k]["at_least"], rules[k]["at_most"]) for k in ("n_rnti", "n_id")}
+    limits.update({"rv": (0, 3), "dmrs_scrambling_id": (0, 65535), "pdu_bytes": (1, 65535)})
     for key, (lo, hi) in limits.items():
         if not lo <= p[key] <= hi:
             m.fail(f"{where} {key}", f"= {p[key]} must be within {lo} .. {hi}")
