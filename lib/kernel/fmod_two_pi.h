@@ -5,8 +5,8 @@
  * SPDX-License-Identifier: GPL-3.0-or-later
  */
 
-// std::fmod(x, 2 pi) bit for bit, 15x faster for the phases of 1e5 rad the presummer
-// reduces per range bin and output (glibc's fmod: about 110 ns each, a long division).
+// std::fmod(x, 2 pi) bit for bit, 15x faster (glibc's fmod: about 110 ns a call, a long
+// division) for the large phases the presummer, MoCo and the echo generators reduce.
 
 #ifndef INCLUDED_NRSAR_KERNEL_FMOD_TWO_PI_H
 #define INCLUDED_NRSAR_KERNEL_FMOD_TWO_PI_H
