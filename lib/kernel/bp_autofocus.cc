@@ -348,6 +348,7 @@ struct reading {
     double kr;
     std::vector<std::complex<double>> c0, c; // as read, and less the neighbours' echoes
     std::vector<vec3> ant;
+    vec3 du; // least-squares slope of its line of sight over the pulses [1 / pulse]
 };
 
 // GCPs within the taper's main lobe (2 / band bins) hold each other's echoes in their
@@ -510,8 +511,12 @@ bool calibrate_gcp(const gr_complex* pulses,
             continue;
         p[1] = q[1];
         reading g{ q, p, kp, kr, std::vector<std::complex<double>>(n), {},
-                   std::vector<vec3>(n) };
+                   std::vector<vec3>(n), vec3{} };
         for (unsigned i = 0; i < n; ++i) {
+            const vec3& ai = res.antenna[i];
+            const double ri = distance(ai, q);
+            for (int c3 = 0; c3 < 3; ++c3)
+                g.du[c3] += (ai[c3] - q[c3]) / ri * (i - tm) / stt;
             g.ant[i] = moved(q, p, i, 0.0, 0.0);
             one.reset(q[1]);
             one.add(pulses + std::size_t(i) * K, 1, &g.ant[i]);
@@ -537,13 +542,6 @@ bool calibrate_gcp(const gr_complex* pulses,
             const double rm = distance(am, q);
             const unsigned kp = g.kp;
             const std::vector<std::complex<double>>& c = g.c;
-            vec3 du{};
-            for (unsigned i = 0; i < n; ++i) {
-                const vec3& ai = res.antenna[i];
-                const double ri = distance(ai, q);
-                for (int c3 = 0; c3 < 3; ++c3)
-                    du[c3] += (ai[c3] - q[c3]) / ri * (i - tm) / stt;
-            }
             const history hs = smoothed_history(c, len, h, to_m, b, true);
             if (hs.w == 0.0)
                 continue;
@@ -576,7 +574,7 @@ bool calibrate_gcp(const gr_complex* pulses,
             const double fine = hs.sum / n;
             const double constant = fine + period * std::round((peak - fine) / period);
             fixes.push_back({ (am[0] - q[0]) / rm, (am[2] - q[2]) / rm, constant, slope, hs.v,
-                              hs.a2, (am[1] - q[1]) / rm, du, gi });
+                              hs.a2, (am[1] - q[1]) / rm, g.du, gi });
         }
         if (fixes.empty())
             return false;
