@@ -72,7 +72,7 @@ def paper_full(quick, step=8):
     cpu8, img8 = cpu_image(step)
     aperture_s = s["m"] * s["t"]
     size = f"K={s['k']} M={s['m']} pulses, {aperture_s:g} s aperture"
-    return benchutil.row(f"bp_focuser paper-full, line_step {step} vs 1, 2 threads ({size})",
+    return benchutil.row(f"bp_focuser exact BP line_step {step} vs 1, 2 threads ({size})",
                          1.0 / cpu8, "line_step 1", 1.0 / cpu1, unit="apertures/CPU-s",
                          cpu_s_per_aperture=cpu8, peer_cpu_s_per_aperture=cpu1,
                          aperture_s=aperture_s,

@@ -353,6 +353,10 @@ class qa_bp_focuser(gr_unittest.TestCase):
             SimOptions(bp_line_step=2).validate()
         with self.assertRaisesRegex(OptionError, "--bp-line-step = 2 with --autofocus traj"):
             SimOptions(bp_line_step=2, focuser="bp", autofocus="trajectory").validate()
+        self.assertNotEqual(full["azimuth_lines"] % 7, 0)
+        with self.assertRaisesRegex(OptionError, "--bp-line-step = 7 must divide the pulses "
+                                    f"per aperture at the focuser, {full['azimuth_lines']}"):
+            run("bp", "wf", 10.0, 127, f"{out}/step7", "--bp-line-step", "7")
         with self.assertRaisesRegex(OptionError, "--bp-line-step = 2 with --strip-aperture"):
             ProcessOptions(recording="f.sigmf-meta", focuser="bp", bp_line_step=2,
                            strip_aperture_s=1.0).validate()
