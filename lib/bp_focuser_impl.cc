@@ -75,7 +75,7 @@ bp_focuser_impl::bp_focuser_impl(const numerology& num,
     }
     d_apertures = d_cfg.first_aperture;
     set_tag_propagation_policy(TPP_DONT);
-    set_relative_rate(1.0);
+    set_relative_rate(1, d_cfg.line_step);
     // Whole apertures come out at once (as rd_focuser).
     set_min_output_buffer(std::max<long>(64, (2l << 20) / (sizeof(gr_complex) * d_K)));
 }
@@ -97,6 +97,11 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
             throw_param("lines_per_aperture (round(aperture_s / T))", m, "must be in [1, 1e8)");
         d_M = static_cast<unsigned>(m);
     }
+    if (d_M % d_cfg.line_step)
+        throw_param("line_step", d_cfg.line_step,
+                    "must divide the lines per aperture M = " + std::to_string(d_M) +
+                        " (the image lines of every aperture on one grid)");
+    d_lines = d_M / d_cfg.line_step;
     const azimuth_window win = scene_azimuth_window(
         d_geo, d_scn, d_cfg.band_margin_hz, T, first_range, range_bin, d_K);
     d_line_shift = win.line_shift;
@@ -118,7 +123,8 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
                              1.0)
             : d_cfg.range_centre_cycles;
     g.upsample = d_cfg.upsample;
-    g.num_lines = d_M;
+    g.num_lines = d_lines;
+    g.line_step = d_cfg.line_step;
     g.first_y_m = d_next_y;
     g.line_spacing_m = dy;
     g.reference_height_m = d_geo.height_m;
@@ -152,7 +158,7 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
     d_kernel = std::make_unique<kernel::bp_focuser>(g, d_cfg.num_threads);
     d_pulses.resize(static_cast<size_t>(d_M) * d_K);
     d_antenna.resize(d_M);
-    d_out.resize(static_cast<size_t>(d_M) * d_K);
+    d_out.resize(static_cast<size_t>(d_lines) * d_K);
 }
 
 void bp_focuser_impl::handle_tag(const tag_t& tag)
@@ -242,7 +248,7 @@ void bp_focuser_impl::process_aperture()
         d_kernel->image(d_out.data());
     }
     d_out_pos = 0;
-    d_out_len = d_M;
+    d_out_len = d_lines;
     d_out_y0 = d_next_y;
     d_next_y += d_M * d_geo.velocity_mps * d_T;
     d_fill = 0;
@@ -263,7 +269,8 @@ int bp_focuser_impl::drain(gr_complex* out, int noutput, int produced)
                          item,
                          tags::azimuth_axis_key(),
                          pmt::make_tuple(pmt::from_double(d_out_y0),
-                                         pmt::from_double(d_geo.velocity_mps * d_T),
+                                         pmt::from_double(d_geo.velocity_mps * d_T *
+                                                          d_cfg.line_step),
                                          pmt::from_uint64(d_out_len)));
             const auto& g = d_kernel->grid();
             // The columns' axis: slant range, or ground x (ground_range_axis).

@@ -35,7 +35,8 @@ private:
     double d_T = 0.0;
     double d_first_range = 0.0;
     double d_range_bin = 0.0;
-    unsigned d_M = 0;
+    unsigned d_M = 0;     // pulses per aperture
+    unsigned d_lines = 0; // image lines per aperture: M / cfg.line_step
     long long d_line_shift = 0;
     double d_band_lo_hz = 0.0;
     double d_band_hi_hz = 0.0;
@@ -57,7 +58,7 @@ private:
     std::vector<std::array<double, 3>> d_antenna; // M: their antenna positions
     unsigned d_fill = 0;
     double d_t_next = 0.0; // slow time of the next pulse [s]
-    std::vector<gr_complex> d_out; // M x K image waiting for output
+    std::vector<gr_complex> d_out; // M / line_step x K image waiting for output
     unsigned d_out_pos = 0;
     unsigned d_out_len = 0;
     double d_out_y0 = 0.0;
@@ -102,6 +103,7 @@ public:
 
     bp_config config() const override { return d_cfg; }
     unsigned lines_per_aperture() const override { return d_M; }
+    unsigned image_lines_per_aperture() const override { return d_lines; }
     long long line_shift() const override { return d_line_shift; }
     double pulse_interval_s() const override { return d_T; }
     double first_range_m() const override { return d_first_range; }

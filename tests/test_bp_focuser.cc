@@ -11,6 +11,7 @@
 // and one and two threads alike, and the upsampling trade-off against U -> infinity.
 
 #include <gnuradio/nrsar/bp_config.h>
+#include <gnuradio/nrsar/kernel/bp_autofocus.h>
 #include <gnuradio/nrsar/kernel/bp_focuser.h>
 #include "bp_test_geometry.h"
 #include "test_util.h"
@@ -302,6 +303,72 @@ TEST(bp_focuser, validates)
     gr::nrsar::bp_config c;
     c.num_threads = 0;
     EXPECT_NE(nrsar_test::error_of([&] { c.validate(); }).find("num_threads = 0"), std::string::npos);
+}
+
+TEST(bp_focuser, line_step_keeps_every_lth_line)
+{
+    // line_step L: num_lines = M / L lines at pulse positions 0, L, 2 L, ... scaled by
+    // 1 / sqrt(M): each the same operations as the full grid's line j L, so bit for bit
+    // (exact BP: linear and short sinc, slant and ground, one and two threads).
+    const scenario s = make(800.0, 12.5, 0.2);
+    bp_grid sinc = grid(8);
+    sinc.sinc_taps = 8;
+    for (const bp_grid& g0 : { grid(8), ground_grid(8), sinc }) {
+        const std::vector<gr_complex> full = run(s, g0, 1, true);
+        for (unsigned L : { 4u, 5u, 8u }) {
+            bp_grid g = g0;
+            g.num_lines = M / L;
+            g.line_step = L;
+            const std::vector<gr_complex> img = run(s, g, 2, true);
+            unsigned differ = 0;
+            for (unsigned j = 0; j < M / L; ++j)
+                for (unsigned k = 0; k < K; ++k)
+                    differ += img[j * K + k] != full[j * L * K + k];
+            EXPECT_EQ(differ, 0u) << "L " << L << " ground " << g.ground << " sinc "
+                                  << g.sinc_taps;
+        }
+    }
+    // FFBP on the coarse grid: its beams span that grid's lines, so it matches exact BP's
+    // coarse lines to FFBP's error bound (pi^4 / (600 os^4): -44.1 dB at os = 8), not bit
+    // for bit; the inner bins as in ffbp_converges_to_back_projection.
+    const unsigned L = 8, J = M / L;
+    bp_grid g = grid(8);
+    g.num_lines = J;
+    g.line_step = L;
+    const std::vector<gr_complex> exact = run(s, g, 1, true);
+    g.subaperture = 8;
+    g.beam_oversample = 8.0;
+    const std::vector<gr_complex> fast = run(s, g, 2, true);
+    std::vector<gr_complex> a, b;
+    for (unsigned j = 0; j < J; ++j)
+        for (unsigned k = 8; k < K - 8; ++k) {
+            a.push_back(fast[j * K + k]);
+            b.push_back(exact[j * K + k]);
+        }
+    const double e = nmse_db(a, b);
+    std::printf("ffbp L 8 beams x8 on line_step 8: NMSE against BP %.1f dB inner\n", e);
+    EXPECT_LT(e, 10.0 * std::log10(std::pow(M_PI / 8.0, 4) / 600.0) + 1.0);
+    g.line_step = 0;
+    EXPECT_NE(nrsar_test::error_of([&] { bp_focuser b(g); }).find("line_step = 0"),
+              std::string::npos);
+    g.line_step = 4097;
+    EXPECT_NE(nrsar_test::error_of([&] { bp_focuser b(g); }).find("line_step = 4097"),
+              std::string::npos);
+    gr::nrsar::bp_config c;
+    c.line_step = 4;
+    c.trajectory_autofocus = true;
+    const std::string err = nrsar_test::error_of([&] { c.validate(); });
+    EXPECT_NE(err.find("line_step = 4"), std::string::npos) << err;
+    EXPECT_NE(err.find("trajectory_autofocus"), std::string::npos) << err;
+    g.line_step = 2;
+    g.subaperture = 0;
+    std::vector<gr_complex> out(static_cast<size_t>(J) * K);
+    EXPECT_NE(nrsar_test::error_of([&] {
+                  gr::nrsar::kernel::trajectory_autofocus(
+                      s.pulses.data(), M, s.antenna.data(), g,
+                      gr::nrsar::kernel::trajectory_autofocus_config(), out.data());
+              }).find("line_step = 2"),
+              std::string::npos);
 }
 
 TEST(bp_focuser, ground_grid_matches_direct_back_projection)

@@ -769,6 +769,8 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
 {
     cfg.validate();
     grid.validate();
+    if (grid.line_step != 1) // its points are at line j = first_y_m + j line_spacing_m
+        throw_param("line_step", grid.line_step, "must be 1 with trajectory_autofocus");
     if (n < 2)
         throw_param("n (pulses)", n, "must be at least 2");
     if (cfg.smooth_pulses > n)

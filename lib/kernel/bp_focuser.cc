@@ -39,6 +39,10 @@ void check_sinc_taps(unsigned taps, unsigned subaperture, const char* subapertur
 void bp_config::validate() const
 {
     check_at_least("symbols_per_pulse", symbols_per_pulse, 1u);
+    check_range("line_step", line_step, 1u, 4096u);
+    if (line_step > 1 && trajectory_autofocus)
+        throw_param("line_step", line_step,
+                    "must be 1 with trajectory_autofocus (it estimates on one line per pulse)");
     check_range("upsample", upsample, 1u, 64u);
     if (!std::isfinite(band_margin_hz))
         throw_param("band_margin_hz", band_margin_hz, "must be finite (< 0: automatic)");
@@ -78,6 +82,7 @@ void bp_grid::validate() const
     check_at_least("num_lines", num_lines, 1u);
     check_finite("first_y_m", first_y_m);
     check_finite_positive("line_spacing_m", line_spacing_m);
+    check_range("line_step", line_step, 1u, 4096u);
     check_finite_positive("reference_height_m", reference_height_m);
     if (ground) {
         check_finite("first_x_m", first_x_m);
@@ -260,7 +265,7 @@ void bp_focuser::project_lines(worker& w,
             j.ax = antenna[p][0];
             j.profile = profiles + p * L;
             for (unsigned line = t0; line < t1; ++line) {
-                const double dy = d_grid.first_y_m + line * d_grid.line_spacing_m - antenna[p][1];
+                const double dy = line_y(line) - antenna[p][1];
                 const double dz = d_surface_z - antenna[p][2];
                 j.c = dy * dy + dz * dz;
                 j.acc = &d_image[static_cast<size_t>(line) * K];
@@ -330,7 +335,7 @@ void bp_focuser::add_ffbp(const gr_complex* pulses,
     const double cs = 2.0 / d_grid.wavelength_m + fcr / rho; // cycles per metre of range
     const double zs = d_surface_z;
     const unsigned M = d_grid.num_lines;
-    const double y0 = d_grid.first_y_m, y1 = y0 + (M - 1) * d_grid.line_spacing_m;
+    const double y0 = line_y(0), y1 = line_y(M - 1);
     for (unsigned s0 = 0; s0 < n; s0 += d_grid.subaperture) {
         const unsigned c = std::min(d_grid.subaperture, n - s0);
         const std::array<double, 3>& ctr = antenna[s0 + c / 2];
@@ -454,7 +459,7 @@ void bp_focuser::add_ffbp(const gr_complex* pulses,
             m.beam = w.beam.data();
             m.nu = w.nu.data();
             for (unsigned line = lo; line < hi; ++line) {
-                m.dy = y0 + line * d_grid.line_spacing_m - ctr[1];
+                m.dy = line_y(line) - ctr[1];
                 m.l.c = m.dy * m.dy + dz * dz;
                 m.l.acc = &d_image[static_cast<size_t>(line) * K];
                 if (d_simd)
@@ -468,7 +473,8 @@ void bp_focuser::add_ffbp(const gr_complex* pulses,
 
 void bp_focuser::image(gr_complex* out) const
 {
-    const float s = static_cast<float>(1.0 / std::sqrt(static_cast<double>(d_grid.num_lines)));
+    const float s = static_cast<float>(
+        1.0 / std::sqrt(static_cast<double>(d_grid.num_lines) * d_grid.line_step));
     for (size_t i = 0; i < d_image.size(); ++i)
         out[i] = d_image[i] * s;
 }

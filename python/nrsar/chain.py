@@ -89,8 +89,13 @@ def bp_config_of(opts, cfg, autofocus=False):
     """bp_focuser's configuration of the options, on rd_focuser's pulse rate and aperture;
     autofocus: the data branch, which `--autofocus trajectory` corrects."""
     grid = image_grid.GROUND if opts.image_grid == "ground" else image_grid.SLANT
+    if cfg.lines_per_aperture % opts.bp_line_step:
+        raise OptionError(f"--bp-line-step = {opts.bp_line_step} must divide the pulses per "
+                          f"aperture at the focuser, {cfg.lines_per_aperture} (--aperture-s "
+                          f"over the pulse interval after --decim)")
     return bp_config(symbols_per_pulse=cfg.symbols_per_pulse,
                      lines_per_aperture=cfg.lines_per_aperture, grid=grid,
+                     line_step=opts.bp_line_step,
                      ffbp_subaperture=opts.ffbp_subaperture if opts.focuser == "ffbp" else 0,
                      ffbp_beam_oversample=opts.ffbp_beams,
                      first_aperture=cfg.first_aperture, apertures=cfg.apertures,

@@ -416,6 +416,12 @@ class SimOptions(Options):
                                    "approaches it)", at_least=2, at_most=65536)
     ffbp_beams: float = option(8.0, "--focuser ffbp: beams per Nyquist beam of a subaperture "
                                "(error power pi^4 / (600 x^4))", at_least=1.0, at_most=64.0)
+    bp_line_step: int = option(1, "--focuser bp/ffbp: an image line every this many pulse "
+                               "positions along track (1: one per pulse, rd_focuser's grid); "
+                               "must divide the pulses per aperture; the azimuth resolution "
+                               "v / B_doppler needs about v / (2 B_doppler) per line "
+                               "(docs/blocks/bp_focuser.md, \"Real time\")",
+                               at_least=1, at_most=4096)
     image_grid: str = option("slant", "bp/ffbp image grid: slant = slant range x along track "
                              "(rd_focuser's), ground = ground range x along track on the "
                              "scene's plane", choices=["slant", "ground"])
@@ -577,6 +583,13 @@ class SimOptions(Options):
         if self.image_grid != "slant" and self.focuser == "rd":
             raise OptionError(f"--image-grid = {self.image_grid!r} needs --focuser bp or ffbp "
                               f"(rd_focuser images slant range)")
+        if self.bp_line_step != 1 and self.focuser == "rd":
+            raise OptionError(f"--bp-line-step = {self.bp_line_step} needs --focuser bp or "
+                              f"ffbp (rd_focuser images one line per pulse)")
+        if self.bp_line_step != 1 and self.autofocus == "trajectory":
+            raise OptionError(f"--bp-line-step = {self.bp_line_step} with --autofocus "
+                              f"trajectory: it estimates the path on one image line per pulse "
+                              f"(use --bp-line-step 1)")
         if self.autofocus == "trajectory" and self.focuser == "rd":
             raise OptionError("--autofocus = 'trajectory' needs --focuser bp or ffbp (it "
                               "back-projects along the corrected path)")
@@ -764,6 +777,10 @@ class _ProcessRules(Options):
         SimOptions.check_processing(self)
         if self.dask is not None:
             check_dask(self)
+        if self.bp_line_step != 1 and self.strip_aperture_s is not None:
+            raise OptionError(f"--bp-line-step = {self.bp_line_step} with --strip-aperture-s: "
+                              f"the strip's tasks stitch one image line per pulse (use "
+                              f"--bp-line-step 1)")
         if self.strip_overlap_s is not None and self.strip_aperture_s is None:
             raise OptionError(f"--strip-overlap-s = {self.strip_overlap_s:g} needs "
                               f"--strip-aperture-s (the strip it overlaps)")

@@ -178,10 +178,11 @@ def image_results(opts, chain, sc, runtime_s):
         image = np.asarray(chain["image_sink"].data(), dtype=np.complex64).reshape(-1, k)
         azimuth_axis = azimuth_axis_of(chain["image_sink"], slow_time_axis)
     else:  # null sinks: the probe's line count and the focuser's axis
-        image = np.zeros((foc.lines_per_aperture(), 0), np.complex64)
+        step = 1 if opts.focuser == "rd" else opts.bp_line_step
+        image = np.zeros((foc.lines_per_aperture() // step, 0), np.complex64)
         compressed = None
         azimuth_axis = [geo.track_start_m + foc.line_shift() * foc.pulse_interval_s() *
-                        geo.velocity_mps, foc.pulse_interval_s() * geo.velocity_mps]
+                        geo.velocity_mps, step * foc.pulse_interval_s() * geo.velocity_mps]
 
     warnings = list(sc.warnings)
     # The image's columns: slant range (range_axis_m), or on a ground grid ground range x

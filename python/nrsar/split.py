@@ -216,7 +216,9 @@ def run_ground(opts, key, address, conn):
         start = time.perf_counter()
         waiter = _start(tb)
         consumers = [(g["image_sink"], 0), (g["probe"], 0), (g["probe"], 1)]
-        expected = g["focuser"].lines_per_aperture()
+        foc = g["focuser"]
+        expected = (foc.lines_per_aperture() if opts.focuser == "rd"
+                    else foc.image_lines_per_aperture())
         while not all(b.nitems_read(p) >= expected for b, p in consumers):
             # the deframer's idle timeout bounds the wait for lines; the focuser then
             # flushes, which is bounded work

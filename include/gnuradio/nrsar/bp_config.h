@@ -34,6 +34,11 @@ struct NRSAR_API bp_config {
     unsigned symbols_per_pulse = 1;
     //! Output lines (and input pulses) per aperture M; 0: round(geo.aperture_s / T).
     unsigned lines_per_aperture = 0;
+    //! Along-track pixel spacing: an image line every line_step-th pulse position (1..4096,
+    //! dividing M; 1: one per pulse, rd_focuser's grid). M / line_step lines per aperture,
+    //! line_step v T apart, each the line_step = 1 image's line bit for bit; the work of
+    //! exact BP falls by line_step. Not with trajectory_autofocus.
+    unsigned line_step = 1;
     //! Range profile upsampling factor U (1..64) before linear interpolation: the
     //! interpolation error power falls as U^-4 (docs/blocks/bp_focuser.md).
     unsigned upsample = 8;

@@ -37,6 +37,8 @@ namespace nrsar {
  * 1 / sqrt(M)). Grid: rd_focuser's (same range bins; line j of aperture i at along-track
  * y0 + (i M + j) v T, y0 = geo.track_start_m + s v T with rd_focuser's shift s), so images
  * compare pixel for pixel; pixel (r0, y) is the scatterer (sqrt(r0^2 - H^2), y, 0). With
+ * cfg.line_step L > 1: lines j = 0, L, 2 L, ... of that grid only (M / L lines per aperture,
+ * L v T apart, each bit for bit the L = 1 image's line; exact BP's work falls by L). With
  * cfg.grid GROUND: column k is the point (x0 + k dx, y, cfg.ground_height_m) instead. With
  * cfg.ffbp_subaperture > 1: fast factorized back-projection (kernel::bp_focuser). The first
  * line of every aperture carries tags::aperture_key(), tags::azimuth_axis_key() and
@@ -70,7 +72,10 @@ public:
                      const trajectory& nav = trajectory());
 
     virtual bp_config config() const = 0;
+    //! M: pulses per aperture (the image lines with cfg.line_step 1).
     virtual unsigned lines_per_aperture() const = 0;
+    //! Output lines per aperture: M / cfg.line_step.
+    virtual unsigned image_lines_per_aperture() const = 0;
     //! The ground grid's column axis: x of column 0 and the spacing [m] (0, 0 on the slant
     //! grid).
     virtual double ground_first_x_m() const = 0;

@@ -38,6 +38,7 @@ void bind_bp_focuser(py::module& m)
     py::class_<bp_config>(m, "bp_config", "Processing options of bp_focuser")
         .def(py::init([](unsigned symbols_per_pulse,
                          unsigned lines_per_aperture,
+                         unsigned line_step,
                          unsigned upsample,
                          double band_margin_hz,
                          double range_centre_cycles,
@@ -62,6 +63,7 @@ void bind_bp_focuser(py::module& m)
                  bp_config c;
                  c.symbols_per_pulse = symbols_per_pulse;
                  c.lines_per_aperture = lines_per_aperture;
+                 c.line_step = line_step;
                  c.upsample = upsample;
                  c.band_margin_hz = band_margin_hz;
                  c.range_centre_cycles = range_centre_cycles;
@@ -87,6 +89,7 @@ void bind_bp_focuser(py::module& m)
              }),
              py::arg("symbols_per_pulse") = 1u,
              py::arg("lines_per_aperture") = 0u,
+             py::arg("line_step") = 1u,
              py::arg("upsample") = 8u,
              py::arg("band_margin_hz") = -1.0,
              py::arg("range_centre_cycles") = std::numeric_limits<double>::quiet_NaN(),
@@ -111,6 +114,7 @@ void bind_bp_focuser(py::module& m)
              "bp_config with every field as a keyword (defaults as in C++)")
         .def_readwrite("symbols_per_pulse", &bp_config::symbols_per_pulse)
         .def_readwrite("lines_per_aperture", &bp_config::lines_per_aperture)
+        .def_readwrite("line_step", &bp_config::line_step)
         .def_readwrite("upsample", &bp_config::upsample)
         .def_readwrite("band_margin_hz", &bp_config::band_margin_hz)
         .def_readwrite("range_centre_cycles", &bp_config::range_centre_cycles)
@@ -149,6 +153,7 @@ void bind_bp_focuser(py::module& m)
              D(bp_focuser, make))
         .def("config", &bp_focuser::config)
         .def("lines_per_aperture", &bp_focuser::lines_per_aperture)
+        .def("image_lines_per_aperture", &bp_focuser::image_lines_per_aperture)
         .def("line_shift", &bp_focuser::line_shift)
         .def("pulse_interval_s", &bp_focuser::pulse_interval_s)
         .def("first_range_m", &bp_focuser::first_range_m)

@@ -31,7 +31,7 @@ except ImportError:
 from gnuradio.nrsar.focus_scenario import (LAM, V, H, N_SUB, NFFT, RHO, K, R_FIRST, NUM, T,
                                           SPP, geometry, echo_along)
 from gnuradio.nrsar import chain
-from gnuradio.nrsar.options import SimOptions
+from gnuradio.nrsar.options import OptionError, ProcessOptions, SimOptions
 from gnuradio.nrsar.theory import nmse_theory_db, numpy_bp
 
 M = 200                        # pulses per aperture (0.5 s, 25 m of track)
@@ -192,6 +192,44 @@ class qa_bp_focuser(gr_unittest.TestCase):
                    if t.offset == a * M]
             self.assertEqual(sorted(got), sorted(ref))
 
+    def test_003c_line_step_keeps_every_lth_line(self):
+        # line_step L: M / L lines per aperture at pulse positions 0, L, 2 L, ... (L v T
+        # apart): against the numpy float64 BP of that coarse grid, bit for bit the L = 1
+        # image's every L-th line, the tags' axis and count on the coarse grid, across
+        # apertures and the partial one at the end.
+        n = 2 * M + M // 2
+        ant = ideal_antenna(n)
+        data = echo_along(ant, [(X_T, Y_T + 25.0, 1.0)]).astype(np.complex64)
+        full, full_tags, _ = focus(data)
+        step, dy = 8, V * T
+        cfg = nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=M, line_step=step)
+        img, tags, blk = focus(data, cfg)
+        j = M // step
+        self.assertEqual((blk.lines_per_aperture(), blk.image_lines_per_aperture()), (M, j))
+        self.assertEqual(img.shape, (3 * j, K))
+        np.testing.assert_array_equal(img, full[::step])
+        axes = sorted((t.offset, [pmt.to_double(pmt.tuple_ref(t.value, i)) for i in (0, 1)],
+                       pmt.to_uint64(pmt.tuple_ref(t.value, 2)))
+                      for t in tags if str(t.key) == "azimuth_axis")
+        full_axes = sorted((t.offset, pmt.to_double(pmt.tuple_ref(t.value, 0)))
+                           for t in full_tags if str(t.key) == "azimuth_axis")
+        self.assertEqual([a[0] for a in axes], [0, j, 2 * j])
+        for (_, (y, d), count), (_, y_full) in zip(axes, full_axes):
+            self.assertEqual(y, y_full)
+            self.assertAlmostEqual(d, step * dy, places=12)
+            self.assertEqual(count, j)
+        y_lines = blk.line_shift() * dy + dy * np.arange(M, 2 * M, step)
+        ref = numpy_bp(data[M:2 * M], ant[M:2 * M], R_FIRST, RHO, LAM, FC_R, 8, y_lines, H)
+        self.assertEqual(ref.shape, (j, K))
+        self.assertLess(nmse_db(img[j:2 * j], ref), -60.0)
+        with self.assertRaisesRegex(ValueError, r"line_step = 3 .*must divide .*M = 200"):
+            focus(data[:4], nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=M,
+                                            line_step=3))
+        with self.assertRaisesRegex(ValueError, "line_step = 0"):
+            nrsar.bp_config(line_step=0).validate()
+        with self.assertRaisesRegex(ValueError, "line_step = 2 .*trajectory_autofocus"):
+            nrsar.bp_config(line_step=2, trajectory_autofocus=True).validate()
+
     def test_004_parameters_validated(self):
         with self.assertRaisesRegex(ValueError, "upsample = 0"):
             nrsar.bp_config(upsample=0).validate()
@@ -278,13 +316,13 @@ class qa_bp_focuser(gr_unittest.TestCase):
             rng = np.sqrt(r0[None, :, None] ** 2 + (lines[:, None, None] - track) ** 2)
             return 10 * math.log10(np.mean(rng <= r0[-1]))
 
-        def run(focuser, filt, snr_db, bins, out):
+        def run(focuser, filt, snr_db, bins, out, *extra):
             x = math.sqrt((bins * rho) ** 2 - height ** 2)
             return chain.simulate(SimOptions.parse([
                 "--preset", "small", "--aperture-s", str(ta), "--target", f"{x!r},25",
                 "--presum", "cheby", "--decim", "8", "--range-margin-m", "235",
                 "--focuser", focuser, "--filter", filt, "--snr-db", str(snr_db),
-                "--images", "none", "--out", out]))
+                "--images", "none", "--out", out] + list(extra)))
 
         out = tempfile.mkdtemp(prefix="qa_bp_nmse_")
         runs = {}
@@ -299,6 +337,29 @@ class qa_bp_focuser(gr_unittest.TestCase):
             self.assertAlmostEqual(r["nmse_db"], expected, delta=0.3)
             self.assertAlmostEqual(r["nmse_theory_band_db"], r["nmse_theory_db"], places=9)
             runs[filt, snr_db] = r
+        # --bp-line-step 4: every 4th line (5.7 cm; the azimuth resolution lambda r0 / (2 v Ta)
+        # is 1.06 m) holds the same pixels, so the same NMSE to the estimate's scatter (a
+        # quarter of the pixels); the target up to 2.9 cm off a line loses at most
+        # (pi 0.029 / 1.06)^2 / 6 of its peak amplitude (0.01 dB).
+        r = run("bp", "wf", 10.0, 127, f"{out}/step4", "--bp-line-step", "4")
+        full = runs["wf", 10.0]
+        self.assertEqual(r["azimuth_lines"], full["azimuth_lines"] // 4)
+        self.assertAlmostEqual(r["azimuth_axis_m"][1], 4 * full["azimuth_axis_m"][1], places=12)
+        expected = nmse_theory_db("qam256", "wf", 10.0) + covered_db(r)
+        print(f"bp wf 10 dB, --bp-line-step 4: NMSE {r['nmse_db']:.2f} dB, expected "
+              f"{expected:.2f} dB")
+        self.assertAlmostEqual(r["nmse_db"], expected, delta=0.3)
+        with self.assertRaisesRegex(OptionError, "--bp-line-step = 2 needs --focuser bp"):
+            SimOptions(bp_line_step=2).validate()
+        with self.assertRaisesRegex(OptionError, "--bp-line-step = 2 with --autofocus traj"):
+            SimOptions(bp_line_step=2, focuser="bp", autofocus="trajectory").validate()
+        self.assertNotEqual(full["azimuth_lines"] % 7, 0)
+        with self.assertRaisesRegex(OptionError, "--bp-line-step = 7 must divide the pulses "
+                                    f"per aperture at the focuser, {full['azimuth_lines']}"):
+            run("bp", "wf", 10.0, 127, f"{out}/step7", "--bp-line-step", "7")
+        with self.assertRaisesRegex(OptionError, "--bp-line-step = 2 with --strip-aperture"):
+            ProcessOptions(recording="f.sigmf-meta", focuser="bp", bp_line_step=2,
+                           strip_aperture_s=1.0).validate()
         rd = run("rd", "wf", 10.0, 127, f"{out}/rd")
         r0 = 127 * rho
         y0, y1 = 0.0, v * ta  # the track over the aperture; the target at y = 25 m

@@ -29,9 +29,13 @@ struct NRSAR_API bp_grid {
     //! Centre of the range spectrum [cycles/bin] (focuser_config::range_centre_cycles).
     double range_centre_cycles = 0.0;
     unsigned upsample = 8;       //!< U
-    unsigned num_lines = 0;      //!< M image lines
+    unsigned num_lines = 0;      //!< image lines
     double first_y_m = 0.0;      //!< along-track position of line 0 [m]
-    double line_spacing_m = 0.0; //!< [m]
+    double line_spacing_m = 0.0; //!< [m] (with line_step: the pulses' spacing)
+    //! Line j at first_y_m + (j line_step) line_spacing_m, every line_step-th line of the
+    //! num_lines line_step grid, and the image scaled by 1 / sqrt(num_lines line_step): the
+    //! same pixels, bit for bit (1..4096; trajectory_autofocus: 1).
+    unsigned line_step = 1;
     //! H: pixel (r0, y) is the scatterer (sqrt(r0^2 - H^2), y, 0)
     double reference_height_m = 0.0;
     //! Ground grid instead: pixel (j, k) is the point (first_x + k dx, y_j, ground_height).
@@ -67,7 +71,8 @@ struct NRSAR_API bp_grid {
  *  3. phase correction exp(+j (4 pi R / lambda + 2 pi fc_r q)): the carrier and the
  *     remodulation of the range spectrum's centre, formed in cycles in double precision and
  *     reduced before a float sin/cos;
- *  4. coherent sum over the pulses, scaled by 1 / sqrt(M) at image().
+ *  4. coherent sum over the pulses, scaled by 1 / sqrt(M) at image() (M = num_lines
+ *     line_step: the pulses of a whole aperture).
  * For the echo exp(-j 4 pi R / lambda) D(q - q_R) of range_ifft (D the Dirichlet kernel of
  * the N subcarriers), a unit target seen by all M pulses of the aperture focuses to
  * sqrt(N) M / sqrt(M) = sqrt(N M) at its pixel; white input noise of variance sigma^2 gives
@@ -110,7 +115,8 @@ public:
      * per pulse, into the image.
      */
     void add(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna);
-    //! The image so far, M x K line-major, scaled by 1 / sqrt(M) (written to out).
+    //! The image so far, num_lines x K line-major, scaled by 1 / sqrt(num_lines line_step)
+    //! (written to out).
     void image(gr_complex* out) const;
 
     const bp_grid& grid() const { return d_grid; }
@@ -136,6 +142,12 @@ private:
     std::unique_ptr<sinc_interpolator> d_sinc; // sinc_taps > 0
     size_t d_stride = 0; // samples per prepared profile: U K, or K + taps (sinc, zero padded)
 
+    //! Along-track y of image line j.
+    double line_y(unsigned j) const
+    {
+        return d_grid.first_y_m +
+               static_cast<double>(j * d_grid.line_step) * d_grid.line_spacing_m;
+    }
     void upsample(worker& w, const gr_complex* pulse, gr_complex* out);
     void upsample_pulses(const gr_complex* pulses, unsigned n, gr_complex* prof);
     void project_lines(worker& w,
