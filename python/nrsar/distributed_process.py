@@ -46,6 +46,7 @@ import contextlib
 import dataclasses
 import functools
 import logging
+import math
 import os
 import tempfile
 import time
@@ -83,6 +84,7 @@ class Layout:
     shift: int        # the output window's offset from the aperture's own pulses [lines]
     slices: list      # one Slice per aperture
     bins: int         # the image's range bins
+    reach: tuple = (0, 0)  # --band full: the lines its azimuth reference reaches (full_band_reach)
 
     def read_factor(self):
         """Lines a task reads per line it keeps (the overlap's cost, docs/scale.md; the
@@ -101,6 +103,28 @@ def _scenario(opts, rec, lines=0, first=0, apertures=0):
         line_s = rec.num.symbol_s() * sc.pulse_symbols * sim_opts.presum_factor()
         overlap = int(round(opts.strip_overlap_s / line_s))
     return sim_opts, dataclasses.replace(sc, strip=(lines, first, apertures, overlap))
+
+
+def full_band_reach(foc, geo):
+    """(back, ahead): the lines the full band's azimuth reference reaches before and after
+    an image line at the image's far range R, the stationary times of its compression phase
+    over the processed band (the pulse rate around the scene band's centre): E(f) = f lambda
+    R / (2 v^2 T D(f)), D = sqrt(1 - u^2), u = lambda f / (2 v) (D = 1 where the focuser takes
+    the parabolic formulas: u^2 >= 0.99 or hyperbolic off; E peaks at a band edge or just
+    inside u^2 = 0.99). A block whose overlap covers it is linear in every Doppler bin;
+    rd_focuser's automatic overlap covers the scene band only (docs/recording.md)."""
+    cfg, lam, v = foc.config(), geo.wavelength_m(), geo.velocity_mps
+    r = foc.first_range_m() + (cfg.guard_bins + foc.num_output_bins() - 1) * foc.range_bin_m()
+
+    def lines(f):
+        u2 = (lam * f / (2.0 * v)) ** 2
+        d = math.sqrt(1.0 - u2) if cfg.hyperbolic and u2 < 0.99 else 1.0
+        return f * lam * r / (2.0 * v * v * foc.pulse_interval_s() * d)
+
+    lo, hi = foc.band_lo_hz(), foc.band_hi_hz()
+    edge = math.nextafter(math.sqrt(0.99), 0.0) * 2.0 * v / lam
+    reach = [lines(f) for f in (lo, hi, -edge, edge) if lo <= f <= hi]
+    return math.ceil(max(reach + [0.0])), math.ceil(max([-e for e in reach] + [0.0]))
 
 
 def layout(opts, rec):
@@ -144,7 +168,25 @@ def layout(opts, rec):
         end = min(total * d, (hi - 1) * d + lookahead + 1) if hi > lo else first
         first, symbols = first * sc.pulse_symbols, (end - first) * sc.pulse_symbols
         slices.append(Slice(a, 1, m, first, symbols))
-    return Layout(m, step, total, before, after, shift, slices, foc.num_output_bins())
+    full = sim_opts.band == "full" and sim_opts.focuser == "rd"
+    reach = full_band_reach(foc, rec.geo) if full else (0, 0)
+    return Layout(m, step, total, before, after, shift, slices, foc.num_output_bins(), reach)
+
+
+def full_band_warnings(lay, symbol_s):
+    """The strip's warning when --band full's reference reaches past the tasks' overlap
+    (symbol_s: the recording's symbol time)."""
+    if lay.before >= lay.reach[0] and lay.after >= lay.reach[1]:
+        return []
+    need = max(lay.reach)
+    overlap_s = math.ceil(need * lay.step * symbol_s * 1e3) / 1e3  # rounded up: >= need lines
+    return [f"--band full: the azimuth reference of the full pulse rate reaches "
+            f"{lay.reach[0]} / {lay.reach[1]} lines back / ahead of an image line, beyond the "
+            f"strip's overlap of {lay.before} / {lay.after} lines: each task's block wraps the "
+            f"Doppler bins outside the scene band circularly, so the strip's noise there "
+            f"depends on --strip-aperture-s and differs from nrsar-sim's image of the flight "
+            f"(its one block wraps too); --strip-overlap-s {overlap_s:g} ({need} lines) makes "
+            f"every block linear, --band scene focuses the scene band only (docs/recording.md)"]
 
 
 def whole(opts, rec, lay):
@@ -455,6 +497,8 @@ def run(opts, client=None):
             "strip_line_shift": lay.shift, "strip_prepass_symbols": prepass_symbols(opts, rec, lay),
             "strip_prepass_s": clock[0], "strip_snr_db": snrs,
             "strip_read_factor": lay.read_factor(), "strip_image_npy": path,
+            "strip_full_band_reach_lines": list(lay.reach),
+            "warnings": full_band_warnings(lay, rec.num.symbol_s()),
             "strip_lines": len(lay.slices) * lay.lines, "strip_failed": failed,
             "strip_task_s": times, "strip_held_peak": peak, "overflows": len(rec.gaps),
             "lost_samples": sum(count for _, count in rec.gaps), "dask": opts.dask,

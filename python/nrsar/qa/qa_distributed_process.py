@@ -10,14 +10,17 @@ over TLS equals one graph focusing the whole recording (each task reads its aper
 focuser's overlap by offset); a worker killed mid-run costs a retry; a slice with non-finite
 samples is reported with its aperture index while the others complete; with --estimate-snr
 each task starts its SNR estimator from the history a pre-pass gives and the strip still
-equals one graph (a recording whose SNR falls along the track); a client without the
-certificate is refused by the scheduler; --dask-make-certs writes a set."""
+equals one graph (a recording whose SNR falls along the track); with --band full the strip
+warns that the full band's reference reaches past the overlap and names the overlap that makes
+every block linear; a client without the certificate is refused by the scheduler;
+--dask-make-certs writes a set."""
 
 import contextlib
 import dataclasses
 import faulthandler
 import gc
 import os
+import re
 import shutil
 import signal
 import stat
@@ -31,7 +34,7 @@ from unittest import mock
 import numpy as np
 from gnuradio import gr, gr_unittest
 
-from gnuradio.nrsar import distributed_process as dp, recording
+from gnuradio.nrsar import distributed_process as dp, params, recording
 from gnuradio.nrsar.options import OptionError, ProcessOptions
 
 APPS = os.environ.get("NRSAR_APPS_DIR") or os.path.join(
@@ -434,6 +437,47 @@ class qa_distributed_process(gr_unittest.TestCase):
         res = dp.run(opts)
         self.assertEqual(res["strip_failed"], [])
         np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
+
+    def test_003h_full_band(self):
+        # --band full: the azimuth reference of the full pulse rate (857 Hz) reaches about
+        # 7900 lines each way, 18 flights of 428 lines, far past the scene band's overlap
+        # (402 / 516), so every block wraps the Doppler bins outside the scene band and the
+        # strip's noise there is not that of one block over the flight (nrsar-sim's, here
+        # the strip of one aperture): the strip warns, naming the overlap that makes every
+        # block linear; inside the scene band the two agree as the scene band's strips do
+        rec = recording.read(self.meta)
+        opts = self.opts("full", band="full")
+        res = dp.run(opts)
+        self.assertEqual(res["strip_failed"], [])
+        need = max(res["strip_full_band_reach_lines"])
+        self.assertGreater(min(res["strip_full_band_reach_lines"]), 10 * 516)
+        self.assertEqual(len(res["warnings"]), 1)
+        flag = re.search(r"--strip-overlap-s (\S+) \((\d+) lines\)", res["warnings"][0])
+        self.assertEqual(int(flag.group(2)), need)
+        one = opts.replace(out=os.path.join(self.dir, "full_one"), strip_aperture_s=0.499)
+        ref = self.whole(one)  # lines per aperture: the flight's 428
+        diff = np.fft.fft(np.load(res["strip_image_npy"]) - ref, axis=0)
+        # the scene band with the focuser's margin (10 % of it and 2 / Ta each side)
+        ext = params.compute_extent(rec.geo, rec.scene)
+        margin = 0.1 * (ext.max_doppler_hz - ext.min_doppler_hz) + 2.0 / rec.geo.aperture_s
+        f = np.fft.fftfreq(len(ref), STEP * rec.num.symbol_s())
+        inside = (f >= ext.min_doppler_hz - margin) & (f <= ext.max_doppler_hz + margin)
+        energy = np.sum(np.abs(ref) ** 2) * len(ref)  # Parseval: the unnormalised FFT
+        split = [10 * np.log10(np.sum(np.abs(d) ** 2) / energy)
+                 for d in (diff[inside], diff[~inside])]
+        self.assertLess(split[0], -40.0)
+        self.assertGreater(split[1], -20.0)
+        # with the warning's overlap every block is linear: the cut no longer matters
+        linear = opts.replace(out=os.path.join(self.dir, "full_linear"),
+                              strip_overlap_s=float(flag.group(1)))
+        res = dp.run(linear)
+        self.assertEqual((res["warnings"], res["strip_failed"]), ([], []))
+        ref = self.whole(linear.replace(strip_aperture_s=0.499))
+        err = np.sum(np.abs(np.load(res["strip_image_npy"]) - ref) ** 2) / np.sum(np.abs(ref) ** 2)
+        self.assertLess(10 * np.log10(err), -60.0)
+        print(f"--band full: reach {need} lines; the strip against one block over the flight "
+              f"{split[0]:.1f} dB inside the scene band, {split[1]:.1f} dB outside; with "
+              f"--strip-overlap-s {flag.group(1)}: {10 * np.log10(err):.1f} dB")
 
     def test_004_tls_refuses_a_client_without_certificate(self):
         import distributed
