@@ -14,6 +14,7 @@
 #include <gnuradio/nrsar/kernel/bp_autofocus.h>
 #include <gnuradio/nrsar/kernel/bp_focuser.h>
 #include "bp_test_geometry.h"
+#include "kernel/bp_focuser_impl.h"
 #include "test_util.h"
 #include <gtest/gtest.h>
 #include <array>
@@ -257,6 +258,62 @@ TEST(bp_focuser, threads_and_simd_agree)
     EXPECT_EQ(one, two); // each line is computed by the same operations in either thread
     const std::vector<gr_complex> generic = run(s, 8, 1, false);
     EXPECT_LT(nmse_db(generic, one), -100.0); // FMA contraction only
+}
+
+// The exact BP's distance per pixel and pulse: from the pulse's previous line by one Newton
+// step where the kernel takes that (bp_detail::recur_distance), else std::sqrt, against
+// std::sqrt of the same r^2 in double. Lines 0.125 m apart (the recurrence) and 2 m apart
+// (mostly sqrt), the antenna swaying by 1 m, every 7th pulse over all M lines in turn.
+TEST(bp_focuser, line_recurrence_distance_is_exact)
+{
+    using gr::nrsar::kernel::bp_detail::line_job;
+    const bp_grid g = grid(8);
+    std::vector<double> ground(K), r(K), h(K);
+    std::vector<int> idx(K);
+    std::vector<float> mu(K), frac(K), sine(K);
+    for (unsigned k = 0; k < K; ++k)
+        ground[k] = std::sqrt(std::pow(FIRST + k * RHO, 2) - H * H);
+    line_job j;
+    j.ground = ground.data();
+    j.K = K;
+    j.r = r.data();
+    j.h = h.data();
+    j.idx = idx.data();
+    j.mu = mu.data();
+    j.frac = frac.data();
+    j.sine = sine.data();
+    j.pos_scale = 8.0 / RHO; // positions and phases are not checked here
+    j.cyc_scale = 2.0 / LAM;
+    for (double spacing : { g.line_spacing_m, 2.0 }) {
+        unsigned recurred = 0;
+        double worst = 0.0;
+        for (unsigned p = 0; p < M; p += 7) {
+            const double t = p * T;
+            const vec3 a{ std::sin(2.0 * M_PI * t), V * t, H + std::cos(3.0 * t) };
+            j.ax = a[0];
+            j.c_last = -1.0;
+            for (unsigned line = 0; line < M; ++line) {
+                const double dy = line * spacing - a[1];
+                j.c = dy * dy + a[2] * a[2];
+                recurred += gr::nrsar::kernel::bp_detail::recur_distance(j);
+                gr::nrsar::kernel::bp_detail::position_phase_passes(j, true);
+                for (unsigned k = 0; k < K; ++k) {
+                    const double dx = ground[k] - a[0];
+                    const double want = std::sqrt(dx * dx + j.c);
+                    worst = std::max(worst, std::abs(r[k] - want) / want);
+                }
+                j.c_last = j.c;
+            }
+        }
+        const unsigned calls = M * ((M + 6) / 7);
+        std::printf("lines %.3f m apart: %u of %u lines from the last, relative error %.2g\n",
+                    spacing, recurred, calls, worst);
+        if (spacing < 1.0)
+            EXPECT_GT(recurred, calls * 9 / 10);
+        else // only where the line passes abeam the antenna (dc near 0)
+            EXPECT_LT(recurred, calls / 20);
+        EXPECT_LE(worst, 4.5e-16); // two roundings (one: 2.2e-16)
+    }
 }
 
 TEST(bp_focuser, upsampling_trade_off)

@@ -99,6 +99,7 @@ struct bp_focuser::worker {
     fft_rev rev;
     std::vector<int> idx, beam;
     std::vector<float> mu, nu, frac, sine;
+    std::vector<double> r, h; // the exact BP's distances from one line to the next
     std::vector<gr_complex> demod; // K: exp(-j 2 pi fc_r k) / K (inverse-FFT scale folded in)
     // FFBP: the plans of the polar subimage's rows (K + 2 E bins), made when E changes.
     fft_fwd sub_fwd;
@@ -113,6 +114,8 @@ struct bp_focuser::worker {
           nu(g.num_range_bins),
           frac(g.num_range_bins),
           sine(g.num_range_bins),
+          r(g.num_range_bins),
+          h(g.num_range_bins),
           demod(g.num_range_bins)
     {
         for (unsigned k = 0; k < g.num_range_bins; ++k) {
@@ -256,6 +259,8 @@ void bp_focuser::project_lines(worker& w,
     }
     j.ground = d_ground.data();
     j.valid = d_valid.data();
+    j.r = w.r.data();
+    j.h = w.h.data();
     // Tiles of lines: a pulse's profile (U K samples, K + taps) is read for every line of the tile
     // while it is in L1, and the tile's accumulators stay in L2.
     const unsigned tile = std::max(1u, 16384u / K);
@@ -264,6 +269,7 @@ void bp_focuser::project_lines(worker& w,
         for (unsigned p = 0; p < n; ++p) {
             j.ax = antenna[p][0];
             j.profile = profiles + p * L;
+            j.c_last = -1.0; // the pulse's first line: r and h from sqrt
             for (unsigned line = t0; line < t1; ++line) {
                 const double dy = line_y(line) - antenna[p][1];
                 const double dz = d_surface_z - antenna[p][2];
@@ -273,6 +279,7 @@ void bp_focuser::project_lines(worker& w,
                     bp_detail::project_line_avx2(j);
                 else
                     bp_detail::project_line_body(j);
+                j.c_last = j.c;
             }
         }
     }
