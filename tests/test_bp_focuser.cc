@@ -365,8 +365,12 @@ TEST(bp_focuser, validates)
 TEST(bp_focuser, line_step_keeps_every_lth_line)
 {
     // line_step L: num_lines = M / L lines at pulse positions 0, L, 2 L, ... scaled by
-    // 1 / sqrt(M): each the same operations as the full grid's line j L, so bit for bit
-    // (exact BP: linear and short sinc, slant and ground, one and two threads).
+    // 1 / sqrt(M): each the full grid's line j L (exact BP: linear and short sinc, slant and
+    // ground, one and two threads). The AVX2 build takes a line's distances from the
+    // previous line's (exact to 2 ulp, line_recurrence_distance_is_exact), and the previous
+    // line differs between the grids, so the lines agree to float rounding: each pulse adds
+    // peak / M, its phase at most one float ulp (6e-8 cycle) apart, so at most 2 pi 6e-8 of
+    // the peak in all.
     const scenario s = make(800.0, 12.5, 0.2);
     bp_grid sinc = grid(8);
     sinc.sinc_taps = 8;
@@ -377,12 +381,17 @@ TEST(bp_focuser, line_step_keeps_every_lth_line)
             g.num_lines = M / L;
             g.line_step = L;
             const std::vector<gr_complex> img = run(s, g, 2, true);
-            unsigned differ = 0;
+            float peak = 0.0f, worst = 0.0f;
             for (unsigned j = 0; j < M / L; ++j)
-                for (unsigned k = 0; k < K; ++k)
-                    differ += img[j * K + k] != full[j * L * K + k];
-            EXPECT_EQ(differ, 0u) << "L " << L << " ground " << g.ground << " sinc "
-                                  << g.sinc_taps;
+                for (unsigned k = 0; k < K; ++k) {
+                    peak = std::max(peak, std::abs(full[j * L * K + k]));
+                    worst = std::max(worst, std::abs(img[j * K + k] - full[j * L * K + k]));
+                }
+            std::printf("line_step %u ground %d sinc %u: largest difference %.2e of the peak "
+                        "(bound %.2e)\n", L, int(g.ground), g.sinc_taps, worst / peak,
+                        2.0 * M_PI * 6e-8);
+            EXPECT_LE(worst, 2.0 * M_PI * 6e-8 * peak)
+                << "L " << L << " ground " << g.ground << " sinc " << g.sinc_taps;
         }
     }
     // FFBP on the coarse grid: its beams span that grid's lines, so it matches exact BP's

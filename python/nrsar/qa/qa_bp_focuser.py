@@ -194,9 +194,11 @@ class qa_bp_focuser(gr_unittest.TestCase):
 
     def test_003c_line_step_keeps_every_lth_line(self):
         # line_step L: M / L lines per aperture at pulse positions 0, L, 2 L, ... (L v T
-        # apart): against the numpy float64 BP of that coarse grid, bit for bit the L = 1
-        # image's every L-th line, the tags' axis and count on the coarse grid, across
-        # apertures and the partial one at the end.
+        # apart): against the numpy float64 BP of that coarse grid, the L = 1 image's every
+        # L-th line to float rounding (the AVX2 kernel takes a line's distances from the
+        # previous line's, exact to 2 ulp: each pulse's phase at most one float ulp, 6e-8
+        # cycle, apart, 2 pi 6e-8 of the peak in all), the tags' axis and count on the coarse
+        # grid, across apertures and the partial one at the end.
         n = 2 * M + M // 2
         ant = ideal_antenna(n)
         data = echo_along(ant, [(X_T, Y_T + 25.0, 1.0)]).astype(np.complex64)
@@ -207,7 +209,8 @@ class qa_bp_focuser(gr_unittest.TestCase):
         j = M // step
         self.assertEqual((blk.lines_per_aperture(), blk.image_lines_per_aperture()), (M, j))
         self.assertEqual(img.shape, (3 * j, K))
-        np.testing.assert_array_equal(img, full[::step])
+        self.assertLessEqual(np.abs(img - full[::step]).max(),
+                             2 * np.pi * 6e-8 * np.abs(full).max())
         axes = sorted((t.offset, [pmt.to_double(pmt.tuple_ref(t.value, i)) for i in (0, 1)],
                        pmt.to_uint64(pmt.tuple_ref(t.value, 2)))
                       for t in tags if str(t.key) == "azimuth_axis")
