@@ -260,19 +260,21 @@ void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
         d_interp.resample(col, static_cast<int>(K), d_moco_shift.data(), d_col2.data());
         // ... and its phase -4 pi f dR / c is removed, at the reference range (FIRST) or
         // per bin (SECOND: the range-dependent residual too); the spectrum centre restored.
+        // The phase is reduced in double; its rotor in float (an output sample's precision).
+        volk_32fc_x2_multiply_conjugate_32fc(d_col2.data(), d_col2.data(), d_demod.data(), K);
         if (d_cfg.moco == moco_order::SECOND) {
             d_los->ranges(tp, r_first, rho, K, d_moco_dr.data());
+            for (unsigned k = 0; k < K; ++k) {
+                const double dr = d_moco_dr[k] - d_los->ideal_range(t, r_first + k * rho);
+                const float ph = static_cast<float>(fmod_two_pi(kf * dr));
+                d_moco[static_cast<size_t>(k) * P + m] =
+                    d_col2[k] * gr_complex(std::cos(ph), std::sin(ph));
+            }
+        } else { // one rotor for the line
+            const float ph = static_cast<float>(fmod_two_pi(kf * dref));
+            const gr_complex c(std::cos(ph), std::sin(ph));
             for (unsigned k = 0; k < K; ++k)
-                d_moco_dr[k] -= d_los->ideal_range(t, r_first + k * rho);
-        } else {
-            std::fill(d_moco_dr.begin(), d_moco_dr.end(), dref);
-        }
-        for (unsigned k = 0; k < K; ++k) {
-            const double ph = fmod_two_pi(kf * d_moco_dr[k]);
-            const gr_complex c = std::conj(d_demod[k]) *
-                                 gr_complex(static_cast<float>(std::cos(ph)),
-                                            static_cast<float>(std::sin(ph)));
-            d_moco[static_cast<size_t>(k) * P + m] = d_col2[k] * c;
+                d_moco[static_cast<size_t>(k) * P + m] = d_col2[k] * c;
         }
     }
 }
