@@ -231,7 +231,13 @@ void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
     const double kf = 4.0 * M_PI * d_moco_f / speed_of_light;
     d_moco.resize(static_cast<size_t>(K) * P);
     d_moco_shift.resize(K);
-    d_moco_dr.resize(K);
+    d_moco_pts.resize(K);
+    d_moco_r2.resize(K);
+    for (unsigned k = 0; k < K; ++k) { // the bins' reference points do not move with the line
+        const double r0 = r_first + k * rho;
+        d_moco_pts[k] = d_los->point(r0);
+        d_moco_r2[k] = r0 * r0;
+    }
     d_moco_max_m = 0.0;
     const bool resample = d_cfg.moco_resample;
     if (resample) { // in place from here on: line m is read whole before it is written
@@ -260,19 +266,25 @@ void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
         d_interp.resample(col, static_cast<int>(K), d_moco_shift.data(), d_col2.data());
         // ... and its phase -4 pi f dR / c is removed, at the reference range (FIRST) or
         // per bin (SECOND: the range-dependent residual too); the spectrum centre restored.
-        if (d_cfg.moco == moco_order::SECOND) {
-            d_los->ranges(tp, r_first, rho, K, d_moco_dr.data());
+        // The phase is reduced in double; its rotor in float (an output sample's precision).
+        volk_32fc_x2_multiply_conjugate_32fc(d_col2.data(), d_col2.data(), d_demod.data(), K);
+        if (d_cfg.moco == moco_order::SECOND) { // los_reference's ranges, inlined per bin
+            const vec3 p = d_los->path().position(tp);
+            const double u = d_los->ideal_range(t, 0.0); // along-track offset of the ideal line
+            for (unsigned k = 0; k < K; ++k) {
+                const vec3& q = d_moco_pts[k];
+                const double ex = p[0] - q[0], ey = p[1] - q[1], ez = p[2] - q[2];
+                const double dr = std::sqrt(ex * ex + ey * ey + ez * ez) -
+                                  std::sqrt(d_moco_r2[k] + u * u);
+                const float ph = static_cast<float>(fmod_two_pi(kf * dr));
+                d_moco[static_cast<size_t>(k) * P + m] =
+                    d_col2[k] * gr_complex(std::cos(ph), std::sin(ph));
+            }
+        } else { // one rotor for the line
+            const float ph = static_cast<float>(fmod_two_pi(kf * dref));
+            const gr_complex c(std::cos(ph), std::sin(ph));
             for (unsigned k = 0; k < K; ++k)
-                d_moco_dr[k] -= d_los->ideal_range(t, r_first + k * rho);
-        } else {
-            std::fill(d_moco_dr.begin(), d_moco_dr.end(), dref);
-        }
-        for (unsigned k = 0; k < K; ++k) {
-            const double ph = fmod_two_pi(kf * d_moco_dr[k]);
-            const gr_complex c = std::conj(d_demod[k]) *
-                                 gr_complex(static_cast<float>(std::cos(ph)),
-                                            static_cast<float>(std::sin(ph)));
-            d_moco[static_cast<size_t>(k) * P + m] = d_col2[k] * c;
+                d_moco[static_cast<size_t>(k) * P + m] = d_col2[k] * c;
         }
     }
 }

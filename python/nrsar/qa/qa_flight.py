@@ -160,6 +160,57 @@ class qa_flight(gr_unittest.TestCase):
         ideal, gusty, pel = runs["rd-nomoco"]
         self.assertGreater(pel["gusty"], pel["none"] + 3.0)  # defocused: the peak energy goes
 
+    def test_large_sway_spreads_the_range_spectrum_beyond_a_critical_grid(self):
+        # docs/flight.md (ALFA): a sway that turns the line of sight changes each pulse's
+        # range wavenumber on the ideal line's slant grid, s(t) = fc (dr/dR0 - dr_ideal/dR0)
+        # at the target, so the image's range spectrum is the band B spread by s's range.
+        # Beyond a critically sampled grid's headroom (--fft-size = subcarriers) the range cut
+        # aliases and its peak and IRW err by metres; on a 2x grid rd_focuser with MoCo puts
+        # the peak at the target and the range IRW at the float64 expectation of the spread
+        # band, |D(d) mean_t exp(j 4 pi s(t) d / c)| (D: the band's Dirichlet kernel).
+        c, fc, h, df, n_sub, x_t, y_t = 299792458.0, 3.5e9, 1000.0, 30e3, 512, 600.0, 25.0
+        t = np.arange(1201) / 1000.0
+        dx, dz = -0.8 + 0.8 * np.sin(2 * np.pi * t), 0.3 * np.sin(2 * np.pi * t)
+        path = os.path.join(self.out, "sway.csv")
+        with open(path, "w") as f:  # 1.6 m cross-track, 0.6 m vertical in the 1 s aperture
+            f.write("t_s,x_m,y_m,z_m\n")
+            for row in zip(t, dx, 50.0 * t, h + dz):
+                f.write(",".join(repr(float(v)) for v in row) + "\n")
+        ts = t[:1001:10]  # the aperture, 10 ms steps
+        x, y, z = dx[:1001:10], 50.0 * ts, h + dz[:1001:10]
+        r0 = math.hypot(x_t, h)
+        r = np.sqrt((x - x_t) ** 2 + (y - y_t) ** 2 + z * z)
+        r_ideal = np.sqrt(x_t * x_t + (y - y_t) ** 2 + h * h)
+        s = fc * ((x_t - x) / r - x_t / r_ideal) * r0 / x_t  # d r / d R0 = (g - x) / r dg/dR0
+        spread = (s.max() - s.min()) / (n_sub * df)
+        d = np.arange(-1200, 1201) * 0.005  # slant offset [m]
+        u = 2 * np.pi * df * 2 * d / c
+        dirichlet = np.sin(n_sub * u / 2) / np.where(u == 0, 1.0, np.sin(u / 2))
+        dirichlet[u == 0] = n_sub
+        cut = np.abs(dirichlet * np.exp(4j * np.pi * np.outer(d, s) / c).mean(1)) ** 2
+        above = d[cut >= 0.5 * cut.max()]
+        irw = above.max() - above.min()
+        common = ["--preset", "small", "--aperture-s", "1", "--target", f"{x_t:g},{y_t:g}",
+                  "--snr-db", "10", "--presum", "cheby", "--decim", "4", "--focuser", "rd"]
+        runs = {}
+        for fft in ("512", "1024"):
+            for name, flags in (("ideal", ["--motion", "none"]), ("sway", ["--trajectory", path])):
+                opts = parse(common + flags + ["--fft-size", fft,
+                                               "--out", os.path.join(self.out, name + fft)])
+                runs[name, fft] = chain.simulate_graph(opts)[0]
+        print(f"spread {spread:.3f} B, expected range IRW {irw:.3f} m; " + "; ".join(
+            f"{n} {f}: peak error {r['peak_error_m']:.3f} m IRW {r['irw_range_m']:.3f} m"
+            for (n, f), r in runs.items()))
+        self.assertGreater(spread, 0.25)  # the ALFA window's 0.37 B regime ...
+        self.assertLess(spread, 1.0)  # ... within a 2x grid's headroom
+        self.assertEqual(runs["sway", "1024"]["moco"], "on")
+        self.assertLess(runs["sway", "1024"]["peak_error_m"], 0.1)  # 1 % of the resolution
+        self.assertAlmostEqual(runs["sway", "1024"]["irw_range_m"] / irw, 1.0, delta=0.01)
+        # the critical grid: the ideal flight's peak is right, the sway's aliases
+        self.assertLess(runs["ideal", "512"]["peak_error_m"], 0.1)
+        self.assertGreater(runs["sway", "512"]["peak_error_m"],
+                           0.25 * runs["sway", "512"]["range_axis_m"][1])
+
     def test_isac_flies_the_path_through_the_time_domain(self):
         # nrsar-isac: td_echo flies the truth, the processing uses the navigation (rtk)
         payload = os.path.join(self.out, "payload.bin")

@@ -208,7 +208,8 @@ private:
     double d_moco_f = 0.0, d_moco_ref = 0.0, d_t0 = 0.0, d_moco_max_m = 0.0;
     volk::vector<gr_complex> d_moco;       // K x num_lines compensated, range-major
     volk::vector<float> d_moco_shift;      // K, one line's envelope shift
-    std::vector<double> d_moco_dr;         // K, one line's displacements
+    std::vector<vec3> d_moco_pts;          // K, the bins' reference points (los_reference)
+    std::vector<double> d_moco_r2;         // K, the bins' R0^2
     std::vector<double> d_moco_tau;        // num_lines, each line's path time
     volk::vector<float> d_az_shift;        // num_lines, resampling shift [lines]
     volk::vector<gr_complex> d_az_demod;   // num_lines, exp(-j 2 pi f_c y_nav(t_m) / v)
