@@ -349,21 +349,78 @@ struct reading {
     std::vector<std::complex<double>> c0, c; // as read, and less the neighbours' echoes
     std::vector<vec3> ant;
     vec3 du; // least-squares slope of its line of sight over the pulses [1 / pulse]
+    std::vector<std::size_t> near;          // the GCPs whose echoes its pixel holds
+    std::vector<double> bin;                // its modelled range per pulse [bins] (if near any)
+    std::vector<std::complex<double>> echo; // its echo there: the unit response's amplitude
 };
 
-// GCPs within the taper's main lobe (2 / band bins) hold each other's echoes in their
-// histories, a beat at their along-track separation that biases the slopes (docs/blocks/
-// bp_focuser.md, "Two GCPs in one range bin"). Each pulse's pixels are c = H x: x the GCPs'
-// own echoes, H[q][r] r's tapered point response (a flat spectrum under the taper at r's
-// range along the path) in q's pixel over its own (1 on the diagonal; a common navigation
-// error leaves its phase, which is the ranges' difference). x, slow, is solved by least
-// squares over each pulse's moving-sum window, and the neighbours' H x taken off each c.
-// Without neighbours the histories are left as read.
+// A unit point's range profile at bin kr as the tapered pulses hold it: the band (spectrum
+// width `width` around fc_r) under the taper. Where K is the range IFFT's size (subcarriers
+// 0..N-1: 2 fc_r K + 1 = N, an integer up to K) the profile is K-periodic, a flat spectrum
+// times the taper; else the K bins are cut from a longer IFFT (nrsar-sim: 35 of 512) and the
+// profile is the band-limited e^(2 pi i fc_r d) width sinc(width d), d = k - kr, tapered as
+// the pulses are (its K-point spectrum times the taper). The periodic model there put the
+// leak 3.4 bins away 9 % high, 1.7 bins away 0.3 % (docs/blocks/bp_focuser.md).
+class point_response
+{
+public:
+    point_response(const bp_grid& g, double band, double width)
+        : taper_(taper_weights(g, band)),
+          fc_(g.range_centre_cycles),
+          width_(width),
+          fwd_(make_fft_fwd(int(g.num_range_bins))),
+          rev_(make_fft_rev(int(g.num_range_bins)))
+    {
+        const double N = 2.0 * std::abs(fc_) * g.num_range_bins + 1.0;
+        periodic_ = std::abs(N - std::round(N)) < 1e-6 && N <= g.num_range_bins + 0.5;
+    }
+
+    void row(double kr, gr_complex* out)
+    {
+        const unsigned K = static_cast<unsigned>(taper_.size());
+        if (periodic_) {
+            for (unsigned m = 0; m < K; ++m)
+                rev_->get_inbuf()[m] = gr_complex(std::polar(
+                    double(taper_[m]), -2.0 * M_PI * std::fmod(m * kr, double(K)) / K));
+        } else {
+            for (unsigned k = 0; k < K; ++k) {
+                const double d = k - kr, x = M_PI * width_ * d;
+                const double a = width_ * (std::abs(x) < 1e-12 ? 1.0 : std::sin(x) / x);
+                fwd_->get_inbuf()[k] = gr_complex(std::polar(a, 2.0 * M_PI * fc_ * d));
+            }
+            fwd_->execute();
+            for (unsigned m = 0; m < K; ++m)
+                rev_->get_inbuf()[m] = fwd_->get_outbuf()[m] * taper_[m];
+        }
+        rev_->execute();
+        std::copy(rev_->get_outbuf(), rev_->get_outbuf() + K, out);
+    }
+
+private:
+    std::vector<float> taper_;
+    double fc_, width_;
+    bool periodic_;
+    fft_fwd fwd_;
+    fft_rev rev_;
+};
+
+// Within 7 / band bins GCPs hold each other's echoes in their histories (the Hann response's
+// sidelobes fall below 1e-3 there: 3.4 bins off, -43 dB, it biased nrsar-sim's drift by 2
+// mm/s), a beat at their along-track separation that biases the slopes (docs/blocks/
+// bp_focuser.md, "The neighbours' echoes modelled"). Each pulse's pixels are c = g H x: x
+// the GCPs' own echoes, H[q][r] r's point response (at r's range along the path) in q's
+// pixel over its own (1 on the diagonal; a common navigation error leaves its phase, the
+// ranges' difference) times r's own phase turn e^(2 pi i cs e_r), e_r its line-of-sight
+// error (known after a pass: c + s (n - n_mid)), and g the pulse's gain. x is solved by
+// least squares over each pulse's moving-sum window, and the neighbours' g H x taken off each
+// c. Without neighbours the histories are left as read.
 bool take_out_neighbours(std::vector<reading>& rd,
                          const bp_grid& grid,
                          const std::vector<vec3>& antenna,
                          const std::vector<std::array<double, 2>>& los,
+                         double cs,
                          double band,
+                         point_response& unit,
                          bp_focuser& one,
                          unsigned h)
 {
@@ -371,16 +428,20 @@ bool take_out_neighbours(std::vector<reading>& rd,
     const std::size_t G = rd.size();
     if (!(band > 0.0)) // untapered: no main lobe to model
         return false;
-    std::vector<char> near(G * G, 0);
+    std::vector<char> near(G * G, 0), used(G, 0);
     bool any = false;
-    for (std::size_t q = 0; q < G; ++q)
+    for (std::size_t q = 0; q < G; ++q) {
+        rd[q].near.clear();
         for (std::size_t r = 0; r < G; ++r)
-            any |= near[q * G + r] = q != r && std::abs(rd[q].kr - rd[r].kr) < 2.0 / band;
+            if (q != r && std::abs(rd[q].kr - rd[r].kr) < 7.0 / band) {
+                near[q * G + r] = used[r] = 1;
+                rd[q].near.push_back(r);
+                any = true;
+            }
+    }
     if (!any)
         return false;
     const unsigned K = grid.num_range_bins, n = static_cast<unsigned>(rd[0].c.size());
-    const std::vector<float> taper = taper_weights(grid, band);
-    const fft_rev rev = make_fft_rev(int(K));
     std::vector<gr_complex> line(K), row(K);
     auto pixel = [&](const reading& g, unsigned i) {
         one.reset(g.q[1]);
@@ -390,35 +451,35 @@ bool take_out_neighbours(std::vector<reading>& rd,
     };
     const double tm = 0.5 * (n - 1.0);
     std::vector<cx> H(std::size_t(n) * G * G, 0.0); // H[i][q][r]
+    std::vector<cx> own(std::size_t(n) * G, 1.0);   // r's unit response in its pixel
     for (std::size_t r = 0; r < G; ++r) {
-        bool used = false;
-        for (std::size_t q = 0; q < G; ++q)
-            used |= near[q * G + r] != 0;
+        rd[r].bin.assign(used[r] ? n : 0, 0.0);
+        rd[r].echo.assign(used[r] ? n : 0, 0.0);
         for (unsigned i = 0; i < n; ++i) {
             cx* Hi = H.data() + std::size_t(i) * G * G;
-            Hi[r * G + r] = 1.0;
-            if (!used)
+            const double err = los[r][0] + los[r][1] * (i - tm);
+            const cx turn = std::polar(1.0, 2.0 * M_PI * cs * err);
+            Hi[r * G + r] = turn;
+            if (!used[r])
                 continue;
             // r's true range: the navigated one less its line-of-sight error
-            const double err = los[r][0] + los[r][1] * (i - tm);
-            const double kr = (distance(antenna[i], rd[r].q) - err - grid.first_range_m) /
-                              grid.range_bin_m;
-            for (unsigned m = 0; m < K; ++m)
-                rev->get_inbuf()[m] = gr_complex(
-                    std::polar(double(taper[m]), -2.0 * M_PI * std::fmod(m * kr, double(K)) / K));
-            rev->execute();
-            std::copy(rev->get_outbuf(), rev->get_outbuf() + K, row.begin());
-            const cx own = pixel(rd[r], i);
+            rd[r].bin[i] =
+                (distance(antenna[i], rd[r].q) - err - grid.first_range_m) / grid.range_bin_m;
+            unit.row(rd[r].bin[i], row.data());
+            cx& o = own[std::size_t(i) * G + r];
+            o = pixel(rd[r], i);
             for (std::size_t q = 0; q < G; ++q)
                 if (near[q * G + r])
-                    Hi[q * G + r] = pixel(rd[q], i) / own;
+                    Hi[q * G + r] = pixel(rd[q], i) / o * turn;
+            o /= turn;
         }
     }
     std::vector<std::vector<cx>> c(G);
     for (std::size_t q = 0; q < G; ++q)
         rd[q].c = c[q] = rd[q].c0;
+    std::vector<double> g(n, 1.0);
     std::vector<cx> A(G * G), b(G), x(G);
-    for (unsigned i = 0; i < n; ++i) {
+    auto window = [&](unsigned i) { // x over pulse i's window
         const unsigned lo = i > h ? i - h : 0, hi = std::min(n, i + h + 1);
         std::fill(A.begin(), A.end(), 0.0);
         std::fill(b.begin(), b.end(), 0.0);
@@ -426,23 +487,82 @@ bool take_out_neighbours(std::vector<reading>& rd,
             const cx* Hj = H.data() + std::size_t(j) * G * G;
             for (std::size_t q = 0; q < G; ++q)
                 for (std::size_t r = 0; r < G; ++r) {
-                    const cx hq = std::conj(Hj[q * G + r]);
+                    const cx hq = g[j] * std::conj(Hj[q * G + r]);
                     if (hq == 0.0)
                         continue;
                     b[r] += hq * c[q][j];
                     for (std::size_t s2 = 0; s2 < G; ++s2)
-                        A[r * G + s2] += hq * Hj[q * G + s2];
+                        A[r * G + s2] += hq * g[j] * Hj[q * G + s2];
                 }
         }
-        if (!solve_small(A, b, G, 1e-9 * (hi - lo), x)) // a singular window keeps its pulse
+        return solve_small(A, b, G, 1e-9 * (hi - lo), x); // singular: the pulse is kept
+    };
+    // A pulse whose echoes are weaker than its window's (a presummer's first outputs, its
+    // filter filling: 0.62 and 0.95 in nrsar-sim) would have the window's leak taken off:
+    // its gain g, the real least-squares scale of H x to its pixels, where that is more than
+    // 2 % and 5 robust deviations (1.4826 median |g - 1|) from 1 and H x not near a null of
+    // the beat (its power at least half the median).
+    std::vector<double> dev(n, 0.0), pw(n, 0.0);
+    for (unsigned i = 0; i < n; ++i) {
+        if (!window(i))
             continue;
         const cx* Hi = H.data() + std::size_t(i) * G * G;
+        double num = 0.0;
+        for (std::size_t q = 0; q < G; ++q) {
+            cx m = 0.0;
+            for (std::size_t r = 0; r < G; ++r)
+                m += Hi[q * G + r] * x[r];
+            num += std::real(std::conj(m) * c[q][i]);
+            pw[i] += std::norm(m);
+        }
+        dev[i] = pw[i] > 0.0 ? num / pw[i] - 1.0 : 0.0;
+    }
+    std::vector<double> ad(n), mp(pw);
+    for (unsigned i = 0; i < n; ++i)
+        ad[i] = std::abs(dev[i]);
+    std::nth_element(ad.begin(), ad.begin() + n / 2, ad.end());
+    std::nth_element(mp.begin(), mp.begin() + n / 2, mp.end());
+    const double gate = std::max(0.02, 5.0 * 1.4826 * ad[n / 2]);
+    for (unsigned i = 0; i < n; ++i)
+        if (std::abs(dev[i]) > gate && pw[i] >= 0.5 * mp[n / 2])
+            g[i] = 1.0 + dev[i];
+    for (unsigned i = 0; i < n; ++i) {
+        if (!window(i))
+            continue;
+        const cx* Hi = H.data() + std::size_t(i) * G * G;
+        for (std::size_t r = 0; r < G; ++r)
+            if (used[r])
+                rd[r].echo[i] = g[i] * x[r] / own[std::size_t(i) * G + r];
         for (std::size_t q = 0; q < G; ++q)
             for (std::size_t r = 0; r < G; ++r)
                 if (near[q * G + r])
-                    rd[q].c[i] -= Hi[q * G + r] * x[r];
+                    rd[q].c[i] -= g[i] * Hi[q * G + r] * x[r];
     }
     return true;
+}
+
+// The tapered pulses less q's neighbours' modelled echoes, for its range peak: their main
+// lobes and sidelobes pulled it by more than half the phase's period (a slip of the
+// integer, of P along the line of sight for every GCP, which the slopes' du . o turned into
+// v P / R of d_y: +1.8 mm/s in nrsar-sim; docs/blocks/bp_focuser.md).
+void without_neighbours(const gr_complex* pulses,
+                        unsigned K,
+                        point_response& unit,
+                        const std::vector<reading>& rd,
+                        std::size_t q,
+                        std::vector<gr_complex>& out)
+{
+    const unsigned n = static_cast<unsigned>(rd[q].c.size());
+    out.assign(pulses, pulses + std::size_t(n) * K);
+    std::vector<gr_complex> row(K);
+    for (std::size_t r : rd[q].near)
+        for (unsigned i = 0; i < n; ++i) {
+            unit.row(rd[r].bin[i], row.data());
+            const gr_complex e(rd[r].echo[i]);
+            gr_complex* p = out.data() + std::size_t(i) * K;
+            for (unsigned k = 0; k < K; ++k)
+                p[k] -= e * row[k];
+        }
 }
 
 // The ground control points' calibration (docs/blocks/bp_focuser.md, "Ground control
@@ -460,6 +580,7 @@ bool calibrate_gcp(const gr_complex* pulses,
                    const std::vector<unsigned>& len,
                    unsigned h,
                    double band,
+                   double width,
                    trajectory_autofocus_result& res)
 {
     const unsigned K = grid.num_range_bins;
@@ -492,6 +613,7 @@ bool calibrate_gcp(const gr_complex* pulses,
                      a[2] + p[2] - q[2] - m * (a[2] - q[2]) };
     };
     std::vector<reading> rd;
+    std::vector<gr_complex> clean; // the pulses less a GCP's neighbours' echoes
     for (const vec3& q : gcps) {
         const vec3& am = res.antenna[n / 2];
         const double rm = distance(am, q);
@@ -530,10 +652,12 @@ bool calibrate_gcp(const gr_complex* pulses,
     // the GCPs' own line-of-sight errors put right (their main lobes' slopes turn an error
     // of a tenth of a bin into a few per cent of H, a slow drift of the leak).
     std::vector<std::array<double, 2>> los(rd.size(), { 0.0, 0.0 });
-    const bool modelled = take_out_neighbours(rd, grid, res.antenna, los, band, one, h);
+    point_response unit(grid, band, width);
+    const bool modelled =
+        take_out_neighbours(rd, grid, res.antenna, los, cs, band, unit, one, h);
     for (int pass = 0; pass < (modelled ? 2 : 1); ++pass) {
         if (pass == 1) {
-            take_out_neighbours(rd, grid, res.antenna, los, band, one, h);
+            take_out_neighbours(rd, grid, res.antenna, los, cs, band, unit, one, h);
             fixes.clear();
         }
         for (std::size_t gi = 0; gi < rd.size(); ++gi) {
@@ -554,11 +678,15 @@ bool calibrate_gcp(const gr_complex* pulses,
             // about sqrt(2 SNR) of the image) and the neighbours' range sidelobes may miss it by
             // a few: a range shift of k periods, a small part of the resolution cell, where the
             // phase (what the image's NMSE feels) stays right (docs/blocks/bp_focuser.md).
+            // Read without its neighbours' modelled echoes where it has any.
+            if (!g.near.empty())
+                without_neighbours(pulses, K, unit, rd, gi, clean);
+            const gr_complex* src = g.near.empty() ? pulses : clean.data();
             auto envelope = [&](int m) {
                 for (unsigned i = 0; i < n; ++i)
                     path[i] = moved(q, p, i, 0.25 * m * grid.range_bin_m, slope);
                 one.reset(q[1]);
-                one.add(pulses, n, path.data());
+                one.add(src, n, path.data());
                 one.image(line.data());
                 return std::log(std::max(double(std::abs(line[kp])), 1e-300));
             };
@@ -936,10 +1064,15 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
         res.antenna.assign(antenna, antenna + n);
         res.displacement_m.assign(n, vec3{ 0.0, 0.0, 0.0 });
     }
+    // The spectrum's width for the GCPs' point response where the K bins are cut from a
+    // longer IFFT: 2 |fc_r| (N / fft_size less 1 / fft_size), or the width given.
+    const double width = std::isnan(cfg.range_band_cycles)
+                             ? std::min(1.0, 2.0 * std::abs(grid.range_centre_cycles))
+                             : band;
     const bool calibrated = !cfg.gcp.empty() && calibrate_gcp(hist_pulses, n, grid,
                                                               cfg.gcp, cfg.gcp_along_track_se_m,
                                                               cfg.gcp_speed_se_m, one, len, h,
-                                                              band, res);
+                                                              band, width, res);
     if (calibrated && res.gcp_along_track_speed && res.accepted)
         take_out_speed_defocus(solved, res.two_dimensional, len, res);
     if (calibrated || !(img_is_nav && !res.accepted))
