@@ -434,6 +434,92 @@ TEST(bp_focuser, ffbp_converges_to_back_projection)
     EXPECT_EQ(run(s, ffbp_grid(8, 8, 4.0), 2, true), run(s, ffbp_grid(8, 8, 4.0), 1, true));
 }
 
+TEST(bp_focuser, recursive_ffbp_against_back_projection)
+{
+    // Recursive FFBP (levels n): subapertures of 4 pulses merged F at a time n - 1 times,
+    // against the exact BP of the same samples. Every level interpolates once more between
+    // beams sampled os times above their Nyquist rate (each merged subimage's beams at its
+    // own D) and once more in range (rows upsampled U = 8 times, the band b = N / NFFT of a
+    // bin: pi^4 (b / U)^4 / 600 = -56.1 dB). Linear interpolation's error is mostly an
+    // attenuation of the same sign at every level, so the beam errors add in amplitude:
+    // NMSE <= n^2 pi^4 / (600 os^4) + n pi^4 (b / U)^4 / 600 (at os = 8: -44.0, -37.9,
+    // -34.4 dB for n = 1, 2, 3), between that and n times it for independent errors.
+    const scenario s = make(800.0, 12.5, 0.2);
+    const std::vector<gr_complex> exact = run(s, 8, 1, true);
+    auto inner = [](const std::vector<gr_complex>& img) {
+        std::vector<gr_complex> v;
+        for (unsigned j = 0; j < M; ++j)
+            for (unsigned k = 8; k < K - 8; ++k)
+                v.push_back(img[j * K + k]);
+        return v;
+    };
+    const size_t peak = argmax(exact);
+    const double range_term = std::pow(M_PI * N / (NFFT * 8.0), 4) / 600.0;
+    for (unsigned F : { 2u, 4u })
+        for (double os : { 4.0, 8.0, 32.0 })
+            for (unsigned n = 1; n <= (F == 2 ? 4u : 3u); ++n) {
+                bp_grid g = ffbp_grid(8, 4, os);
+                g.levels = n;
+                g.merge_factor = F;
+                const std::vector<gr_complex> img = run(s, g, 1, true);
+                const double e = nmse_db(inner(img), inner(exact));
+                const double beam_term = std::pow(M_PI / os, 4) / 600.0;
+                const double bound = 10.0 * std::log10(n * n * beam_term + n * range_term);
+                std::printf("ffbp levels %u F %u beams x%2.0f: NMSE against BP %.1f dB inner "
+                            "(bound %.1f dB, n times %.1f dB), %.1f dB whole\n",
+                            n, F, os, e, bound,
+                            10.0 * std::log10(n * (beam_term + range_term)),
+                            nmse_db(img, exact));
+                EXPECT_LT(e, bound + 1.0) << "levels " << n << " F " << F << " os " << os;
+                EXPECT_EQ(argmax(img), peak);
+            }
+    // Two threads: the same operations per beam and per line.
+    bp_grid g = ffbp_grid(8, 4, 4.0);
+    g.levels = 3;
+    g.merge_factor = 2;
+    EXPECT_EQ(run(s, g, 2, true), run(s, g, 1, true));
+    // The image grid at line_step 8: the merged subimages span its lines.
+    const unsigned L = 8, J = M / L;
+    bp_grid c = grid(8);
+    c.num_lines = J;
+    c.line_step = L;
+    const std::vector<gr_complex> coarse = run(s, c, 1, true);
+    c.subaperture = 4;
+    c.beam_oversample = 8.0;
+    c.levels = 3;
+    c.merge_factor = 2;
+    const std::vector<gr_complex> fast = run(s, c, 2, true);
+    std::vector<gr_complex> x, y;
+    for (unsigned j = 0; j < J; ++j)
+        for (unsigned k = 8; k < K - 8; ++k) {
+            x.push_back(fast[j * K + k]);
+            y.push_back(coarse[j * K + k]);
+        }
+    const double e = nmse_db(x, y);
+    std::printf("ffbp levels 3 F 2 beams x8 on line_step 8: NMSE against BP %.1f dB inner\n", e);
+    EXPECT_LT(e, 10.0 * std::log10(9.0 * std::pow(M_PI / 8.0, 4) / 600.0 + 3.0 * range_term) +
+                     1.0);
+    // Refusals name the field, its value and the limit.
+    g.levels = 9;
+    EXPECT_NE(nrsar_test::error_of([&] { bp_focuser b(g); }).find("levels = 9"),
+              std::string::npos);
+    g.levels = 2;
+    g.merge_factor = 1;
+    EXPECT_NE(nrsar_test::error_of([&] { bp_focuser b(g); }).find("merge_factor = 1"),
+              std::string::npos);
+    gr::nrsar::bp_config cfg;
+    cfg.ffbp_levels = 3;
+    std::string err = nrsar_test::error_of([&] { cfg.validate(); });
+    EXPECT_NE(err.find("ffbp_levels = 3"), std::string::npos) << err;
+    EXPECT_NE(err.find("ffbp_subaperture < 2"), std::string::npos) << err;
+    cfg.ffbp_subaperture = 16;
+    cfg.ffbp_merge_factor = 17;
+    err = nrsar_test::error_of([&] { cfg.validate(); });
+    EXPECT_NE(err.find("ffbp_merge_factor = 17"), std::string::npos) << err;
+    cfg.ffbp_merge_factor = 2;
+    cfg.validate();
+}
+
 TEST(bp_focuser, short_sinc_interpolation)
 {
     const scenario s = make(800.0, 12.5, 0.2);
