@@ -592,16 +592,19 @@ void bp_focuser::upsample_node(polar_node& nd)
     const double cs = 2.0 / d_grid.wavelength_m + fcr / rho;
     const double co = fcr * first / rho;
     const size_t Lp = static_cast<size_t>(nd.Kp) * d_grid.upsample;
+    d_base.resize(nd.Kp); // the same for every beam
+    for (unsigned i = 0; i < nd.Kp; ++i) {
+        const double cyc = cs * (nd.first_p + i * rho) - co;
+        const double ph = -2.0 * M_PI * (cyc - std::nearbyint(cyc));
+        d_base[i] =
+            gr_complex(static_cast<float>(std::cos(ph)), static_cast<float>(std::sin(ph)));
+    }
     split(d_threads, nd.B, [&](unsigned t, unsigned lo, unsigned hi) {
         auto& plans = d_workers[t]->sub_plans[nd.Kp];
         for (unsigned b = lo; b < hi; ++b) {
             const size_t o = static_cast<size_t>(b) * nd.Kp;
-            for (unsigned i = 0; i < nd.Kp; ++i) {
-                const double cyc = cs * (nd.first_p + i * rho) - co;
-                const double ph = -2.0 * M_PI * (cyc - std::nearbyint(cyc));
-                nd.sub[o + i] *= gr_complex(static_cast<float>(std::cos(ph)),
-                                            static_cast<float>(std::sin(ph)));
-            }
+            for (unsigned i = 0; i < nd.Kp; ++i)
+                nd.sub[o + i] *= d_base[i];
             upsample_row(*plans.first, *plans.second, &nd.sub[o], nullptr, &nd.up[b * Lp]);
         }
     });

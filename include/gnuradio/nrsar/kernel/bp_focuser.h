@@ -187,6 +187,7 @@ private:
     // (depth 0 merges onto the image), built depth first.
     std::vector<gr_complex> d_prof;
     std::vector<std::unique_ptr<polar_node>> d_nodes;
+    std::vector<gr_complex> d_base; // Kp: a polar row's baseband shift
 };
 
 } // namespace kernel
