@@ -384,6 +384,15 @@ class qa_bp_focuser(gr_unittest.TestCase):
         print(f"bp wf 10 dB, --bp-line-step 4: NMSE {r['nmse_db']:.2f} dB, expected "
               f"{expected:.2f} dB")
         self.assertAlmostEqual(r["nmse_db"], expected, delta=0.3)
+        # Recursive FFBP (--ffbp-levels 3: 16 pulses merged 4 at a time, os 8): its error
+        # against BP, at most 9 pi^4 / (600 os^4) + 3 pi^4 (b / U)^4 / 600 of the image
+        # power (test_006b; below -30 dB), leaves the NMSE at the theory.
+        r = run("ffbp", "wf", 10.0, 127, f"{out}/ffbp3", "--ffbp-subaperture", "16",
+                "--ffbp-levels", "3", "--ffbp-merge-factor", "4")
+        expected = nmse_theory_db("qam256", "wf", 10.0) + covered_db(r)
+        print(f"ffbp wf 10 dB, --ffbp-levels 3: NMSE {r['nmse_db']:.2f} dB, expected "
+              f"{expected:.2f} dB (bp {full['nmse_db']:.2f} dB)")
+        self.assertAlmostEqual(r["nmse_db"], expected, delta=0.3)
         with self.assertRaisesRegex(OptionError, "--bp-line-step = 2 needs --focuser bp"):
             SimOptions(bp_line_step=2).validate()
         with self.assertRaisesRegex(OptionError, "--bp-line-step = 2 with --autofocus traj"):
