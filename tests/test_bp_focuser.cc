@@ -486,6 +486,14 @@ TEST(bp_focuser, recursive_ffbp_against_back_projection)
     std::printf("ffbp levels 3 F 2 beams x8 on line_step 8: NMSE against BP %.1f dB inner\n", e);
     EXPECT_LT(e, 10.0 * std::log10(9.0 * std::pow(M_PI / 8.0, 4) / 600.0 + 3.0 * range_term) +
                      1.0);
+    // More pulses per subaperture than an add() call holds (1000 x 16^7 of them): each
+    // level one subimage of all of them, 8 interpolations.
+    g = ffbp_grid(8, 1000, 8.0);
+    g.levels = 8;
+    g.merge_factor = 16;
+    EXPECT_LT(nmse_db(inner(run(s, g, 1, true)), inner(exact)),
+              10.0 * std::log10(64.0 * std::pow(M_PI / 8.0, 4) / 600.0 + 8.0 * range_term) +
+                  1.0);
     // Refusals name the field, its value and the limit.
     g.levels = 9;
     EXPECT_NE(nrsar_test::error_of([&] { bp_focuser b(g); }).find("levels = 9"),

@@ -14,6 +14,7 @@
 #include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <string>
@@ -475,14 +476,20 @@ void bp_focuser::prepare_workers(unsigned Kp)
     }
 }
 
+// Pulses per subimage at this depth of the tree (0: those merged onto the image), at most n.
+unsigned bp_focuser::node_pulses(unsigned depth, unsigned n) const
+{
+    std::uint64_t p = d_grid.subaperture;
+    for (unsigned l = depth + 1; l < d_grid.levels && p < n; ++l)
+        p *= d_grid.merge_factor;
+    return static_cast<unsigned>(std::min<std::uint64_t>(p, n));
+}
+
 void bp_focuser::add_ffbp(const gr_complex* pulses,
                           unsigned n,
                           const std::array<double, 3>* antenna)
 {
-    // The pulses of the largest subapertures (those merged onto the image).
-    unsigned top = d_grid.subaperture;
-    for (unsigned l = 1; l < d_grid.levels; ++l)
-        top *= d_grid.merge_factor;
+    const unsigned top = node_pulses(0, n); // the subapertures merged onto the image
     while (d_nodes.size() < d_grid.levels)
         d_nodes.push_back(std::make_unique<polar_node>());
     polar_node& root = *d_nodes[0];
@@ -507,9 +514,7 @@ void bp_focuser::build_node(unsigned depth,
     if (depth + 1 == d_grid.levels) {
         back_project_leaf(nd, pulses, antenna);
     } else {
-        unsigned span = d_grid.subaperture; // pulses per child
-        for (unsigned l = depth + 2; l < d_grid.levels; ++l)
-            span *= d_grid.merge_factor;
+        const unsigned span = node_pulses(depth + 1, nd.c);
         polar_node& ch = *d_nodes[depth + 1];
         for (unsigned s = 0; s < nd.c; s += span) {
             ch.s0 = nd.s0 + s;

@@ -173,6 +173,7 @@ private:
     void add_bp(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna);
     void add_ffbp(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna);
     struct polar_node;
+    unsigned node_pulses(unsigned depth, unsigned n) const;
     bool plan_node(polar_node& node, const std::array<double, 3>* antenna,
                    const polar_node* parent);
     void prepare_workers(unsigned Kp);
