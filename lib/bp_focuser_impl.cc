@@ -155,6 +155,8 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
     g.sinc_taps = d_cfg.sinc_taps;
     g.subaperture = d_cfg.ffbp_subaperture;
     g.beam_oversample = d_cfg.ffbp_beam_oversample;
+    g.levels = d_cfg.ffbp_levels;
+    g.merge_factor = d_cfg.ffbp_merge_factor;
     d_kernel = std::make_unique<kernel::bp_focuser>(g, d_cfg.num_threads);
     d_pulses.resize(static_cast<size_t>(d_M) * d_K);
     d_antenna.resize(d_M);

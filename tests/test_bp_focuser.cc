@@ -190,12 +190,32 @@ bp_grid ground_grid(unsigned U)
     return g;
 }
 
+// U = 8, a line every step pulses.
+bp_grid coarse_grid(unsigned step)
+{
+    bp_grid g = grid(8);
+    g.num_lines = M / step;
+    g.line_step = step;
+    return g;
+}
+
 bp_grid ffbp_grid(unsigned U, unsigned subaperture, double beam_oversample)
 {
     bp_grid g = grid(U);
     g.subaperture = subaperture;
     g.beam_oversample = beam_oversample;
     return g;
+}
+
+// The bins more than 8 from the window's ends of every line: FFBP's polar rows are not
+// periodic like this test's profiles, and their FFT upsampling rings near either end.
+std::vector<gr_complex> inner(const std::vector<gr_complex>& img)
+{
+    std::vector<gr_complex> v;
+    for (size_t o = 0; o < img.size(); o += K)
+        for (unsigned k = 8; k < K - 8; ++k)
+            v.push_back(img[o + k]);
+    return v;
 }
 
 size_t argmax(const std::vector<gr_complex>& img)
@@ -398,20 +418,11 @@ TEST(bp_focuser, line_step_keeps_every_lth_line)
     // coarse lines to FFBP's error bound (pi^4 / (600 os^4): -44.1 dB at os = 8), not bit
     // for bit; the inner bins as in ffbp_converges_to_back_projection.
     const unsigned L = 8, J = M / L;
-    bp_grid g = grid(8);
-    g.num_lines = J;
-    g.line_step = L;
+    bp_grid g = coarse_grid(L);
     const std::vector<gr_complex> exact = run(s, g, 1, true);
     g.subaperture = 8;
     g.beam_oversample = 8.0;
-    const std::vector<gr_complex> fast = run(s, g, 2, true);
-    std::vector<gr_complex> a, b;
-    for (unsigned j = 0; j < J; ++j)
-        for (unsigned k = 8; k < K - 8; ++k) {
-            a.push_back(fast[j * K + k]);
-            b.push_back(exact[j * K + k]);
-        }
-    const double e = nmse_db(a, b);
+    const double e = nmse_db(inner(run(s, g, 2, true)), inner(exact));
     std::printf("ffbp L 8 beams x8 on line_step 8: NMSE against BP %.1f dB inner\n", e);
     EXPECT_LT(e, 10.0 * std::log10(std::pow(M_PI / 8.0, 4) / 600.0) + 1.0);
     g.line_step = 0;
@@ -461,13 +472,6 @@ TEST(bp_focuser, ffbp_converges_to_back_projection)
     // a few bins of either end (docs/blocks/bp_focuser.md).
     const scenario s = make(800.0, 12.5, 0.2);
     const std::vector<gr_complex> exact = run(s, 8, 1, true);
-    auto inner = [](const std::vector<gr_complex>& img) {
-        std::vector<gr_complex> v;
-        for (unsigned j = 0; j < M; ++j)
-            for (unsigned k = 8; k < K - 8; ++k)
-                v.push_back(img[j * K + k]);
-        return v;
-    };
     const size_t peak = argmax(exact);
     double prev = 0.0;
     for (double os : { 2.0, 4.0, 8.0 }) {
@@ -498,6 +502,83 @@ TEST(bp_focuser, ffbp_converges_to_back_projection)
     }
     // Two threads: the same operations per beam and per line.
     EXPECT_EQ(run(s, ffbp_grid(8, 8, 4.0), 2, true), run(s, ffbp_grid(8, 8, 4.0), 1, true));
+}
+
+TEST(bp_focuser, recursive_ffbp_against_back_projection)
+{
+    // Recursive FFBP (levels n): subapertures of 4 pulses merged F at a time n - 1 times,
+    // against the exact BP of the same samples. Every level interpolates once more between
+    // beams sampled os times above their Nyquist rate (each merged subimage's beams at its
+    // own D) and once more in range (rows upsampled U = 8 times, the band b = N / NFFT of a
+    // bin: pi^4 (b / U)^4 / 600 = -56.1 dB). Linear interpolation's error is mostly an
+    // attenuation of the same sign at every level, so the beam errors add in amplitude:
+    // NMSE <= n^2 pi^4 / (600 os^4) + n pi^4 (b / U)^4 / 600 (at os = 8: -44.0, -37.9,
+    // -34.4 dB for n = 1, 2, 3), between that and n times it for independent errors.
+    const scenario s = make(800.0, 12.5, 0.2);
+    const std::vector<gr_complex> exact = run(s, 8, 1, true);
+    const size_t peak = argmax(exact);
+    const double range_term = std::pow(M_PI * N / (NFFT * 8.0), 4) / 600.0;
+    for (unsigned F : { 2u, 4u })
+        for (double os : { 4.0, 8.0, 32.0 })
+            for (unsigned n = 1; n <= (F == 2 ? 4u : 3u); ++n) {
+                bp_grid g = ffbp_grid(8, 4, os);
+                g.levels = n;
+                g.merge_factor = F;
+                const std::vector<gr_complex> img = run(s, g, 1, true);
+                const double e = nmse_db(inner(img), inner(exact));
+                const double beam_term = std::pow(M_PI / os, 4) / 600.0;
+                const double bound = 10.0 * std::log10(n * n * beam_term + n * range_term);
+                std::printf("ffbp levels %u F %u beams x%2.0f: NMSE against BP %.1f dB inner "
+                            "(bound %.1f dB, n times %.1f dB), %.1f dB whole\n",
+                            n, F, os, e, bound,
+                            10.0 * std::log10(n * (beam_term + range_term)),
+                            nmse_db(img, exact));
+                EXPECT_LT(e, bound + 1.0) << "levels " << n << " F " << F << " os " << os;
+                EXPECT_EQ(argmax(img), peak);
+            }
+    // Two threads: the same operations per beam and per line.
+    bp_grid g = ffbp_grid(8, 4, 4.0);
+    g.levels = 3;
+    g.merge_factor = 2;
+    EXPECT_EQ(run(s, g, 2, true), run(s, g, 1, true));
+    // The image grid at line_step 8: the merged subimages span its lines.
+    bp_grid c = coarse_grid(8);
+    const std::vector<gr_complex> coarse = run(s, c, 1, true);
+    c.subaperture = 4;
+    c.beam_oversample = 8.0;
+    c.levels = 3;
+    c.merge_factor = 2;
+    const double e = nmse_db(inner(run(s, c, 2, true)), inner(coarse));
+    std::printf("ffbp levels 3 F 2 beams x8 on line_step 8: NMSE against BP %.1f dB inner\n", e);
+    EXPECT_LT(e, 10.0 * std::log10(9.0 * std::pow(M_PI / 8.0, 4) / 600.0 + 3.0 * range_term) +
+                     1.0);
+    // More pulses per subaperture than an add() call holds (1000 x 16^7 of them): each
+    // level one subimage of all of them, 8 interpolations.
+    g = ffbp_grid(8, 1000, 8.0);
+    g.levels = 8;
+    g.merge_factor = 16;
+    EXPECT_LT(nmse_db(inner(run(s, g, 1, true)), inner(exact)),
+              10.0 * std::log10(64.0 * std::pow(M_PI / 8.0, 4) / 600.0 + 8.0 * range_term) +
+                  1.0);
+    // Refusals name the field, its value and the limit.
+    g.levels = 9;
+    EXPECT_NE(nrsar_test::error_of([&] { bp_focuser b(g); }).find("levels = 9"),
+              std::string::npos);
+    g.levels = 2;
+    g.merge_factor = 1;
+    EXPECT_NE(nrsar_test::error_of([&] { bp_focuser b(g); }).find("merge_factor = 1"),
+              std::string::npos);
+    gr::nrsar::bp_config cfg;
+    cfg.ffbp_levels = 3;
+    std::string err = nrsar_test::error_of([&] { cfg.validate(); });
+    EXPECT_NE(err.find("ffbp_levels = 3"), std::string::npos) << err;
+    EXPECT_NE(err.find("ffbp_subaperture < 2"), std::string::npos) << err;
+    cfg.ffbp_subaperture = 16;
+    cfg.ffbp_merge_factor = 17;
+    err = nrsar_test::error_of([&] { cfg.validate(); });
+    EXPECT_NE(err.find("ffbp_merge_factor = 17"), std::string::npos) << err;
+    cfg.ffbp_merge_factor = 2;
+    cfg.validate();
 }
 
 TEST(bp_focuser, short_sinc_interpolation)

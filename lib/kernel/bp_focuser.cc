@@ -14,7 +14,9 @@
 #include <gnuradio/nrsar/kernel/fft_plans.h>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <map>
 #include <string>
 #include <thread>
 
@@ -33,6 +35,23 @@ void check_sinc_taps(unsigned taps, unsigned subaperture, const char* subapertur
     if (subaperture > 1)
         throw_param("sinc_taps", taps, std::string("must be 0 with FFBP (") + subaperture_name +
                                            " > 1)");
+}
+
+// Recursive FFBP: 1..8 levels, more than one only with FFBP, merging 2..16 at a time.
+void check_ffbp_levels(unsigned levels,
+                       unsigned factor,
+                       unsigned subaperture,
+                       const char* levels_name,
+                       const char* factor_name,
+                       const char* subaperture_name)
+{
+    check_range(levels_name, levels, 1u, 8u);
+    if (levels == 1)
+        return;
+    if (subaperture < 2)
+        throw_param(levels_name, levels, std::string("must be 1 without FFBP (") +
+                                             subaperture_name + " < 2)");
+    check_range(factor_name, factor, 2u, 16u);
 }
 } // namespace
 
@@ -56,6 +75,8 @@ void bp_config::validate() const
         throw_param("ground_spacing_m", ground_spacing_m, "must be finite and >= 0 (0: automatic)");
     check_range("ffbp_beam_oversample", ffbp_beam_oversample, 1.0, 64.0);
     check_sinc_taps(sinc_taps, ffbp_subaperture, "ffbp_subaperture");
+    check_ffbp_levels(ffbp_levels, ffbp_merge_factor, ffbp_subaperture, "ffbp_levels",
+                      "ffbp_merge_factor", "ffbp_subaperture");
     check_range("autofocus_iterations", autofocus_iterations, 1u, 50u);
     check_range("autofocus_points", autofocus_points, 1u, 64u);
     if (!(std::isfinite(autofocus_tolerance_m) && autofocus_tolerance_m > 0.0 &&
@@ -91,6 +112,7 @@ void bp_grid::validate() const
     }
     check_range("beam_oversample", beam_oversample, 1.0, 64.0);
     check_sinc_taps(sinc_taps, subaperture, "subaperture");
+    check_ffbp_levels(levels, merge_factor, subaperture, "levels", "merge_factor", "subaperture");
 }
 
 // Per-thread FFT plans and scratch.
@@ -101,9 +123,8 @@ struct bp_focuser::worker {
     std::vector<float> mu, nu, frac, sine;
     std::vector<double> r, h; // the exact BP's distances from one line to the next
     std::vector<gr_complex> demod; // K: exp(-j 2 pi fc_r k) / K (inverse-FFT scale folded in)
-    // FFBP: the plans of the polar subimage's rows (K + 2 E bins), made when E changes.
-    fft_fwd sub_fwd;
-    fft_rev sub_rev;
+    // FFBP: the plans of the polar subimages' rows, per row length (K + 2 E bins).
+    std::map<unsigned, std::pair<fft_fwd, fft_rev>> sub_plans;
 
     worker(const bp_grid& g)
         : fwd(make_fft_fwd(g.num_range_bins, 1)),
@@ -146,6 +167,26 @@ bp_detail::line_job range_job(const bp_grid& g, unsigned U, W& w)
     j.frac = w.frac.data();
     j.sine = w.sine.data();
     return j;
+}
+
+// FFBP: a polar subimage's interpolation job for worker w (its rows, beams and centre).
+template <typename W, typename N>
+bp_detail::merge_job polar_job(const bp_grid& g, W& w, const N& nd)
+{
+    const unsigned U = g.upsample;
+    bp_detail::merge_job m;
+    m.l = range_job(g, U, w);
+    m.l.ax = nd.ctr[0];
+    m.l.pos_offset = U * nd.first_p / g.range_bin_m; // the polar rows start E bins earlier
+    m.l.profile = nd.up.data();
+    m.l.last = static_cast<int>(U * (nd.Kp - 1)) - 1;
+    m.u0 = nd.u0;
+    m.inv_du = 1.0 / nd.du;
+    m.last_beam = static_cast<int>(nd.B) - 2;
+    m.row = static_cast<size_t>(nd.Kp) * U;
+    m.beam = w.beam.data();
+    m.nu = w.nu.data();
+    return m;
 }
 
 // fn(t, lo, hi) on [0, n) split over the threads (t = 0 runs on the caller's).
@@ -330,152 +371,276 @@ void bp_focuser::add_bp(const gr_complex* pulses, unsigned n, const std::array<d
     }
 }
 
-void bp_focuser::add_ffbp(const gr_complex* pulses,
-                          unsigned n,
-                          const std::array<double, 3>* antenna)
+// One polar subimage of FFBP: its subaperture, centre, beams and range rows, the points of
+// the imaged surface at (r_i, u_b), the subimage (summed modulated) and its upsampled rows.
+struct bp_focuser::polar_node {
+    unsigned s0 = 0, c = 0; // pulses s0 .. s0 + c - 1 of the add() call
+    std::array<double, 3> ctr{};
+    double dz = 0.0, u0 = 0.0, du = 0.0, first_p = 0.0;
+    unsigned B = 0, Kp = 0;
+    std::vector<double> px, py;
+    std::vector<float> pvalid;
+    std::vector<gr_complex> sub, up;
+};
+
+// The subimage's centre, beams and polar points, its sum zeroed. Its beams span the
+// pixels' direction cosines along track as seen from the centre and, for a subimage merged
+// into a larger one (parent), those of the parent's first and last beams. False: no pixel
+// on the surface.
+bool bp_focuser::plan_node(polar_node& nd,
+                           const std::array<double, 3>* antenna,
+                           const polar_node* parent)
 {
     const unsigned K = d_grid.num_range_bins;
-    const unsigned U = d_grid.upsample;
-    const size_t L = static_cast<size_t>(K) * U;
     const double rho = d_grid.range_bin_m, first = d_grid.first_range_m;
-    const double fcr = d_grid.range_centre_cycles;
-    const double cs = 2.0 / d_grid.wavelength_m + fcr / rho; // cycles per metre of range
-    const double zs = d_surface_z;
+    const double cs = 2.0 / d_grid.wavelength_m + d_grid.range_centre_cycles / rho;
     const unsigned M = d_grid.num_lines;
     const double y0 = line_y(0), y1 = line_y(M - 1);
-    for (unsigned s0 = 0; s0 < n; s0 += d_grid.subaperture) {
-        const unsigned c = std::min(d_grid.subaperture, n - s0);
-        const std::array<double, 3>& ctr = antenna[s0 + c / 2];
-        const double dz = zs - ctr[2];
-        // The pixels' direction cosines along track as seen from the centre.
-        double umin = 1.0, umax = -1.0;
-        for (double y : { y0, y1 })
-            for (unsigned k = 0; k < K; ++k) {
-                if (d_valid[k] == 0.0f)
+    nd.ctr = antenna[nd.s0 + nd.c / 2];
+    const std::array<double, 3>& ctr = nd.ctr;
+    const double dz = d_surface_z - ctr[2];
+    nd.dz = dz;
+    double umin = 1.0, umax = -1.0;
+    for (double y : { y0, y1 })
+        for (unsigned k = 0; k < K; ++k) {
+            if (d_valid[k] == 0.0f)
+                continue;
+            const double dx = d_ground[k] - ctr[0], dy = y - ctr[1];
+            const double u = dy / std::sqrt(dx * dx + dy * dy + dz * dz);
+            umin = std::min(umin, u);
+            umax = std::max(umax, u);
+        }
+    if (parent)
+        for (unsigned b : { 0u, parent->B - 1 })
+            for (unsigned i = 0; i < parent->Kp; ++i) {
+                const size_t o = static_cast<size_t>(b) * parent->Kp + i;
+                if (parent->pvalid[o] == 0.0f)
                     continue;
-                const double dx = d_ground[k] - ctr[0], dy = y - ctr[1];
+                const double dx = parent->px[o] - ctr[0], dy = parent->py[o] - ctr[1];
                 const double u = dy / std::sqrt(dx * dx + dy * dy + dz * dz);
                 umin = std::min(umin, u);
                 umax = std::max(umax, u);
             }
-        if (umin > umax)
-            return; // no pixel on the surface
-        // Nyquist beam spacing of the subaperture: the baseband phase 2 pi cs (R_p - r)
-        // changes with u by at most cs D / sqrt(1 - u^2) cycles per unit.
-        double dmax = 0.0;
-        for (unsigned p = 0; p < c; ++p) {
-            const auto& a = antenna[s0 + p];
-            dmax = std::max(dmax, std::hypot(a[0] - ctr[0], a[1] - ctr[1], a[2] - ctr[2]));
-        }
-        const double umag = std::min(0.999, std::max(std::abs(umin), std::abs(umax)));
-        const double band = 2.0 * cs * dmax / std::sqrt(1.0 - umag * umag);
-        const double span = std::max(umax - umin, 1e-9);
-        const double du = band > 0.0 ? std::min(span, 1.0 / (band * d_grid.beam_oversample)) : span;
-        const unsigned B = static_cast<unsigned>(std::ceil(span / du)) + 3;
-        const double u0 = umin - du;
-        d_beams = B;
-
-        // Polar points: range r_i x beam u_b on the imaged surface. The ranges are the
-        // input bins and E more on either side: a pixel up to D beyond the input window
-        // still sees pulses inside it.
-        const unsigned E = static_cast<unsigned>(std::ceil(dmax / rho)) + 1;
-        const unsigned Kp = K + 2 * E;
-        const size_t Lp = static_cast<size_t>(Kp) * U;
-        const double first_p = first - E * rho;
-        const size_t BK = static_cast<size_t>(B) * Kp;
-        d_px.resize(BK);
-        d_py.resize(BK);
-        d_pvalid.resize(BK);
-        for (unsigned b = 0; b < B; ++b) {
-            const double u = u0 + b * du;
-            for (unsigned i = 0; i < Kp; ++i) {
-                const double r = first_p + i * rho;
-                const double g2 = r * r * (1.0 - u * u) - dz * dz;
-                const size_t o = static_cast<size_t>(b) * Kp + i;
-                d_px[o] = ctr[0] + std::sqrt(std::max(g2, 0.0));
-                d_py[o] = ctr[1] + u * r;
-                d_pvalid[o] = g2 > 0.0 && r > 0.0 ? 1.0f : 0.0f;
-            }
-        }
-        for (auto& w : d_workers) {
-            if (!w->sub_fwd || static_cast<unsigned>(w->sub_fwd->inbuf_length()) != Kp) {
-                w->sub_fwd = make_fft_fwd(Kp, 1);
-                w->sub_rev = make_fft_rev(Kp * U, 1);
-            }
-            for (auto* v : { &w->mu, &w->nu, &w->frac, &w->sine })
-                v->resize(std::max(Kp, K));
-            w->idx.resize(std::max(Kp, K));
-            w->beam.resize(std::max(Kp, K));
-        }
-        d_sub.assign(BK, gr_complex(0.0f, 0.0f));
-        d_sub_up.resize(static_cast<size_t>(B) * Lp);
-        d_prof.resize(L * c);
-        upsample_pulses(pulses + static_cast<size_t>(s0) * K, c, d_prof.data());
-
-        // Stage 1: the subaperture's pulses onto the beams (the threads split the beams),
-        // then each beam to baseband and upsampled.
-        const double co = fcr * first / rho;
-        split(d_threads, B, [&](unsigned t, unsigned lo, unsigned hi) {
-            worker& w = *d_workers[t];
-            bp_detail::line_job j = range_job(d_grid, U, w);
-            j.K = Kp; // the polar points, read from the pulses' K bins
-            for (unsigned b = lo; b < hi; ++b) {
-                const size_t o = static_cast<size_t>(b) * Kp;
-                j.ground = &d_px[o];
-                j.py = &d_py[o];
-                j.valid = &d_pvalid[o];
-                j.acc = &d_sub[o];
-                for (unsigned p = 0; p < c; ++p) {
-                    const auto& a = antenna[s0 + p];
-                    j.ax = a[0];
-                    j.ay = a[1];
-                    j.c = (zs - a[2]) * (zs - a[2]);
-                    j.profile = &d_prof[p * L];
-                    if (d_simd)
-                        bp_detail::project_line_avx2(j);
-                    else
-                        bp_detail::project_line_body(j);
-                }
-                // Baseband: remove exp(j 2 pi (cs r_i - co)), the phase in double.
-                for (unsigned i = 0; i < Kp; ++i) {
-                    const double cyc = cs * (first_p + i * rho) - co;
-                    const double ph = -2.0 * M_PI * (cyc - std::nearbyint(cyc));
-                    d_sub[o + i] *= gr_complex(static_cast<float>(std::cos(ph)),
-                                               static_cast<float>(std::sin(ph)));
-                }
-                upsample_row(*w.sub_fwd, *w.sub_rev, &d_sub[o], nullptr, &d_sub_up[b * Lp]);
-            }
-        });
-
-        // Stage 2: every pixel takes the subimage at its own (r, u) (the threads split the
-        // lines).
-        split(d_threads, M, [&](unsigned t, unsigned lo, unsigned hi) {
-            worker& w = *d_workers[t];
-            bp_detail::merge_job m;
-            m.l = range_job(d_grid, U, w);
-            m.l.ground = d_ground.data();
-            m.l.valid = d_valid.data();
-            m.l.ax = ctr[0];
-            m.l.pos_offset = U * first_p / rho; // the polar rows start E bins earlier
-            m.l.profile = d_sub_up.data();
-            m.l.last = static_cast<int>(U * (Kp - 1)) - 1;
-            m.u0 = u0;
-            m.inv_du = 1.0 / du;
-            m.last_beam = static_cast<int>(B) - 2;
-            m.row = Lp;
-            m.beam = w.beam.data();
-            m.nu = w.nu.data();
-            for (unsigned line = lo; line < hi; ++line) {
-                m.dy = line_y(line) - ctr[1];
-                m.l.c = m.dy * m.dy + dz * dz;
-                m.l.acc = &d_image[static_cast<size_t>(line) * K];
-                if (d_simd)
-                    bp_detail::merge_line_avx2(m);
-                else
-                    bp_detail::merge_line_body(m);
-            }
-        });
+    if (umin > umax)
+        return false;
+    // Nyquist beam spacing of the subaperture: the baseband phase 2 pi cs (R_p - r)
+    // changes with u by at most cs D / sqrt(1 - u^2) cycles per unit.
+    double dmax = 0.0;
+    for (unsigned p = 0; p < nd.c; ++p) {
+        const auto& a = antenna[nd.s0 + p];
+        dmax = std::max(dmax, std::hypot(a[0] - ctr[0], a[1] - ctr[1], a[2] - ctr[2]));
     }
+    const double umag = std::min(0.999, std::max(std::abs(umin), std::abs(umax)));
+    const double band = 2.0 * cs * dmax / std::sqrt(1.0 - umag * umag);
+    const double span = std::max(umax - umin, 1e-9);
+    const double du = band > 0.0 ? std::min(span, 1.0 / (band * d_grid.beam_oversample)) : span;
+    nd.B = static_cast<unsigned>(std::ceil(span / du)) + 3;
+    nd.u0 = umin - du;
+    nd.du = du;
+
+    // Polar points: range r_i x beam u_b on the imaged surface. The ranges are the
+    // input bins and E more on either side: a pixel up to D beyond the input window
+    // still sees pulses inside it.
+    const unsigned E = static_cast<unsigned>(std::ceil(dmax / rho)) + 1;
+    nd.Kp = K + 2 * E;
+    nd.first_p = first - E * rho;
+    const size_t BK = static_cast<size_t>(nd.B) * nd.Kp;
+    nd.px.resize(BK);
+    nd.py.resize(BK);
+    nd.pvalid.resize(BK);
+    for (unsigned b = 0; b < nd.B; ++b) {
+        const double u = nd.u0 + b * du;
+        for (unsigned i = 0; i < nd.Kp; ++i) {
+            const double r = nd.first_p + i * rho;
+            const double g2 = r * r * (1.0 - u * u) - dz * dz;
+            const size_t o = static_cast<size_t>(b) * nd.Kp + i;
+            nd.px[o] = ctr[0] + std::sqrt(std::max(g2, 0.0));
+            nd.py[o] = ctr[1] + u * r;
+            nd.pvalid[o] = g2 > 0.0 && r > 0.0 ? 1.0f : 0.0f;
+        }
+    }
+    nd.sub.assign(BK, gr_complex(0.0f, 0.0f));
+    nd.up.resize(BK * d_grid.upsample);
+    prepare_workers(nd.Kp);
+    return true;
+}
+
+// The workers' plans of Kp-bin polar rows and their scratch for Kp points.
+void bp_focuser::prepare_workers(unsigned Kp)
+{
+    const unsigned U = d_grid.upsample;
+    for (auto& w : d_workers) {
+        auto& plans = w->sub_plans[Kp];
+        if (!plans.first) {
+            plans.first = make_fft_fwd(Kp, 1);
+            plans.second = make_fft_rev(Kp * U, 1);
+        }
+        const size_t n = std::max<size_t>(Kp, w->idx.size());
+        for (auto* v : { &w->mu, &w->nu, &w->frac, &w->sine })
+            v->resize(n);
+        w->idx.resize(n);
+        w->beam.resize(n);
+    }
+}
+
+// Pulses per subimage at this depth of the tree (0: those merged onto the image), at most n.
+unsigned bp_focuser::node_pulses(unsigned depth, unsigned n) const
+{
+    std::uint64_t p = d_grid.subaperture;
+    for (unsigned l = depth + 1; l < d_grid.levels && p < n; ++l)
+        p *= d_grid.merge_factor;
+    return static_cast<unsigned>(std::min<std::uint64_t>(p, n));
+}
+
+void bp_focuser::add_ffbp(const gr_complex* pulses,
+                          unsigned n,
+                          const std::array<double, 3>* antenna)
+{
+    const unsigned top = node_pulses(0, n); // the subapertures merged onto the image
+    while (d_nodes.size() < d_grid.levels)
+        d_nodes.push_back(std::make_unique<polar_node>());
+    polar_node& root = *d_nodes[0];
+    for (unsigned s0 = 0; s0 < n; s0 += top) {
+        root.s0 = s0;
+        root.c = std::min(top, n - s0);
+        if (!plan_node(root, antenna, nullptr))
+            return; // no pixel on the surface
+        d_beams = root.B;
+        build_node(0, pulses, antenna);
+        merge_onto_image(root);
+    }
+}
+
+// The subimage at this depth of the tree: the last level back-projects its pulses, the
+// others merge the next level's subimages, built one after the other into one node.
+void bp_focuser::build_node(unsigned depth,
+                            const gr_complex* pulses,
+                            const std::array<double, 3>* antenna)
+{
+    polar_node& nd = *d_nodes[depth];
+    if (depth + 1 == d_grid.levels) {
+        back_project_leaf(nd, pulses, antenna);
+    } else {
+        const unsigned span = node_pulses(depth + 1, nd.c);
+        polar_node& ch = *d_nodes[depth + 1];
+        for (unsigned s = 0; s < nd.c; s += span) {
+            ch.s0 = nd.s0 + s;
+            ch.c = std::min(span, nd.c - s);
+            if (!plan_node(ch, antenna, &nd))
+                continue;
+            build_node(depth + 1, pulses, antenna);
+            merge_child(nd, ch);
+        }
+    }
+    upsample_node(nd);
+}
+
+// Stage 1: the subaperture's pulses onto the beams (the threads split the beams).
+void bp_focuser::back_project_leaf(polar_node& nd,
+                                   const gr_complex* pulses,
+                                   const std::array<double, 3>* antenna)
+{
+    const unsigned K = d_grid.num_range_bins;
+    const unsigned U = d_grid.upsample;
+    const size_t L = static_cast<size_t>(K) * U;
+    const double zs = d_surface_z;
+    d_prof.resize(L * nd.c);
+    upsample_pulses(pulses + static_cast<size_t>(nd.s0) * K, nd.c, d_prof.data());
+    split(d_threads, nd.B, [&](unsigned t, unsigned lo, unsigned hi) {
+        worker& w = *d_workers[t];
+        bp_detail::line_job j = range_job(d_grid, U, w);
+        j.K = nd.Kp; // the polar points, read from the pulses' K bins
+        for (unsigned b = lo; b < hi; ++b) {
+            const size_t o = static_cast<size_t>(b) * nd.Kp;
+            j.ground = &nd.px[o];
+            j.py = &nd.py[o];
+            j.valid = &nd.pvalid[o];
+            j.acc = &nd.sub[o];
+            for (unsigned p = 0; p < nd.c; ++p) {
+                const auto& a = antenna[nd.s0 + p];
+                j.ax = a[0];
+                j.ay = a[1];
+                j.c = (zs - a[2]) * (zs - a[2]);
+                j.profile = &d_prof[p * L];
+                if (d_simd)
+                    bp_detail::project_line_avx2(j);
+                else
+                    bp_detail::project_line_body(j);
+            }
+        }
+    });
+}
+
+// Recursive FFBP: every point of the parent's subimage takes the child's at its own (r, u)
+// (the threads split the parent's beams), remodulated like a pulse's sample.
+void bp_focuser::merge_child(polar_node& P, const polar_node& ch)
+{
+    split(d_threads, P.B, [&](unsigned t, unsigned lo, unsigned hi) {
+        worker& w = *d_workers[t];
+        bp_detail::merge_job m = polar_job(d_grid, w, ch);
+        m.l.K = P.Kp;
+        m.l.ay = ch.ctr[1];
+        m.l.c = ch.dz * ch.dz;
+        for (unsigned b = lo; b < hi; ++b) {
+            const size_t o = static_cast<size_t>(b) * P.Kp;
+            m.l.ground = &P.px[o];
+            m.l.py = &P.py[o];
+            m.l.valid = &P.pvalid[o];
+            m.l.acc = &P.sub[o];
+            if (d_simd)
+                bp_detail::merge_line_avx2(m);
+            else
+                bp_detail::merge_line_body(m);
+        }
+    });
+}
+
+// Each beam to baseband (exp(-j 2 pi (cs r_i - co)) removed, the phase in double) and
+// upsampled U times in range (the threads split the beams).
+void bp_focuser::upsample_node(polar_node& nd)
+{
+    const double rho = d_grid.range_bin_m, first = d_grid.first_range_m;
+    const double fcr = d_grid.range_centre_cycles;
+    const double cs = 2.0 / d_grid.wavelength_m + fcr / rho;
+    const double co = fcr * first / rho;
+    const size_t Lp = static_cast<size_t>(nd.Kp) * d_grid.upsample;
+    d_base.resize(nd.Kp); // the same for every beam
+    for (unsigned i = 0; i < nd.Kp; ++i) {
+        const double cyc = cs * (nd.first_p + i * rho) - co;
+        const double ph = -2.0 * M_PI * (cyc - std::nearbyint(cyc));
+        d_base[i] =
+            gr_complex(static_cast<float>(std::cos(ph)), static_cast<float>(std::sin(ph)));
+    }
+    split(d_threads, nd.B, [&](unsigned t, unsigned lo, unsigned hi) {
+        auto& plans = d_workers[t]->sub_plans[nd.Kp];
+        for (unsigned b = lo; b < hi; ++b) {
+            const size_t o = static_cast<size_t>(b) * nd.Kp;
+            for (unsigned i = 0; i < nd.Kp; ++i)
+                nd.sub[o + i] *= d_base[i];
+            upsample_row(*plans.first, *plans.second, &nd.sub[o], nullptr, &nd.up[b * Lp]);
+        }
+    });
+}
+
+// Stage 2: every pixel takes the subimage at its own (r, u) (the threads split the lines).
+void bp_focuser::merge_onto_image(const polar_node& nd)
+{
+    const unsigned K = d_grid.num_range_bins;
+    split(d_threads, d_grid.num_lines, [&](unsigned t, unsigned lo, unsigned hi) {
+        worker& w = *d_workers[t];
+        bp_detail::merge_job m = polar_job(d_grid, w, nd);
+        m.l.ground = d_ground.data();
+        m.l.valid = d_valid.data();
+        for (unsigned line = lo; line < hi; ++line) {
+            m.dy = line_y(line) - nd.ctr[1];
+            m.l.c = m.dy * m.dy + nd.dz * nd.dz;
+            m.l.acc = &d_image[static_cast<size_t>(line) * K];
+            if (d_simd)
+                bp_detail::merge_line_avx2(m);
+            else
+                bp_detail::merge_line_body(m);
+        }
+    });
 }
 
 void bp_focuser::image(gr_complex* out) const

@@ -6,8 +6,9 @@
  */
 
 // Inner loops of kernel::bp_focuser: one pulse onto one image line (or FFBP polar beam), one
-// FFBP subimage onto one image line. The bodies are compiled
-// twice, generic (bp_focuser.cc) and with AVX2/FMA (bp_focuser_avx2.cc), chosen at run time;
+// FFBP subimage onto one image line (or a larger subaperture's polar beam). The bodies are
+// compiled twice, generic (bp_focuser.cc) and with AVX2/FMA (bp_focuser_avx2.cc), chosen at
+// run time;
 // it has internal linkage so that the two builds never merge.
 
 #ifndef INCLUDED_NRSAR_KERNEL_BP_FOCUSER_IMPL_H
@@ -55,10 +56,12 @@ struct line_job {
     float* sine = nullptr;          //!< K scratch
 };
 
-//! FFBP's last stage: one subaperture's polar subimage onto one line of K pixels.
+//! FFBP's last stage: one subaperture's polar subimage onto one line of K pixels; recursive
+//! FFBP: onto one beam of a larger subaperture's subimage (l.py: its points' y).
 struct merge_job {
-    line_job l;         //!< ax: the subaperture centre's x; c: (y - c_y)^2 + (z - c_z)^2
-    double dy = 0.0;    //!< y - c_y of the line
+    line_job l;         //!< ax: the subaperture centre's x; c: (y - c_y)^2 + (z - c_z)^2,
+                        //!< with l.py (z - c_z)^2 and l.ay = c_y
+    double dy = 0.0;    //!< y - c_y of the line (without l.py)
     double u0 = 0.0;    //!< direction cosine of beam 0
     double inv_du = 0.0; //!< 1 / beam spacing
     int last_beam = 0;  //!< last beam an interpolation may start at: B - 2
@@ -229,23 +232,27 @@ inline void project_line_body(const line_job& j)
     interpolate_pass(j);
 }
 
+template <bool per_pixel_y>
 inline void merge_line_body(const merge_job& m)
 {
     const line_job& j = m.l;
     const unsigned K = j.K;
     const double* __restrict ground = j.ground;
+    const double* __restrict py = j.py;
     int* __restrict idx = j.idx;
     int* __restrict beam = m.beam;
     float* __restrict mus = j.mu;
     float* __restrict nus = m.nu;
     float* __restrict fracs = j.frac;
-    const double ax = j.ax, c = j.c, ps = j.pos_scale, po = j.pos_offset, cs_ = j.cyc_scale,
-                 co = j.cyc_offset, dy = m.dy, u0 = m.u0, inv_du = m.inv_du;
+    const double ax = j.ax, ay = j.ay, c = j.c, ps = j.pos_scale, po = j.pos_offset,
+                 cs_ = j.cyc_scale, co = j.cyc_offset, line_dy = m.dy, u0 = m.u0,
+                 inv_du = m.inv_du;
     // Pass 1, double: distance from the subaperture centre, range position, beam position,
     // phase in cycles.
     for (unsigned k = 0; k < K; ++k) {
         const double dx = ground[k] - ax;
-        const double r = std::sqrt(dx * dx + c);
+        const double dy = per_pixel_y ? py[k] - ay : line_dy;
+        const double r = std::sqrt(per_pixel_y ? dx * dx + dy * dy + c : dx * dx + c);
         const double p = r * ps - po;
         const double fl = std::floor(p);
         const double b = (dy / r - u0) * inv_du;
@@ -281,6 +288,14 @@ inline void merge_line_body(const merge_job& m)
         acc[2 * k] += re * cs - im * sn;
         acc[2 * k + 1] += re * sn + im * cs;
     }
+}
+
+inline void merge_line_body(const merge_job& m)
+{
+    if (m.l.py)
+        merge_line_body<true>(m);
+    else
+        merge_line_body<false>(m);
 }
 
 } // namespace

@@ -98,6 +98,8 @@ def bp_config_of(opts, cfg, autofocus=False):
                      line_step=opts.bp_line_step,
                      ffbp_subaperture=opts.ffbp_subaperture if opts.focuser == "ffbp" else 0,
                      ffbp_beam_oversample=opts.ffbp_beams,
+                     ffbp_levels=opts.ffbp_levels if opts.focuser == "ffbp" else 1,
+                     ffbp_merge_factor=opts.ffbp_merge_factor,
                      first_aperture=cfg.first_aperture, apertures=cfg.apertures,
                      trajectory_autofocus=autofocus and opts.autofocus == "trajectory",
                      autofocus_iterations=opts.autofocus_iterations,

@@ -416,6 +416,12 @@ class SimOptions(Options):
                                    "approaches it)", at_least=2, at_most=65536)
     ffbp_beams: float = option(8.0, "--focuser ffbp: beams per Nyquist beam of a subaperture "
                                "(error power pi^4 / (600 x^4))", at_least=1.0, at_most=64.0)
+    ffbp_levels: int = option(1, "--focuser ffbp: polar levels (1: two-level; n > 1: the "
+                              "subimages merged --ffbp-merge-factor at a time n - 1 times, "
+                              "recursive FFBP: faster on long apertures, each level one more "
+                              "interpolation's error)", at_least=1, at_most=8)
+    ffbp_merge_factor: int = option(4, "--focuser ffbp with --ffbp-levels > 1: subimages per "
+                                    "merged subimage", at_least=2, at_most=16)
     bp_line_step: int = option(1, "--focuser bp/ffbp: an image line every this many pulse "
                                "positions along track (1: one per pulse, rd_focuser's grid); "
                                "must divide the pulses per aperture; the azimuth resolution "
@@ -590,6 +596,8 @@ class SimOptions(Options):
             raise OptionError(f"--bp-line-step = {self.bp_line_step} with --autofocus "
                               f"trajectory: it estimates the path on one image line per pulse "
                               f"(use --bp-line-step 1)")
+        if self.ffbp_levels != 1 and self.focuser != "ffbp":
+            raise OptionError(f"--ffbp-levels = {self.ffbp_levels} needs --focuser ffbp")
         if self.autofocus == "trajectory" and self.focuser == "rd":
             raise OptionError("--autofocus = 'trajectory' needs --focuser bp or ffbp (it "
                               "back-projects along the corrected path)")

@@ -70,6 +70,12 @@ struct NRSAR_API bp_config {
     //! FFBP's beams per Nyquist beam of a subaperture (1..64): its error power falls as
     //! beam_oversample^-4 (pi^4 / (600 os^4), docs/blocks/bp_focuser.md).
     double ffbp_beam_oversample = 8.0;
+    //! Recursive FFBP: polar levels (1..8; 1: two-level, the subimages onto the image; n > 1:
+    //! merged ffbp_merge_factor at a time into larger subapertures' subimages n - 1 times,
+    //! each level one more interpolation's error; needs ffbp_subaperture > 1).
+    unsigned ffbp_levels = 1;
+    //! Subimages per merged subimage of recursive FFBP (2..16; with ffbp_levels > 1).
+    unsigned ffbp_merge_factor = 4;
     //! A strip cut into tasks (as focuser_config::first_aperture): the first aperture to
     //! emit; its input stream starts at the flight's line first_aperture M.
     std::uint64_t first_aperture = 0;

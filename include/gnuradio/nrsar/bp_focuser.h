@@ -40,7 +40,8 @@ namespace nrsar {
  * cfg.line_step L > 1: lines j = 0, L, 2 L, ... of that grid only (M / L lines per aperture,
  * L v T apart, each bit for bit the L = 1 image's line; exact BP's work falls by L). With
  * cfg.grid GROUND: column k is the point (x0 + k dx, y, cfg.ground_height_m) instead. With
- * cfg.ffbp_subaperture > 1: fast factorized back-projection (kernel::bp_focuser). The first
+ * cfg.ffbp_subaperture > 1: fast factorized back-projection (kernel::bp_focuser; recursive
+ * with cfg.ffbp_levels > 1). The first
  * line of every aperture carries tags::aperture_key(), tags::azimuth_axis_key() and
  * tags::range_axis_key() (ground grid: tags::ground_range_axis_key(), (x0, dx, K)). When the input ends, the partial aperture is imaged from the
  * pulses received. Non-finite input samples are zeroed, counted, logged once per aperture

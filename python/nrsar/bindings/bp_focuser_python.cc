@@ -50,6 +50,8 @@ void bind_bp_focuser(py::module& m)
                          double ground_spacing_m,
                          unsigned ffbp_subaperture,
                          double ffbp_beam_oversample,
+                         unsigned ffbp_levels,
+                         unsigned ffbp_merge_factor,
                          std::uint64_t first_aperture,
                          std::uint64_t apertures,
                          bool trajectory_autofocus,
@@ -75,6 +77,8 @@ void bind_bp_focuser(py::module& m)
                  c.ground_spacing_m = ground_spacing_m;
                  c.ffbp_subaperture = ffbp_subaperture;
                  c.ffbp_beam_oversample = ffbp_beam_oversample;
+                 c.ffbp_levels = ffbp_levels;
+                 c.ffbp_merge_factor = ffbp_merge_factor;
                  c.first_aperture = first_aperture;
                  c.apertures = apertures;
                  c.trajectory_autofocus = trajectory_autofocus;
@@ -101,6 +105,8 @@ void bind_bp_focuser(py::module& m)
              py::arg("ground_spacing_m") = 0.0,
              py::arg("ffbp_subaperture") = 0u,
              py::arg("ffbp_beam_oversample") = 8.0,
+             py::arg("ffbp_levels") = 1u,
+             py::arg("ffbp_merge_factor") = 4u,
              py::arg("first_aperture") = 0u,
              py::arg("apertures") = 0u,
              py::arg("trajectory_autofocus") = false,
@@ -126,6 +132,8 @@ void bind_bp_focuser(py::module& m)
         .def_readwrite("ground_spacing_m", &bp_config::ground_spacing_m)
         .def_readwrite("ffbp_subaperture", &bp_config::ffbp_subaperture)
         .def_readwrite("ffbp_beam_oversample", &bp_config::ffbp_beam_oversample)
+        .def_readwrite("ffbp_levels", &bp_config::ffbp_levels)
+        .def_readwrite("ffbp_merge_factor", &bp_config::ffbp_merge_factor)
         .def_readwrite("first_aperture", &bp_config::first_aperture)
         .def_readwrite("apertures", &bp_config::apertures)
         .def_readwrite("trajectory_autofocus", &bp_config::trajectory_autofocus)

@@ -290,6 +290,41 @@ class qa_bp_focuser(gr_unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "ffbp_beam_oversample = 0.5"):
             nrsar.bp_config(ffbp_beam_oversample=0.5).validate()
 
+    def test_006b_recursive_ffbp_against_numpy_bp(self):
+        # Recursive FFBP (subapertures of 8 pulses merged 2 at a time, n = 1..3 levels)
+        # through the block against theory.numpy_bp (float64, U = 8) on a gusty flight. Each
+        # level adds one interpolation between beams (pi^4 / (600 os^4), adding in amplitude:
+        # n^2 of it at most) and one in range (pi^4 (b / U)^4 / 600, b = N / NFFT of a bin):
+        # the kernel test's bound, measured away from the window's ends.
+        geo = geometry(M * T)
+        nav = nrsar.trajectory.motion(geo, nrsar.motion_model.GUSTY, 3, M * T + 0.1)
+        ant = np.array(nav.positions(list(np.arange(M) * T)))
+        data = echo_along(ant, [(X_T, Y_T, 1.0)]).astype(np.complex64)
+        dy = V * T
+        os_ = 8.0
+        for n in (1, 2, 3):
+            cfg = nrsar.bp_config(symbols_per_pulse=SPP, lines_per_aperture=M,
+                                  ffbp_subaperture=8, ffbp_beam_oversample=os_,
+                                  ffbp_levels=n, ffbp_merge_factor=2)
+            img, _, blk = focus(data, cfg=cfg, nav=nav)
+            if n == 1:
+                y0 = blk.line_shift() * dy
+                ref = numpy_bp(data, ant, R_FIRST, RHO, LAM, FC_R, 8, y0 + dy * np.arange(M), H)
+            bound = 10 * math.log10(n * n * (math.pi / os_) ** 4 / 600
+                                    + n * (math.pi * N_SUB / (NFFT * 8)) ** 4 / 600)
+            err = nmse_db(img[:, 8:-8], ref[:, 8:-8])
+            print(f"ffbp levels {n} (8 pulses, merged 2 at a time, os 8): NMSE against numpy_bp "
+                  f"{err:.1f} dB inner (bound {bound:.1f} dB)")
+            self.assertLess(err, bound + 1.0)
+            for a, b in zip(peak_position(img, FC_R), peak_position(ref, FC_R)):
+                self.assertAlmostEqual(a, b, delta=0.25)
+        with self.assertRaisesRegex(ValueError, "ffbp_levels = 2.*ffbp_subaperture < 2"):
+            nrsar.bp_config(ffbp_levels=2).validate()
+        with self.assertRaisesRegex(ValueError, "ffbp_merge_factor = 1"):
+            nrsar.bp_config(ffbp_subaperture=8, ffbp_levels=2, ffbp_merge_factor=1).validate()
+        with self.assertRaisesRegex(OptionError, "--ffbp-levels = 2 needs --focuser ffbp"):
+            SimOptions(focuser="bp", ffbp_levels=2).validate()
+
     def test_007_chain_nmse_sits_at_spec8_theory(self):
         # SPEC 8 in nrsar-sim (docs/blocks/bp_focuser.md, "NMSE"): every BP pixel correlates
         # all N M samples of the aperture along its own range history, so its error power is
@@ -351,6 +386,15 @@ class qa_bp_focuser(gr_unittest.TestCase):
         expected = nmse_theory_db("qam256", "wf", 10.0) + covered_db(r)
         print(f"bp wf 10 dB, --bp-line-step 4: NMSE {r['nmse_db']:.2f} dB, expected "
               f"{expected:.2f} dB")
+        self.assertAlmostEqual(r["nmse_db"], expected, delta=0.3)
+        # Recursive FFBP (--ffbp-levels 3: 16 pulses merged 4 at a time, os 8): its error
+        # against BP, at most 9 pi^4 / (600 os^4) + 3 pi^4 (b / U)^4 / 600 of the image
+        # power (test_006b; below -30 dB), leaves the NMSE at the theory.
+        r = run("ffbp", "wf", 10.0, 127, f"{out}/ffbp3", "--ffbp-subaperture", "16",
+                "--ffbp-levels", "3", "--ffbp-merge-factor", "4")
+        expected = nmse_theory_db("qam256", "wf", 10.0) + covered_db(r)
+        print(f"ffbp wf 10 dB, --ffbp-levels 3: NMSE {r['nmse_db']:.2f} dB, expected "
+              f"{expected:.2f} dB (bp {full['nmse_db']:.2f} dB)")
         self.assertAlmostEqual(r["nmse_db"], expected, delta=0.3)
         with self.assertRaisesRegex(OptionError, "--bp-line-step = 2 needs --focuser bp"):
             SimOptions(bp_line_step=2).validate()

@@ -51,6 +51,12 @@ struct NRSAR_API bp_grid {
     unsigned subaperture = 0;
     //! FFBP's beams per Nyquist beam of the subaperture's angular bandwidth (>= 1).
     double beam_oversample = 2.0;
+    //! FFBP's polar levels (1..8): 1 = two-level (subapertures, then the image); n > 1:
+    //! the subimages merged merge_factor at a time into the polar subimages of larger
+    //! subapertures, n - 1 times, before the image (recursive FFBP).
+    unsigned levels = 1;
+    //! Subimages per merged subimage of recursive FFBP (2..16; levels > 1).
+    unsigned merge_factor = 4;
 
     void validate() const;
 };
@@ -96,6 +102,14 @@ struct NRSAR_API bp_grid {
  * against L M K for BP (B beams, M lines): the speed-up approaches L when B << M; the
  * error falls with beam_oversample (linear interpolation between beams) and grows with L
  * (the subimage's curvature over a beam).
+ * Recursive FFBP (levels n > 1): the subapertures of L pulses are merged F = merge_factor
+ * at a time, n - 1 times, into the polar subimages of subapertures of L F, L F^2, ...
+ * pulses (each centred at its middle pulse's antenna, its beams at the Nyquist spacing of
+ * its own D, so their count grows with F): every point of the larger subimage takes each
+ * smaller one at its own (r, u), bilinearly, remodulated; the largest are merged onto the
+ * image as above. Work: L B K + (n - 1) F B' K per L pulses (B' the merged subimages'
+ * beams per L pulses, about B) + M K per L F^(n-1) pulses; each level adds one bilinear
+ * interpolation's error.
  * Speed: the distance and phase pass (double) and the interpolation pass (float) vectorise;
  * an AVX2/FMA build of both is chosen at run time; two threads split the lines (and FFBP's
  * beams).
@@ -124,7 +138,7 @@ public:
     bool simd() const { return d_simd; }
     //! Pulses added since the last reset.
     unsigned pulses() const { return d_pulses; }
-    //! FFBP: beams of the last subaperture (0 for BP).
+    //! FFBP: beams of the last subaperture merged onto the image (0 for BP).
     unsigned beams() const { return d_beams; }
 
 private:
@@ -158,11 +172,23 @@ private:
                        const std::array<double, 3>* antenna);
     void add_bp(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna);
     void add_ffbp(const gr_complex* pulses, unsigned n, const std::array<double, 3>* antenna);
-    // FFBP scratch: the subaperture's profiles, polar points and (upsampled) subimage.
+    struct polar_node;
+    unsigned node_pulses(unsigned depth, unsigned n) const;
+    bool plan_node(polar_node& node, const std::array<double, 3>* antenna,
+                   const polar_node* parent);
+    void prepare_workers(unsigned Kp);
+    void build_node(unsigned depth, const gr_complex* pulses,
+                    const std::array<double, 3>* antenna);
+    void back_project_leaf(polar_node& node, const gr_complex* pulses,
+                           const std::array<double, 3>* antenna);
+    void merge_child(polar_node& parent, const polar_node& child);
+    void upsample_node(polar_node& node);
+    void merge_onto_image(const polar_node& node);
+    // FFBP scratch: the subaperture's profiles and one polar subimage per level of the tree
+    // (depth 0 merges onto the image), built depth first.
     std::vector<gr_complex> d_prof;
-    std::vector<double> d_px, d_py;
-    std::vector<float> d_pvalid;
-    std::vector<gr_complex> d_sub, d_sub_up;
+    std::vector<std::unique_ptr<polar_node>> d_nodes;
+    std::vector<gr_complex> d_base; // Kp: a polar row's baseband shift
 };
 
 } // namespace kernel
