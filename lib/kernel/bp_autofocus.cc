@@ -132,14 +132,17 @@ double noise_floor(const std::vector<std::complex<double>>& c, unsigned L)
 }
 
 // c's complex moving sum over len[p] pulses (h each side), its phase unwrapped over the
-// pulses in metres (psi to_m, to_m = 1 / (2 pi cs)) into b, and the noise it carries
-// (sigma^2 from the deviation from the moving mean, or with floor from noise_floor).
+// pulses in metres (psi to_m, to_m = 1 / (2 pi cs)) into b, and the noise it carries:
+// sigma^2 from the deviation from the moving mean, or, given floor_of, noise_floor of that
+// history (the GCP stage: c as read, before its neighbours' echoes are taken out, which
+// takes the noise within 1 / L of their lines with them: docs/blocks/bp_focuser.md, "The
+// noise floor of a GCP with neighbours").
 history smoothed_history(const std::vector<std::complex<double>>& c,
                          const std::vector<unsigned>& len,
                          unsigned h,
                          double to_m,
                          std::vector<double>& b,
-                         bool floor = false)
+                         const std::vector<std::complex<double>>* floor_of = nullptr)
 {
     // The noise: sigma^2 from each summand's deviation from its moving mean (the
     // path error is slow over the sum; white noise gives sigma^2 (1 - 1 / L));
@@ -167,7 +170,7 @@ history smoothed_history(const std::vector<std::complex<double>>& c,
         sum += b[p];
     }
     pw /= n;
-    const double s2 = floor ? noise_floor(c, 2 * h + 1) : dof > 0.0 ? dev / dof : 0.0;
+    const double s2 = floor_of ? noise_floor(*floor_of, 2 * h + 1) : dof > 0.0 ? dev / dof : 0.0;
     const double sigma2 = std::max(s2, 1e-12 * pw);
     const double a2 = std::max(pw - sigma2 * inv_len / n, 1e-12 * pw);
     // A history whose smoothed SNR L A^2 / sigma^2 is below 2 (phase noise above
@@ -666,7 +669,7 @@ bool calibrate_gcp(const gr_complex* pulses,
             const double rm = distance(am, q);
             const unsigned kp = g.kp;
             const std::vector<std::complex<double>>& c = g.c;
-            const history hs = smoothed_history(c, len, h, to_m, b, true);
+            const history hs = smoothed_history(c, len, h, to_m, b, &g.c0);
             if (hs.w == 0.0)
                 continue;
             double slope = 0.0;
@@ -984,6 +987,9 @@ trajectory_autofocus_result trajectory_autofocus(const gr_complex* pulses,
                 c[p] = std::complex<double>(line[q.bin]) *
                        std::polar(1.0, ud / to_m - 2.0 * M_PI * cs * dr);
             }
+            // sigma^2 from the deviation, which counts the neighbours' echoes in the point's
+            // range bins (no model of them here) and weighs their histories down; the floor
+            // would not (docs/blocks/bp_focuser.md, "The noise floor in the relative stage").
             const history hs = smoothed_history(c, len, h, to_m, b[i]);
             for (double& v : b[i])
                 v -= hs.sum / n;
