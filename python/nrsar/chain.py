@@ -115,9 +115,11 @@ def check_line_step(opts, sc, cfg):
     the targets' azimuth spectrum, and autofocus (a phase per Doppler bin) and the probe's
     band-limited peak search would read the aliases (docs/blocks/bp_focuser.md)."""
     step = opts.bp_line_step
+    if step == 1:
+        return
     band = params.compute_extent(sc.geo, sc.scene).doppler_bandwidth_hz()
     rate = 1.0 / (sc.num.symbol_s() * cfg.symbols_per_pulse)  # the focuser's pulse rate
-    if step > 1 and band > 0.0 and rate / step < band:
+    if rate / step < band:
         raise OptionError(f"--bp-line-step = {step} samples the image along track at "
                           f"{rate / step:.1f} Hz, below the scene's Doppler band "
                           f"{band:.1f} Hz: at most {max(1, int(rate // band))} at the "
