@@ -121,8 +121,8 @@ def check_line_step(opts, sc, cfg):
     rate = 1.0 / (sc.num.symbol_s() * cfg.symbols_per_pulse)  # the focuser's pulse rate
     if rate / step < band:
         raise OptionError(f"--bp-line-step = {step} samples the image along track at "
-                          f"{rate / step:.1f} Hz, below the scene's Doppler band "
-                          f"{band:.1f} Hz: at most {max(1, int(rate // band))} at the "
+                          f"{rate / step:.2f} Hz, below the scene's Doppler band "
+                          f"{band:.2f} Hz: at most {max(1, int(rate // band))} at the "
                           f"focuser's pulse rate {rate:.1f} Hz")
 
 

@@ -550,8 +550,8 @@ class qa_autofocus(gr_unittest.TestCase):
                                  "bp", "--images", "none", "--bp-line-step", "1200", "--out",
                                  tempfile.mkdtemp(prefix="qa_autofocus_step_")])
         with self.assertRaisesRegex(OptionError, re.escape(
-                "--bp-line-step = 1200 samples the image along track at 5.0 Hz, below the "
-                "scene's Doppler band 10.0 Hz: at most 599 at the focuser's pulse rate "
+                "--bp-line-step = 1200 samples the image along track at 5.00 Hz, below the "
+                "scene's Doppler band 10.00 Hz: at most 599 at the focuser's pulse rate "
                 "6000.0 Hz")):
             chain.simulate(opts)
 
