@@ -543,16 +543,19 @@ class qa_autofocus(gr_unittest.TestCase):
             # entropy), its rms within 0.05 rad
             self.assertLess(diff, 0.2)
             self.assertAlmostEqual(rms4, rms1, delta=0.05)
-        # nrsar-sim: 6 kHz pulses at the focuser, a 10.0 Hz scene band; 1200 lines per
-        # aperture, so a step of 1200 divides them but samples at 5 Hz
+        # nrsar-sim: 6 kHz pulses at the focuser (decim 4), 1200 per 0.2 s aperture, so a
+        # step of 1200 divides them but samples at 5 Hz; the band of the target (600 m
+        # across, 5 m along, 1000 m below) seen from y = 0 .. 10 m at 50 m/s, 3.5 GHz:
+        # 2 v / lambda (5 / R + 5 / R), R = sqrt(600^2 + 1000^2 + 5^2)
+        band = 4 * 50.0 * 5.0 / (299792458.0 / 3.5e9 * math.sqrt(600.0 ** 2 + 1000.0 ** 2 + 25.0))
         opts = SimOptions.parse(["--preset", "small", "--aperture-s", "0.2", "--target",
                                  "600,5", "--presum", "cheby", "--decim", "4", "--focuser",
                                  "bp", "--images", "none", "--bp-line-step", "1200", "--out",
                                  tempfile.mkdtemp(prefix="qa_autofocus_step_")])
         with self.assertRaisesRegex(OptionError, re.escape(
                 "--bp-line-step = 1200 samples the image along track at 5.00 Hz, below the "
-                "scene's Doppler band 10.00 Hz: at most 599 at the focuser's pulse rate "
-                "6000.0 Hz")):
+                f"scene's Doppler band {band:.2f} Hz: at most {int(6000 // band)} at the "
+                "focuser's pulse rate 6000.0 Hz")):
             chain.simulate(opts)
 
     def test_sim_option_and_json_keys(self):
