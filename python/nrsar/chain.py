@@ -111,6 +111,23 @@ def bp_config_of(opts, cfg, autofocus=False):
                      autofocus_gcp_speed_se_mps=opts.autofocus_gcp_speed_se_mps)
 
 
+def check_line_step(opts, sc, cfg):
+    """OptionError when --bp-line-step samples the image along track below the scene's
+    Doppler band (params.compute_extent over the aperture): lines at PRF / (D L) then alias
+    the targets' azimuth spectrum, and autofocus (a phase per Doppler bin) and the probe's
+    band-limited peak search would read the aliases (docs/blocks/bp_focuser.md)."""
+    step = opts.bp_line_step
+    if step == 1:
+        return
+    band = params.compute_extent(sc.geo, sc.scene).doppler_bandwidth_hz()
+    rate = 1.0 / (sc.num.symbol_s() * cfg.symbols_per_pulse)  # the focuser's pulse rate
+    if rate / step < band:
+        raise OptionError(f"--bp-line-step = {step} samples the image along track at "
+                          f"{rate / step:.2f} Hz, below the scene's Doppler band "
+                          f"{band:.2f} Hz: at most {max(1, int(rate // band))} at the "
+                          f"focuser's pulse rate {rate:.1f} Hz")
+
+
 def check_gcps_in_image(opts, geo, foc, cfg, symbols):
     """OptionError naming the --autofocus-gcp that lies off the image: its slant range from
     the ideal line, sqrt(x^2 + (H - z)^2), outside bp_focuser foc's range axis (an aperture's
@@ -220,6 +237,7 @@ def receive_path(opts, sc, crop, cfg, nav, focuser=True, autofocus=False, fused=
     if not focuser:
         foc = None
     elif opts.focuser in ("bp", "ffbp"):
+        check_line_step(opts, sc, cfg)
         foc = bp_focuser(num, geo, scn, rif.num_bins(), rif.range_axis_first_m(),
                          rif.range_bin_m(), bp_config_of(opts, cfg, autofocus), nav)
         if autofocus:

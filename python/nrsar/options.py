@@ -424,8 +424,9 @@ class SimOptions(Options):
                                     "merged subimage", at_least=2, at_most=16)
     bp_line_step: int = option(1, "--focuser bp/ffbp: an image line every this many pulse "
                                "positions along track (1: one per pulse, rd_focuser's grid); "
-                               "must divide the pulses per aperture; the azimuth resolution "
-                               "v / B_doppler needs about v / (2 B_doppler) per line "
+                               "must divide the pulses per aperture, and the line rate PRF / "
+                               "(D L) must cover the scene's Doppler band; the azimuth "
+                               "resolution v / B_doppler needs about v / (2 B_doppler) per line "
                                "(docs/blocks/bp_focuser.md, \"Real time\")",
                                at_least=1, at_most=4096)
     image_grid: str = option("slant", "bp/ffbp image grid: slant = slant range x along track "

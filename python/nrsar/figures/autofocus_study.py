@@ -59,12 +59,15 @@ TARGETS = [(800.0, 25.03, 1.0), (830.0, 25.03, 0.5), (770.0, 25.03, 0.3)]  # (x,
 SNR_DB = 10.0                    # per pulse and range-compressed sample of the first target
 
 
-def image(data, nav, method=None):
-    """bp_focuser along nav (then autofocus with method): the image and the autofocus block."""
+def image(data, nav, method=None, line_step=1):
+    """bp_focuser along nav (then autofocus with method, which reads the line spacing from
+    the image's tags): the image, the autofocus block and the focuser. line_step: a line
+    every line_step-th pulse position (bp_config.line_step)."""
     geo = geometry(M * T)
     scn = params.make_scene([(x, y) for x, y, _ in TARGETS])
     foc = bp_focuser(NUM, geo, scn, K, R_FIRST, RHO,
-                     bp_config(symbols_per_pulse=SPP, lines_per_aperture=M), nav)
+                     bp_config(symbols_per_pulse=SPP, lines_per_aperture=M,
+                               line_step=line_step), nav)
     tb = gr.top_block()
     src = blocks.vector_source_c(data.astype(np.complex64).ravel().tolist(), False, K)
     snk = blocks.vector_sink_c(K)
@@ -82,11 +85,12 @@ def register(img, ref):
     """img circularly shifted along azimuth by the fractional lines that maximise
     |<ref, shifted img>| (linear phase over the azimuth DFT), and the shift: the integer
     peak of the circular cross-correlation, refined in 1/64 line around it."""
+    m = img.shape[0]
     F, R = np.fft.fft(img, axis=0), np.fft.fft(ref, axis=0)
-    f = np.fft.fftfreq(M)
+    f = np.fft.fftfreq(m)
     cross = np.sum(np.conj(R) * F, axis=1)
     s0 = int(np.argmax(np.abs(np.fft.ifft(cross))))
-    s0 = s0 - M if s0 > M // 2 else s0
+    s0 = s0 - m if s0 > m // 2 else s0
     best = max(s0 + np.arange(-1, 1, 1 / 64),
                key=lambda s: abs(np.sum(cross * np.exp(2j * np.pi * f * s))))
     return np.fft.ifft(F * np.exp(2j * np.pi * f * best)[:, None], axis=0), best
@@ -124,7 +128,8 @@ def detrend_pulses(v):
 
 
 def nmse_db(img, ref):
-    """SPEC 8: N M mean|img / c - ref|^2 / max|ref|^2, c = <ref, img> / <ref, ref>."""
+    """SPEC 8: N M mean|img / c - ref|^2 / max|ref|^2, c = <ref, img> / <ref, ref> (M the
+    aperture's pulses, also on an image of every L-th line: the mean is per pixel)."""
     c = np.vdot(ref, img) / np.vdot(ref, ref)
     return 10 * math.log10(N_SUB * M * np.mean(np.abs(img / c - ref) ** 2) / np.max(np.abs(ref)) ** 2)
 

@@ -492,6 +492,72 @@ class qa_autofocus(gr_unittest.TestCase):
                                         re.escape(limit)):
                 nrsar.bp_config(autofocus_gcp=gcp).validate()
 
+    def test_step_4_image_autofocuses_as_the_step_1_image(self):
+        """bp_focuser with line_step 4 (a line every 0.5 m, 100 lines: the coarse spectrum
+        spans PRF / 4 = 100 Hz against the targets' 58 Hz band) then autofocus, which takes
+        the line count and spacing from the tags, on the GNSS case (seed 1): the coarse
+        image is every 4th line of the step-1 image and its Doppler bins are the same
+        1 / (M T) wide, so it holds the same band, and both methods must reach the step-1
+        NMSE with the same phase per Doppler bin (bin p of the coarse estimate is bin
+        p mod 100 of the step-1 one). The NMSE is normalised by the step-1 reference's
+        peak: the coarse grid's own peak is a sample up to 2 lines (0.25 m) from it, up to
+        0.96 dB lower (docs/blocks/bp_focuser.md). Bounds: 0.5 dB and 0.2 rad rms, what
+        PGA's whole-line centre allows at this sub-line position (over others up to 0.6 dB
+        and 0.27 rad; minimum entropy 0.15 dB and 0.09 rad; docs/blocks/autofocus.md "On a
+        line_step image"). An aliasing step is refused by nrsar-sim, naming --bp-line-step,
+        its value and the limit."""
+        from gnuradio.nrsar.focus_scenario import T, V
+        c = self.gnss_case()
+        st = c["st"]
+        truth = st.path(c["ta"])
+        true_phi = st.true_phase_per_bin(c["ta"], c["na"], 0.0, V * T)
+        band = ~np.isnan(true_phi)  # the first target's Doppler band: 58 of 400 bins
+        self.assertEqual(int(band.sum()), 58)
+        got = {}
+        peak1 = None
+        for step in (1, 4):
+            ref = st.image(c["clean"], truth, line_step=step)[0]
+            peak1 = peak1 or np.max(np.abs(ref))
+            norm = 20 * math.log10(np.max(np.abs(ref)) / peak1)
+            before = st.nmse_db(st.register(st.image(c["noisy"], c["nav"], line_step=step)[0],
+                                            ref)[0], ref) + norm
+            for name, method in (("pga", nrsar.autofocus_method.PGA),
+                                 ("entropy", nrsar.autofocus_method.ENTROPY)):
+                img, af, _ = st.image(c["noisy"], c["nav"], method, line_step=step)
+                est = np.asarray(af.phase_error_rad())
+                self.assertEqual((img.shape[0], est.size), (st.M // step, st.M // step))
+                phi = st.detrended(est[np.arange(st.M) % est.size], band)[0]
+                got[step, name] = (before, st.nmse_db(st.register(img, ref)[0], ref) + norm,
+                                   phi, af.phase_rms_rad())
+        for name in ("pga", "entropy"):
+            (b1, a1, phi1, rms1), (b4, a4, phi4, rms4) = got[1, name], got[4, name]
+            diff = float(np.sqrt(np.nanmean((phi4 - phi1) ** 2)))
+            print(f"{name}: NMSE step 1 {b1:.2f} -> {a1:.2f} dB, step 4 {b4:.2f} -> "
+                  f"{a4:.2f} dB; phase rms {rms1:.3f} / {rms4:.3f} rad, estimates "
+                  f"{diff:.3f} rad rms apart")
+            self.assertGreater(b1 - a1, 5.0)
+            self.assertGreater(b4 - a4, 5.0)
+            self.assertLess(abs(a4 - a1), 0.5)
+            # the same estimate: within a tenth of the error's 2.05 rad rms (measured 0.12
+            # rad PGA, whose window and centre are whole lines, 4 times coarser; 0.08 rad
+            # entropy), its rms within 0.05 rad
+            self.assertLess(diff, 0.2)
+            self.assertAlmostEqual(rms4, rms1, delta=0.05)
+        # nrsar-sim: 6 kHz pulses at the focuser (decim 4), 1200 per 0.2 s aperture, so a
+        # step of 1200 divides them but samples at 5 Hz; the band of the target (600 m
+        # across, 5 m along, 1000 m below) seen from y = 0 .. 10 m at 50 m/s, 3.5 GHz:
+        # 2 v / lambda (5 / R + 5 / R), R = sqrt(600^2 + 1000^2 + 5^2)
+        band = 4 * 50.0 * 5.0 / (299792458.0 / 3.5e9 * math.sqrt(600.0 ** 2 + 1000.0 ** 2 + 25.0))
+        opts = SimOptions.parse(["--preset", "small", "--aperture-s", "0.2", "--target",
+                                 "600,5", "--presum", "cheby", "--decim", "4", "--focuser",
+                                 "bp", "--images", "none", "--bp-line-step", "1200", "--out",
+                                 tempfile.mkdtemp(prefix="qa_autofocus_step_")])
+        with self.assertRaisesRegex(OptionError, re.escape(
+                "--bp-line-step = 1200 samples the image along track at 5.00 Hz, below the "
+                f"scene's Doppler band {band:.2f} Hz: at most {int(6000 // band)} at the "
+                "focuser's pulse rate 6000.0 Hz")):
+            chain.simulate(opts)
+
     def test_sim_option_and_json_keys(self):
         # --autofocus puts the block after the data branch's focuser; the JSON names the
         # method and the estimate's rms. The flight is perfectly navigated, so its image is
