@@ -63,16 +63,13 @@ bp_focuser_impl::bp_focuser_impl(const numerology& num,
     // pulse, naming the time).
     d_nav.check_covers(0.0, d_geo.aperture_s);
     configure(d_num.symbol_s() * d_cfg.symbols_per_pulse, first_range_m, d_ctor_range_bin);
-    // A strip's task starts at aperture a0 (pulse a0 M): its slow time and first line as
-    // the whole flight's run reaches them, sum for sum, so the images are bit-identical.
+    // A strip's task starts at aperture a0 (pulse a0 M): its slow time and first line the
+    // products the whole flight's run forms there, so the images are bit-identical.
     if (d_cfg.first_aperture > (std::uint64_t(1) << 32) / d_M)
         throw_param("first_aperture", d_cfg.first_aperture,
                     "times lines_per_aperture must stay below 2^32");
-    for (std::uint64_t a = 0; a < d_cfg.first_aperture; ++a) {
-        for (unsigned p = 0; p < d_M; ++p)
-            d_t_next += d_T;
-        d_next_y += d_M * d_geo.velocity_mps * d_T;
-    }
+    d_pulse = d_cfg.first_aperture * d_M;
+    d_next_y = d_y0 + static_cast<double>(d_pulse - d_p0) * (d_geo.velocity_mps * d_T);
     d_apertures = d_cfg.first_aperture;
     set_tag_propagation_policy(TPP_DONT);
     set_relative_rate(1, d_cfg.line_step);
@@ -86,6 +83,11 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
 {
     check_finite_positive("pulse_interval_s", T);
     check_finite_positive("range_bin_m", range_bin);
+    if (d_T > 0.0) { // a new T from the next pulse (an aperture's first) on
+        d_t0 += static_cast<double>(d_pulse - d_p0) * d_T;
+        d_y0 = d_next_y;
+        d_p0 = d_pulse;
+    }
     d_T = T;
     d_first_range = first_range;
     d_range_bin = range_bin;
@@ -109,7 +111,7 @@ void bp_focuser_impl::configure(double T, double first_range, double range_bin)
     d_band_hi_hz = win.band_hi_hz;
     const double dy = d_geo.velocity_mps * T;
     if (d_lines_in == 0 && d_apertures == 0)
-        d_next_y = d_geo.track_start_m + d_line_shift * dy;
+        d_next_y = d_y0 = d_geo.track_start_m + d_line_shift * dy;
 
     kernel::bp_grid g;
     g.num_range_bins = d_K;
@@ -202,8 +204,9 @@ void bp_focuser_impl::ingest(const gr_complex* lines, unsigned n)
                 clean,
                 sizeof(gr_complex) * n * d_K);
     for (unsigned p = 0; p < n; ++p) {
-        d_antenna[d_fill + p] = d_nav.position(d_t_next); // throws past the path's end
-        d_t_next += d_T;
+        const double t = d_t0 + static_cast<double>(d_pulse - d_p0) * d_T;
+        d_antenna[d_fill + p] = d_nav.position(t); // throws past the path's end
+        ++d_pulse;
     }
     d_fill += n;
     d_lines_in += n;
@@ -252,7 +255,7 @@ void bp_focuser_impl::process_aperture()
     d_out_pos = 0;
     d_out_len = d_lines;
     d_out_y0 = d_next_y;
-    d_next_y += d_M * d_geo.velocity_mps * d_T;
+    d_next_y = d_y0 + static_cast<double>(d_pulse - d_p0) * (d_geo.velocity_mps * d_T);
     d_fill = 0;
     ++d_apertures_imaged;
     if (d_pending) {

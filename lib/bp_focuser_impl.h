@@ -57,7 +57,13 @@ private:
     std::vector<gr_complex> d_pulses;             // M x K: the aperture's pulses
     std::vector<std::array<double, 3>> d_antenna; // M: their antenna positions
     unsigned d_fill = 0;
-    double d_t_next = 0.0; // slow time of the next pulse [s]
+    // The flight's pulse p: slow time d_t0 + (p - d_p0) T, image line d_y0 + (p - d_p0) v T,
+    // products (sums of T per pulse drifted 0.19 ms from n T in 1e9 pulses, docs/stress.md);
+    // the base moves to the next pulse when T changes.
+    std::uint64_t d_pulse = 0; // the flight's index of the next pulse
+    std::uint64_t d_p0 = 0;
+    double d_t0 = 0.0;
+    double d_y0 = 0.0;
     std::vector<gr_complex> d_out; // M / line_step x K image waiting for output
     unsigned d_out_pos = 0;
     unsigned d_out_len = 0;
