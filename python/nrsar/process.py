@@ -155,6 +155,8 @@ def run(opts):
     rec = recording.read(opts.recording)
     sim_opts = sim_options_of(opts, rec)
     sc = scenario_of(sim_opts, rec)
+    # here, not in scenario_of: a strip's flight (distributed_process) outlasts its apertures
+    sc.warnings += scenario.range_grid_warnings(sc, fft_size_of(sim_opts, sc.num.num_subcarriers))
     check_out_dir(sim_opts.out)
     tb = gr.top_block("nrsar-process")
     graph = chain.build(tb, sim_opts, sc, tx=make_transmitter(opts, rec, sim_opts, sc, tb),

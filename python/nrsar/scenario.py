@@ -10,15 +10,20 @@
 `Scenario.trajectory` is the true flight path (what the echo generators fly) and
 `Scenario.navigation` what the UAV believes (what every processing block uses); both are
 trajectory objects, the geometry's ideal line by default (docs/flight.md).
+`range_grid_warnings(sc, fft_size)` says, before the run, when the navigation's sway spreads
+the range spectrum beyond the range grid's headroom.
 
 Every failure is a ValueError that names the flag it came from (`--preset = 'huge': ...`),
 raised before any block is built.
 """
 
 import dataclasses
+import math
 import os
 import sys
 import typing
+
+import numpy as np
 
 from . import params
 from .nrsar_python import range_ifft, srs_config
@@ -82,6 +87,54 @@ def fft_size_of(opts, num_subcarriers):
         raise OptionError(f"--fft-size = {size} must be at least the {num_subcarriers} "
                           f"subcarriers of --preset {opts.preset}")
     return size
+
+
+def sway_spread_hz(sc, dt_s=1e-3):
+    """(spread [Hz], target) of the worst scene target (a scene file: its points and its
+    maps' corners): max - min over the aperture [0, geo.aperture_s] (dt_s grid) of
+    s(t) = fc (dr/dR0 - dr_line/dR0), the shift of a pulse's range wavenumber on the ideal
+    line's slant grid when the antenna flies the NAVIGATION (what the processing uses; a real
+    processor has no truth) instead of the line. r and r_line share the path's y (the look
+    angle's change, not the along-track one's); targets on the ground at ground range g:
+    dr/dR0 = (g - x) / r * R0 / g (a target at nadir, g = 0, where R0 has no slope, is left
+    out). (0, None) on the ideal line (docs/blocks/rd_focuser.md, "Range grid under a large
+    sway")."""
+    targets = [tg for tg in sc.scene.targets if tg.x_m != 0.0]
+    if sc.navigation.is_ideal() or not targets:
+        return 0.0, None
+    geo = sc.geo
+    t = np.linspace(0.0, geo.aperture_s, int(math.ceil(geo.aperture_s / dt_s)) + 1)
+    x, y, z = (c[:, None] for c in np.array(sc.navigation.positions(list(t))).T)
+    g = np.array([tg.x_m for tg in targets])
+    dy = y - np.array([tg.y_m for tg in targets])
+    h = geo.height_m
+    r = np.sqrt((g - x) ** 2 + dy * dy + z * z)
+    r_line = np.sqrt(g * g + dy * dy + h * h)
+    s = geo.carrier_hz * np.sqrt(g * g + h * h) / g * ((g - x) / r - g / r_line)
+    spread = s.max(axis=0) - s.min(axis=0)
+    worst = int(np.argmax(spread))
+    return float(spread[worst]), targets[worst]
+
+
+def range_grid_warnings(sc, fft_size):
+    """[the warning] when the sway's spread of the range spectrum (sway_spread_hz) exceeds
+    the range grid's headroom (fft_size - N) Delta f, the band the IFFT holds beyond the
+    occupied B = N Delta f: the range cut then aliases, and its peak and IRW err (metres on
+    the ALFA flight, docs/flight.md), else []. A warning, not a refusal: the image is made."""
+    spread, target = sway_spread_hz(sc)
+    n, df = sc.num.num_subcarriers, sc.num.subcarrier_spacing_hz
+    headroom = (fft_size - n) * df
+    if spread <= headroom:
+        return []
+    band = n * df
+    need = range_ifft.fast_fft_size(n + int(math.ceil(spread / df)))
+    return [f"the navigation's sway spreads the range spectrum by {spread / 1e6:.3f} MHz "
+            f"({spread / band:.3f} B, B = {band / 1e6:.3f} MHz) over the aperture at the "
+            f"target x = {target.x_m:g} m, y = {target.y_m:g} m, beyond the range grid's "
+            f"headroom of {headroom / 1e6:.3f} MHz (--fft-size {fft_size}, {n} subcarriers): "
+            f"the range cut aliases the excess, its peak and IRW err the more the larger it "
+            f"is (2.5 m at 0.37 B, docs/flight.md); --fft-size {need} holds it "
+            f"(docs/blocks/rd_focuser.md, 'Range grid under a large sway')"]
 
 
 def _flagged(flag, value, func, *args, **kwargs):
@@ -155,7 +208,7 @@ def of(opts):
                     f"is far cheaper for dense scenes")
             print(f"warning: {text}", file=sys.stderr)  # before the long run, not after it
             warnings.append(text)
-    fft_size_of(opts, num.num_subcarriers)  # refused here, before any block is built
+    fft_size = fft_size_of(opts, num.num_subcarriers)  # refused here, before any block is built
     mode, srs, pulse_symbols = grid_of_mode(opts.mode, num)
     warnings = list(params.check_scenario(num, geo, scn, pulse_symbols)) + warnings
     truth, nav = flight_of(opts, geo)
@@ -164,6 +217,8 @@ def of(opts):
                        else ("--motion", opts.motion))
         _flagged(flag, value, params.check_scenario, num, geo, scn, truth, pulse_symbols)
     symbols = int(geo.symbols_per_aperture(num))
-    return Scenario(num=num, geo=geo, scene=scn, scene_file=sf, tx_mode=mode, srs=srs,
-                    pulse_symbols=pulse_symbols, symbols=symbols, warnings=warnings,
-                    trajectory=truth, navigation=nav)
+    sc = Scenario(num=num, geo=geo, scene=scn, scene_file=sf, tx_mode=mode, srs=srs,
+                  pulse_symbols=pulse_symbols, symbols=symbols, warnings=warnings,
+                  trajectory=truth, navigation=nav)
+    sc.warnings += range_grid_warnings(sc, fft_size)
+    return sc

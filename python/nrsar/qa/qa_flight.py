@@ -14,6 +14,7 @@ motion compensation defocuses."""
 
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -38,6 +39,18 @@ def write_path_csv(path, x_offset=0.0, span_s=0.3, height=1000.0):
         for i in range(int(round(span_s * 50)) + 1):
             t = i / 50.0
             f.write(f"{t!r},{x_offset!r},{50.0 * t!r},{height!r}\n")
+
+
+def write_sway_csv(path, height=1000.0):
+    """A 50 m/s line swaying 1.6 m across track and 0.6 m vertically within its first second
+    (a period of 1 s), at 1 kHz over [0, 1.2] s. Returns (t, dx, dz)."""
+    t = np.arange(1201) / 1000.0
+    dx, dz = -0.8 + 0.8 * np.sin(2 * np.pi * t), 0.3 * np.sin(2 * np.pi * t)
+    with open(path, "w") as f:
+        f.write("t_s,x_m,y_m,z_m\n")
+        for row in zip(t, dx, 50.0 * t, height + dz):
+            f.write(",".join(repr(float(v)) for v in row) + "\n")
+    return t, dx, dz
 
 
 class qa_flight(gr_unittest.TestCase):
@@ -169,13 +182,8 @@ class qa_flight(gr_unittest.TestCase):
         # the peak at the target and the range IRW at the float64 expectation of the spread
         # band, |D(d) mean_t exp(j 4 pi s(t) d / c)| (D: the band's Dirichlet kernel).
         c, fc, h, df, n_sub, x_t, y_t = 299792458.0, 3.5e9, 1000.0, 30e3, 512, 600.0, 25.0
-        t = np.arange(1201) / 1000.0
-        dx, dz = -0.8 + 0.8 * np.sin(2 * np.pi * t), 0.3 * np.sin(2 * np.pi * t)
         path = os.path.join(self.out, "sway.csv")
-        with open(path, "w") as f:  # 1.6 m cross-track, 0.6 m vertical in the 1 s aperture
-            f.write("t_s,x_m,y_m,z_m\n")
-            for row in zip(t, dx, 50.0 * t, h + dz):
-                f.write(",".join(repr(float(v)) for v in row) + "\n")
+        t, dx, dz = write_sway_csv(path, h)  # 1.6 m cross-track, 0.6 m vertical in 1 s
         ts = t[:1001:10]  # the aperture, 10 ms steps
         x, y, z = dx[:1001:10], 50.0 * ts, h + dz[:1001:10]
         r0 = math.hypot(x_t, h)
@@ -210,6 +218,55 @@ class qa_flight(gr_unittest.TestCase):
         self.assertLess(runs["ideal", "512"]["peak_error_m"], 0.1)
         self.assertGreater(runs["sway", "512"]["peak_error_m"],
                            0.25 * runs["sway", "512"]["range_axis_m"][1])
+
+    def test_range_grid_headroom_check_warns_before_the_run(self):
+        # scenario.of warns (the JSON's warnings) when the navigation's sway spreads the range
+        # spectrum beyond the range grid's headroom (fft_size - N) Delta f; built without a
+        # graph. The test's own float64 s(t): dr/dR0 by a central difference in R0 (the
+        # target moved along the ground), on the CSV's analytic path, the aperture's 1 ms grid.
+        mhz, fc, h, df, n_sub = 1e6, 3.5e9, 1000.0, 30e3, 512
+        path = os.path.join(self.out, "sway.csv")
+        t, dx, dz = write_sway_csv(path, h)  # the large-sway test's path
+        x, y, z = dx[:1001], 50.0 * t[:1001], h + dz[:1001]
+
+        def r_of(r0, y_t, x0, z0):  # the range to the ground point of range r0 off the line
+            return np.sqrt((x0 - math.sqrt(r0 * r0 - h * h)) ** 2 + (y - y_t) ** 2 + z0 * z0)
+        spreads, e = {}, 1e-3
+        for g, y_t in ((700.0, 25.0), (600.0, 25.0)):
+            r0 = math.hypot(g, h)
+            s = fc * ((r_of(r0 + e, y_t, x, z) - r_of(r0 - e, y_t, x, z))
+                      - (r_of(r0 + e, y_t, 0.0, h) - r_of(r0 - e, y_t, 0.0, h))) / (2 * e)
+            spreads[g] = s.max() - s.min()
+        spread = max(spreads.values())
+
+        def smooth(n):  # 2^a 3^b 5^c 7^d: the sizes --fft-size fast picks
+            for p in (2, 3, 5, 7):
+                while n % p == 0:
+                    n //= p
+            return n == 1
+        fast = next(n for n in range(n_sub + math.ceil(spread / df), 4 * n_sub) if smooth(n))
+        base = ["--preset", "small", "--aperture-s", "1", "--target", "700,25", "--target",
+                "600,25"]
+        warned = {}
+        for fft in ("512", "1024"):
+            for name, flags in (("ideal", ["--motion", "none"]), ("sway", ["--trajectory", path])):
+                sc = scenario.of(parse(base + flags + ["--fft-size", fft]))
+                warned[name, fft] = [w for w in sc.warnings if "range grid" in w]
+        print(f"spread {spread / mhz:.4f} MHz ({spread / (n_sub * df):.4f} B) at x = "
+              f"{max(spreads, key=spreads.get):g} m; --fft-size {fast}; {warned['sway', '512']}")
+        self.assertEqual(warned["ideal", "512"], [])
+        self.assertEqual(warned["ideal", "1024"], [])
+        self.assertEqual(warned["sway", "1024"], [])  # 15.36 MHz of headroom
+        self.assertEqual(len(warned["sway", "512"]), 1)
+        text = warned["sway", "512"][0]
+        m = re.search(r"by ([\d.]+) MHz \(([\d.]+) B, B = ([\d.]+) MHz\).*x = (\d+) m.*"
+                      r"headroom of ([\d.]+) MHz.*--fft-size (\d+) holds", text)
+        self.assertIsNotNone(m, text)
+        self.assertAlmostEqual(float(m[1]), spread / mhz, delta=6e-4)  # printed to 1 kHz
+        self.assertAlmostEqual(float(m[2]), spread / (n_sub * df), delta=6e-4)
+        self.assertEqual((float(m[3]), int(m[4]), float(m[5])), (15.36, 600, 0.0))
+        self.assertEqual(int(m[6]), fast)
+        self.assertGreater(spread, 0.5 * n_sub * df)  # qa's 0.55 B
 
     def test_isac_flies_the_path_through_the_time_domain(self):
         # nrsar-isac: td_echo flies the truth, the processing uses the navigation (rtk)

@@ -303,6 +303,11 @@ class qa_recording(gr_unittest.TestCase):
             print(f"flown path, {focuser}: nrsar-process vs nrsar-sim {diff_db:.1f} dB, NMSE "
                   f"{p['nmse_db']:.4f} vs {s['nmse_db']:.4f} dB, PEL {p['pel_db']:.3f} dB")
             self.assertLess(diff_db, -80.0)
+            # the range-grid headroom check of the recorded navigation, as nrsar-sim's
+            # (0.05 B of sway on the 625-point grid's 0.02 B headroom; qa_flight has its numbers)
+            grid = [[w for w in r["warnings"] if "range grid" in w] for r in (s, p)]
+            self.assertEqual(len(grid[1]), 1, p["warnings"])
+            self.assertEqual(grid[1], grid[0])
         # --nav: the straight track (a CSV of the ideal line) instead of the navigation
         straight = os.path.join(self.dir, "straight.csv")
         with open(straight, "w") as f:
@@ -318,6 +323,7 @@ class qa_recording(gr_unittest.TestCase):
               f"{r['nav_rms_err_m']:.3f} m")
         self.assertGreater(r["nav_rms_err_m"], nav["nav_rms_err_m"])
         self.assertGreater(r["pel_db"], nav["pel_db"] + 10.0)  # the peak's energy goes
+        self.assertFalse([w for w in r["warnings"] if "range grid" in w])  # no sway
         # Bad flights in the meta and on the command line
         bad_csv = os.path.join(self.dir, "backwards.csv")
         with open(bad_csv, "w") as f:
