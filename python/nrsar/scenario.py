@@ -116,17 +116,24 @@ def sway_spread_hz(sc, dt_s=1e-3):
     return float(spread[worst]), targets[worst]
 
 
+# The spread a range grid absorbs beyond its headroom, in B: measured (docs/flight.md, "The
+# range-grid headroom check"), 0.06-0.08 B past it moved a peak by 0.08-0.09 m (1 % of the
+# resolution), 0.19-0.21 B by 1.9-2.3 m.
+RANGE_SPREAD_TOLERANCE_B = 0.1
+
+
 def range_grid_warnings(sc, fft_size):
     """[the warning] when the sway's spread of the range spectrum (sway_spread_hz) exceeds
     the range grid's headroom (fft_size - N) Delta f, the band the IFFT holds beyond the
-    occupied B = N Delta f: the range cut then aliases, and its peak and IRW err (metres on
-    the ALFA flight, docs/flight.md), else []. A warning, not a refusal: the image is made."""
+    occupied B = N Delta f, by more than RANGE_SPREAD_TOLERANCE_B: the range cut then
+    aliases, and its peak and IRW err (metres on the ALFA flight, docs/flight.md), else [].
+    A warning, not a refusal: the image is made."""
     spread, target = sway_spread_hz(sc)
     n, df = sc.num.num_subcarriers, sc.num.subcarrier_spacing_hz
     headroom = (fft_size - n) * df
-    if spread <= headroom:
-        return []
     band = n * df
+    if spread <= headroom + RANGE_SPREAD_TOLERANCE_B * band:
+        return []
     need = range_ifft.fast_fft_size(n + int(math.ceil(spread / df)))
     return [f"the navigation's sway spreads the range spectrum by {spread / 1e6:.3f} MHz "
             f"({spread / band:.3f} B, B = {band / 1e6:.3f} MHz) over the aperture at the "

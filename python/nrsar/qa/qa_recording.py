@@ -303,10 +303,10 @@ class qa_recording(gr_unittest.TestCase):
             print(f"flown path, {focuser}: nrsar-process vs nrsar-sim {diff_db:.1f} dB, NMSE "
                   f"{p['nmse_db']:.4f} vs {s['nmse_db']:.4f} dB, PEL {p['pel_db']:.3f} dB")
             self.assertLess(diff_db, -80.0)
-            # the range-grid headroom check of the recorded navigation, as nrsar-sim's
-            # (0.05 B of sway on the 625-point grid's 0.02 B headroom; qa_flight has its numbers)
+            # the range-grid headroom check of the recorded navigation, as nrsar-sim's (0.05 B
+            # of sway on the 625-point grid's 0.02 B headroom, inside the 0.1 B tolerance:
+            # neither warns; qa_flight has the check's numbers)
             grid = [[w for w in r["warnings"] if "range grid" in w] for r in (s, p)]
-            self.assertEqual(len(grid[1]), 1, p["warnings"])
             self.assertEqual(grid[1], grid[0])
         # --nav: the straight track (a CSV of the ideal line) instead of the navigation
         straight = os.path.join(self.dir, "straight.csv")
