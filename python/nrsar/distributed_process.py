@@ -29,6 +29,9 @@ receives the options, the meta's path and its Slice, and reads its samples from 
 data file by offset: no samples go through the scheduler (each worker needs the
 recording's folder: a shared file system).
 
+Before the run, range_grid_check() runs nrsar-process's range-grid headroom check per task
+(the navigation's sway over the time window the task reads) and warns of the worst aperture.
+
 Faults: a worker that dies costs its task a retry on another worker (the scheduler's own
 rescheduling); a slice with non-finite samples fails as SliceError naming its aperture, its
 lines stay zero in the strip, and `strip_failed` lists it; the rest completes.
@@ -54,7 +57,7 @@ import time
 import numpy as np
 from gnuradio import blocks, gr
 
-from . import chain, process, recording, results
+from . import chain, process, recording, results, scenario
 from .nrsar_python import tf_filter
 from .options import CERTIFICATES, OptionError, check_certificate_folder
 from .scenario import fft_size_of
@@ -187,6 +190,21 @@ def full_band_warnings(lay, symbol_s):
             f"depends on --strip-aperture-s and differs from nrsar-sim's image of the flight "
             f"(its one block wraps too); --strip-overlap-s {overlap_s:g} ({need} lines) makes "
             f"every block linear, --band scene focuses the scene band only (docs/recording.md)"]
+
+
+def range_grid_check(opts, rec, lay):
+    """(each task's spread of the range spectrum / B, [the warning of the worst task]):
+    scenario.range_grid_warnings per task, the navigation's sway (sway_spread_hz) over the
+    time window of the symbols the task reads (its graph's pulses, as one image's are its
+    aperture's), since the strip's flight outlasts its apertures."""
+    sim_opts, sc = _scenario(opts, rec)
+    ts, band = rec.num.symbol_s(), rec.num.num_subcarriers * rec.num.subcarrier_spacing_hz
+    windows = [(sl.first * ts, (sl.first + sl.symbols) * ts) for sl in lay.slices]
+    spreads = [scenario.sway_spread_hz(sc, window=w) for w in windows]
+    a = max(range(len(spreads)), key=lambda i: spreads[i][0])
+    where = f"aperture {a} (its task's t = {windows[a][0]:.3f}-{windows[a][1]:.3f} s)"
+    return [h / band for h, _ in spreads], scenario.range_spread_warnings(
+        rec.num, fft_size_of(sim_opts, rec.num.num_subcarriers), *spreads[a], where)
 
 
 def whole(opts, rec, lay):
@@ -481,6 +499,7 @@ def run(opts, client=None):
     lay = layout(opts, rec)
     os.makedirs(opts.out, exist_ok=True)
     path = os.path.abspath(os.path.join(opts.out, "strip_image.npy"))
+    spreads, grid_warnings = range_grid_check(opts, rec, lay)
     start = time.perf_counter()
     with contextlib.ExitStack() as stack:
         if client is None and opts.dask:
@@ -498,7 +517,8 @@ def run(opts, client=None):
             "strip_prepass_s": clock[0], "strip_snr_db": snrs,
             "strip_read_factor": lay.read_factor(), "strip_image_npy": path,
             "strip_full_band_reach_lines": list(lay.reach),
-            "warnings": full_band_warnings(lay, rec.num.symbol_s()),
+            "strip_range_spread_b": spreads,
+            "warnings": full_band_warnings(lay, rec.num.symbol_s()) + grid_warnings,
             "strip_lines": len(lay.slices) * lay.lines, "strip_failed": failed,
             "strip_task_s": times, "strip_held_peak": peak, "overflows": len(rec.gaps),
             "lost_samples": sum(count for _, count in rec.gaps), "dask": opts.dask,

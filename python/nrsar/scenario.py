@@ -89,9 +89,10 @@ def fft_size_of(opts, num_subcarriers):
     return size
 
 
-def sway_spread_hz(sc, dt_s=1e-3):
+def sway_spread_hz(sc, dt_s=1e-3, window=None):
     """(spread [Hz], target) of the worst scene target (a scene file: its points and its
-    maps' corners): max - min over the aperture [0, geo.aperture_s] (dt_s grid) of
+    maps' corners): max - min over the aperture [0, geo.aperture_s], or the flight's time
+    window (t0, t1) [s] (a strip's task, distributed_process), on a dt_s grid, of
     s(t) = fc (dr/dR0 - dr_line/dR0), the shift of a pulse's range wavenumber on the ideal
     line's slant grid when the antenna flies the NAVIGATION (what the processing uses; a real
     processor has no truth) instead of the line. r and r_line share the path's y (the look
@@ -103,7 +104,8 @@ def sway_spread_hz(sc, dt_s=1e-3):
     if sc.navigation.is_ideal() or not targets:
         return 0.0, None
     geo = sc.geo
-    t = np.linspace(0.0, geo.aperture_s, int(math.ceil(geo.aperture_s / dt_s)) + 1)
+    t0, t1 = window or (0.0, geo.aperture_s)
+    t = np.linspace(t0, t1, int(math.ceil((t1 - t0) / dt_s)) + 1)
     x, y, z = (c[:, None] for c in np.array(sc.navigation.positions(list(t))).T)
     g = np.array([tg.x_m for tg in targets])
     dy = y - np.array([tg.y_m for tg in targets])
@@ -128,15 +130,20 @@ def range_grid_warnings(sc, fft_size):
     occupied B = N Delta f, by more than RANGE_SPREAD_TOLERANCE_B: the range cut then
     aliases, and its peak and IRW err (metres on the ALFA flight, docs/flight.md), else [].
     A warning, not a refusal: the image is made."""
-    spread, target = sway_spread_hz(sc)
-    n, df = sc.num.num_subcarriers, sc.num.subcarrier_spacing_hz
+    return range_spread_warnings(sc.num, fft_size, *sway_spread_hz(sc))
+
+
+def range_spread_warnings(num, fft_size, spread, target, where="the aperture"):
+    """range_grid_warnings' text of a spread [Hz] at a target over `where` (a strip names
+    its worst aperture), or [] within the headroom and the tolerance."""
+    n, df = num.num_subcarriers, num.subcarrier_spacing_hz
     headroom = (fft_size - n) * df
     band = n * df
     if spread <= headroom + RANGE_SPREAD_TOLERANCE_B * band:
         return []
     need = range_ifft.fast_fft_size(n + int(math.ceil(spread / df)))
     return [f"the navigation's sway spreads the range spectrum by {spread / 1e6:.3f} MHz "
-            f"({spread / band:.3f} B, B = {band / 1e6:.3f} MHz) over the aperture at the "
+            f"({spread / band:.3f} B, B = {band / 1e6:.3f} MHz) over {where} at the "
             f"target x = {target.x_m:g} m, y = {target.y_m:g} m, beyond the range grid's "
             f"headroom of {headroom / 1e6:.3f} MHz (--fft-size {fft_size}, {n} subcarriers): "
             f"the range cut aliases the excess, its peak and IRW err the more the larger it "

@@ -12,13 +12,15 @@ samples is reported with its aperture index while the others complete; with --es
 each task starts its SNR estimator from the history a pre-pass gives and the strip still
 equals one graph (a recording whose SNR falls along the track); with --band full the strip
 warns that the full band's reference reaches past the overlap and names the overlap that makes
-every block linear; a client without the certificate is refused by the scheduler;
---dask-make-certs writes a set."""
+every block linear; a navigation that sways within one aperture warns that the range grid's
+headroom falls short there, naming that aperture; a client without the certificate is refused
+by the scheduler; --dask-make-certs writes a set."""
 
 import contextlib
 import dataclasses
 import faulthandler
 import gc
+import math
 import os
 import re
 import shutil
@@ -116,6 +118,8 @@ class qa_distributed_process(gr_unittest.TestCase):
         self.assertEqual((res["strip_apertures"], res["dask_workers"]), (4, 2))
         self.assertEqual(res["strip_held_peak"], 2)
         self.assertEqual(res["strip_failed"], [])
+        # the straight line: no sway, no range-grid warning (test_003i)
+        self.assertEqual((res["strip_range_spread_b"], res["warnings"]), ([0.0] * 4, []))
         self.assertEqual(os.listdir(os.path.dirname(res["strip_image_npy"])),
                          ["strip_image.npy"])  # the temporary renamed
         image = np.load(res["strip_image_npy"])
@@ -322,6 +326,11 @@ class qa_distributed_process(gr_unittest.TestCase):
             self.assertEqual(res["strip_failed"], [])
             self.assertGreater(res["strip_slices"][2][0], 0)
             np.testing.assert_array_equal(np.load(res["strip_image_npy"]), self.whole(opts))
+            # gusty's sway per task: inside the range grid's tolerance, no warning (test_003i)
+            self.assertEqual(res["warnings"], [])
+            self.assertTrue(0.0 < max(res["strip_range_spread_b"]) < 0.1,
+                            res["strip_range_spread_b"])
+        print(f"flown path: range spread per task {res['strip_range_spread_b']} B")
 
     def test_003f_estimated_snr(self):
         # --estimate-snr: the Wiener filter's SNR estimate at a symbol sums the estimator's
@@ -478,6 +487,62 @@ class qa_distributed_process(gr_unittest.TestCase):
         print(f"--band full: reach {need} lines; the strip against one block over the flight "
               f"{split[0]:.1f} dB inside the scene band, {split[1]:.1f} dB outside; with "
               f"--strip-overlap-s {flag.group(1)}: {10 * np.log10(err):.1f} dB")
+
+    def test_003i_range_grid_check(self):
+        # the range-grid headroom check per task (scenario.range_grid_warnings): a --nav
+        # drifting across track at up to 3.2 m/s (a Gaussian of 70 ms around t = 0.31 s, 39
+        # m/s^2 at most), 0.32 m within aperture 2 (no overlap: each task reads its
+        # aperture's own pulses), at this steep look (1 km up, 300 m out) about 0.58 B per
+        # metre: aperture 2's spread exceeds the 625-point grid's 0.021 B of headroom by more
+        # than 0.1 B, the others' do not. The test's own float64 s(t) per window: dr/dR0 by
+        # a central difference in R0 (the target moved along the ground), on the analytic path
+        fc, h, df, n_sub, ts = 3.5e9, 1000.0, 30e3, 612, 1280 / 30.72e6
+        erf = np.frompyfunc(math.erf, 1, 1)
+
+        def drift(t):  # the integral of 3.2 exp(-((t - 0.31) / 0.07)^2) m/s from 0
+            return (3.2 * 0.07 * math.sqrt(math.pi) / 2
+                    * (erf((t - 0.31) / 0.07) - math.erf(-0.31 / 0.07))).astype(float)
+        t = np.arange(501) / 1000.0
+        path = os.path.join(self.dir, "drift.csv")
+        with open(path, "w") as f:
+            f.write("t_s,x_m,y_m,z_m\n" + "".join(f"{a!r},{b!r},{50.0 * a!r},{h!r}\n"
+                                                   for a, b in zip(t.tolist(), drift(t).tolist())))
+        spreads, worst = [], []
+        for a in range(4):
+            t0, t1 = a * M * STEP * ts, (a + 1) * M * STEP * ts
+            tw = np.linspace(t0, t1, int(np.ceil((t1 - t0) / 1e-3)) + 1)
+            x, y = drift(tw), 50.0 * tw
+            by = {}
+            for g, y_t in ((300.0, 15.5), (290.0, 3.0)):
+                def ds(x0, e=1e-3):  # fc (r(R0 + e) - r(R0 - e)) / 2e, ground point g(R0)
+                    r = [np.sqrt((x0 - np.sqrt(r0 * r0 - h * h)) ** 2 + (y - y_t) ** 2 + h * h)
+                         for r0 in (np.hypot(g, h) + e, np.hypot(g, h) - e)]
+                    return fc * (r[0] - r[1]) / (2 * e)
+                s = ds(x) - ds(0.0)
+                by[g] = s.max() - s.min()
+            spreads.append(max(by.values()))
+            worst.append(max(by, key=by.get))
+        a = int(np.argmax(spreads))
+        band = n_sub * df
+        res = dp.run(self.opts("grid", nav=path, strip_overlap_s=0.0))
+        np.testing.assert_allclose(res["strip_range_spread_b"], np.array(spreads) / band,
+                                   rtol=0, atol=1e-5)
+        self.assertEqual(len(res["warnings"]), 1, res["warnings"])
+        text = res["warnings"][0]
+        m = re.search(r"by ([\d.]+) MHz \(([\d.]+) B, B = ([\d.]+) MHz\) over aperture (\d) "
+                      r".*x = (\d+) m.*headroom of ([\d.]+) MHz \(--fft-size (\d+).*"
+                      r"--fft-size (\d+) holds", text)
+        self.assertIsNotNone(m, text)
+        self.assertAlmostEqual(float(m[1]), spreads[a] / 1e6, delta=6e-4)  # printed to 1 kHz
+        self.assertAlmostEqual(float(m[2]), spreads[a] / band, delta=6e-4)
+        self.assertEqual((float(m[3]), int(m[4]), int(m[5])), (18.36, a, worst[a]))
+        self.assertEqual((float(m[6]), int(m[7])), (0.39, 625))  # 13 subcarriers of headroom
+        # 612 + ceil(3.502 MHz / 30 kHz) = 729 = 3^6, itself a fast size
+        self.assertEqual((n_sub + math.ceil(spreads[a] / df), int(m[8])), (729, 729))
+        limit = 0.39e6 + 0.1 * band
+        self.assertEqual([sp > limit for sp in spreads], [False, False, True, False])
+        print(f"range grid per aperture: {[round(sp / band, 4) for sp in spreads]} B, "
+              f"aperture {a} warned: {text}")
 
     def test_004_tls_refuses_a_client_without_certificate(self):
         import distributed
