@@ -407,7 +407,24 @@ unsigned autofocus::run_pga()
                           std::max({ static_cast<std::size_t>(d_cfg.pga_min_window),
                                      cells,
                                      2 * (left + right + 1) }));
-        const std::size_t half = window / 2;
+        // The window is tapered and centred on each range bin's peak interpolated between
+        // lines (a parabola through the magnitudes): flat over a quarter of its half-width,
+        // a raised-cosine skirt out to 1.5 times the half-width of the 2 (window / 2) + 1
+        // lines. A window with hard edges at whole lines around the brightest whole line
+        // weights a target by where it sits between lines: a half-line shift of the image
+        // moved the estimate by 0.12 rad rms (GNSS study, seed 1, noise-free), by up to
+        // 0.56 rad at line_step 4; tapered and centred by 0.005 / 0.073 rad. A Hann taper
+        // (no flat part) does as well there but lost 0.07 rad on a random error
+        // (docs/blocks/autofocus.md, "Sub-line position").
+        const double taper_half = 1.5 * (static_cast<double>(window / 2) + 0.5);
+        const std::size_t half = std::min(M / 2, static_cast<std::size_t>(taper_half + 0.5));
+        const bool whole = window >= M; // the circle has no edges: no window at all
+        const auto taper = [taper_half, whole](double c) {
+            const double a = std::abs(c) / taper_half;
+            if (whole || a <= 0.25)
+                return 1.0;
+            return a < 1.0 ? 0.5 + 0.5 * std::cos(pi * (a - 0.25) / 0.75) : 0.0;
+        };
         // Deramp: a pulse at along-track offset u from a target at range r adds the chirp
         // exp(j k sqrt(r^2 + (y - u)^2)) to the image (k = 4 pi / lambda); times
         // exp(-j k sqrt(r^2 + y^2)) it becomes the tone exp(-j k u y / r) of constant phase
@@ -426,6 +443,12 @@ unsigned autofocus::run_pga()
             gr_complex* in = d_fwd->get_inbuf();
             std::fill(in, in + M, gr_complex(0.0f, 0.0f));
             const double r = d_axes.range_first_m + static_cast<double>(k) * d_axes.range_step_m;
+            const gr_complex* g = &d_work[k * M];
+            const double before = std::abs(g[(at[k] + M - 1) % M]), top = std::abs(g[at[k]]),
+                         after = std::abs(g[(at[k] + 1) % M]);
+            const double curv = before - 2.0 * top + after;
+            const double centre =
+                curv < 0.0 ? std::clamp(0.5 * (before - after) / curv, -0.5, 0.5) : 0.0;
             for (std::size_t c = 0; c <= half && c < M; ++c) {
                 gr_complex rot(1.0f, 0.0f);
                 if (deramp) {
@@ -434,9 +457,11 @@ unsigned autofocus::run_pga()
                     rot = gr_complex(static_cast<float>(std::cos(ph)),
                                      static_cast<float>(std::sin(ph)));
                 }
-                in[c] = d_work[k * M + (at[k] + c) % M] * rot;
+                const double x = static_cast<double>(c);
+                in[c] = g[(at[k] + c) % M] * rot * static_cast<float>(taper(x - centre));
                 if (c > 0 && c < M - c)
-                    in[M - c] = d_work[k * M + (at[k] + M - c) % M] * rot;
+                    in[M - c] =
+                        g[(at[k] + M - c) % M] * rot * static_cast<float>(taper(x + centre));
             }
             d_fwd->execute();
             gr_complex* G = d_fwd->get_outbuf();
