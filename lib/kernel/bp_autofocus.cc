@@ -353,7 +353,8 @@ struct reading {
     std::vector<vec3> ant;
     vec3 du; // least-squares slope of its line of sight over the pulses [1 / pulse]
     std::vector<std::size_t> near;          // the GCPs whose echoes its pixel holds
-    std::vector<double> bin;                // its modelled range per pulse [bins] (if near any)
+    std::vector<gr_complex> response;       // per pulse its unit response's K bins at its
+                                            // modelled range (if near any)
     std::vector<std::complex<double>> echo; // its echo there: the unit response's amplitude
 };
 
@@ -445,10 +446,11 @@ bool take_out_neighbours(std::vector<reading>& rd,
     if (!any)
         return false;
     const unsigned K = grid.num_range_bins, n = static_cast<unsigned>(rd[0].c.size());
-    std::vector<gr_complex> line(K), row(K);
+    std::vector<gr_complex> line(K);
+    gr_complex* row = nullptr; // the unit response being projected
     auto pixel = [&](const reading& g, unsigned i) {
         one.reset(g.q[1]);
-        one.add(row.data(), 1, &g.ant[i]);
+        one.add(row, 1, &g.ant[i]);
         one.image(line.data());
         return cx(line[g.kp]);
     };
@@ -456,7 +458,7 @@ bool take_out_neighbours(std::vector<reading>& rd,
     std::vector<cx> H(std::size_t(n) * G * G, 0.0); // H[i][q][r]
     std::vector<cx> own(std::size_t(n) * G, 1.0);   // r's unit response in its pixel
     for (std::size_t r = 0; r < G; ++r) {
-        rd[r].bin.assign(used[r] ? n : 0, 0.0);
+        rd[r].response.assign(used[r] ? std::size_t(n) * K : 0, gr_complex(0.0f, 0.0f));
         rd[r].echo.assign(used[r] ? n : 0, 0.0);
         for (unsigned i = 0; i < n; ++i) {
             cx* Hi = H.data() + std::size_t(i) * G * G;
@@ -466,9 +468,10 @@ bool take_out_neighbours(std::vector<reading>& rd,
             if (!used[r])
                 continue;
             // r's true range: the navigated one less its line-of-sight error
-            rd[r].bin[i] =
-                (distance(antenna[i], rd[r].q) - err - grid.first_range_m) / grid.range_bin_m;
-            unit.row(rd[r].bin[i], row.data());
+            row = rd[r].response.data() + std::size_t(i) * K;
+            unit.row((distance(antenna[i], rd[r].q) - err - grid.first_range_m) /
+                         grid.range_bin_m,
+                     row);
             cx& o = own[std::size_t(i) * G + r];
             o = pixel(rd[r], i);
             for (std::size_t q = 0; q < G; ++q)
@@ -550,17 +553,15 @@ bool take_out_neighbours(std::vector<reading>& rd,
 // v P / R of d_y: +1.8 mm/s in nrsar-sim; docs/blocks/bp_focuser.md).
 void without_neighbours(const gr_complex* pulses,
                         unsigned K,
-                        point_response& unit,
                         const std::vector<reading>& rd,
                         std::size_t q,
                         std::vector<gr_complex>& out)
 {
     const unsigned n = static_cast<unsigned>(rd[q].c.size());
     out.assign(pulses, pulses + std::size_t(n) * K);
-    std::vector<gr_complex> row(K);
     for (std::size_t r : rd[q].near)
         for (unsigned i = 0; i < n; ++i) {
-            unit.row(rd[r].bin[i], row.data());
+            const gr_complex* row = rd[r].response.data() + std::size_t(i) * K;
             const gr_complex e(rd[r].echo[i]);
             gr_complex* p = out.data() + std::size_t(i) * K;
             for (unsigned k = 0; k < K; ++k)
@@ -683,7 +684,7 @@ bool calibrate_gcp(const gr_complex* pulses,
             // phase (what the image's NMSE feels) stays right (docs/blocks/bp_focuser.md).
             // Read without its neighbours' modelled echoes where it has any.
             if (!g.near.empty())
-                without_neighbours(pulses, K, unit, rd, gi, clean);
+                without_neighbours(pulses, K, rd, gi, clean);
             const gr_complex* src = g.near.empty() ? pulses : clean.data();
             auto envelope = [&](int m) {
                 for (unsigned i = 0; i < n; ++i)
