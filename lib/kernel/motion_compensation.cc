@@ -85,6 +85,13 @@ void los_reference::ranges(
         out[k] = distance(p, point(first_m + k * spacing_m));
 }
 
+void los_reference::ranges(double t_s, const vec3* points, unsigned n, double* out) const
+{
+    const vec3 p = d_nav.position(t_s);
+    for (unsigned k = 0; k < n; ++k)
+        out[k] = distance(p, points[k]);
+}
+
 void los_reference::displacements(
     double t_s, double first_m, double spacing_m, unsigned n, double* out) const
 {

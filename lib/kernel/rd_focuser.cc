@@ -233,6 +233,7 @@ void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
     d_moco_shift.resize(K);
     d_moco_pts.resize(K);
     d_moco_r2.resize(K);
+    d_moco_range.resize(K);
     for (unsigned k = 0; k < K; ++k) { // the bins' reference points do not move with the line
         const double r0 = r_first + k * rho;
         d_moco_pts[k] = d_los->point(r0);
@@ -268,14 +269,11 @@ void rd_focuser::compensate_motion(const gr_complex* in, size_t row_stride)
         // per bin (SECOND: the range-dependent residual too); the spectrum centre restored.
         // The phase is reduced in double; its rotor in float (an output sample's precision).
         volk_32fc_x2_multiply_conjugate_32fc(d_col2.data(), d_col2.data(), d_demod.data(), K);
-        if (d_cfg.moco == moco_order::SECOND) { // los_reference's ranges, inlined per bin
-            const vec3 p = d_los->path().position(tp);
+        if (d_cfg.moco == moco_order::SECOND) { // per bin, to the points kept above
+            d_los->ranges(tp, d_moco_pts.data(), K, d_moco_range.data());
             const double u = d_los->ideal_range(t, 0.0); // along-track offset of the ideal line
             for (unsigned k = 0; k < K; ++k) {
-                const vec3& q = d_moco_pts[k];
-                const double ex = p[0] - q[0], ey = p[1] - q[1], ez = p[2] - q[2];
-                const double dr = std::sqrt(ex * ex + ey * ey + ez * ez) -
-                                  std::sqrt(d_moco_r2[k] + u * u);
+                const double dr = d_moco_range[k] - std::sqrt(d_moco_r2[k] + u * u);
                 const float ph = static_cast<float>(fmod_two_pi(kf * dr));
                 d_moco[static_cast<size_t>(k) * P + m] =
                     d_col2[k] * gr_complex(std::cos(ph), std::sin(ph));

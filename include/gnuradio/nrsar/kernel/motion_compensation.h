@@ -49,6 +49,9 @@ public:
     double displacement(double t_s, double r0_m) const;
     //! range() for the n bins r0 = first + k spacing (one path evaluation).
     void ranges(double t_s, double first_m, double spacing_m, unsigned n, double* out) const;
+    //! Distances from the path at slow time t to n reference points the caller kept
+    //! (point() of its bins: one path evaluation and one square root per bin).
+    void ranges(double t_s, const vec3* points, unsigned n, double* out) const;
     //! displacement() for the n bins r0 = first + k spacing.
     void displacements(double t_s, double first_m, double spacing_m, unsigned n, double* out) const;
     /*!

@@ -210,6 +210,7 @@ private:
     volk::vector<float> d_moco_shift;      // K, one line's envelope shift
     std::vector<vec3> d_moco_pts;          // K, the bins' reference points (los_reference)
     std::vector<double> d_moco_r2;         // K, the bins' R0^2
+    std::vector<double> d_moco_range;      // K, the path's ranges to them at a line
     std::vector<double> d_moco_tau;        // num_lines, each line's path time
     volk::vector<float> d_az_shift;        // num_lines, resampling shift [lines]
     volk::vector<gr_complex> d_az_demod;   // num_lines, exp(-j 2 pi f_c y_nav(t_m) / v)
